@@ -1,0 +1,242 @@
+//! Comparison of a function's output with the reference output: numbers within an
+//! absolute and relative tolerance, indices and flags exactly, headings modulo 2 pi, and
+//! bearings that the contract says are wrapped checked to lie in [-pi, pi).
+
+use super::contract::Call;
+use crate::angle::difference;
+use serde::{Deserialize, Serialize};
+use serde_json::Value;
+use std::f64::consts::PI;
+
+/// What one element of an output is, which decides how it is compared.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    Number,
+    /// A heading in a returned state or control: compared modulo 2 pi.
+    Heading,
+    /// A bearing the contract says is wrapped: must lie in [-pi, pi).
+    Bearing,
+    /// A 0-based landmark index: compared exactly.
+    Index,
+    /// `true` or `false`: compared exactly.
+    Flag,
+}
+
+/// The shape of an output: scalars of a kind, arrays with a shape per element, objects.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Shape {
+    Scalar(Kind),
+    Array(Vec<Shape>),
+    Object(Vec<(&'static str, Shape)>),
+}
+
+fn numbers(n: usize) -> Shape {
+    Shape::Array(vec![Shape::Scalar(Kind::Number); n])
+}
+
+fn matrix(rows: usize, cols: usize) -> Shape {
+    Shape::Array(vec![numbers(cols); rows])
+}
+
+fn repeat(n: usize, shape: Shape) -> Shape {
+    Shape::Array(vec![shape; n])
+}
+
+/// A pose or a control: x, y, then a heading.
+fn pose() -> Shape {
+    Shape::Array(vec![
+        Shape::Scalar(Kind::Number),
+        Shape::Scalar(Kind::Number),
+        Shape::Scalar(Kind::Heading),
+    ])
+}
+
+/// A range-bearing pair with the bearing wrapped.
+fn range_bearing() -> Shape {
+    Shape::Array(vec![
+        Shape::Scalar(Kind::Number),
+        Shape::Scalar(Kind::Bearing),
+    ])
+}
+
+/// The name of a function's output in the contract (the root of every path into it), and
+/// its shape for this call.
+pub fn output_shape(call: &Call) -> (&'static str, Shape) {
+    match call {
+        Call::CalculateOdometry { .. } => ("u", pose()),
+        Call::Predict { .. } => (
+            "",
+            Shape::Object(vec![("mu_bar", pose()), ("sigma_bar", matrix(3, 3))]),
+        ),
+        Call::ObservationModel { .. } => ("z_hat", range_bearing()),
+        Call::JacobianObservationModel { .. } => ("H", matrix(2, 3)),
+        Call::Associate { m, .. } => {
+            let n = m[0].len();
+            (
+                "",
+                Shape::Object(vec![
+                    ("c", Shape::Scalar(Kind::Index)),
+                    ("outlier", Shape::Scalar(Kind::Flag)),
+                    ("nu", repeat(n, range_bearing())),
+                    ("S", repeat(n, matrix(2, 2))),
+                    ("H", repeat(n, matrix(2, 3))),
+                ]),
+            )
+        }
+        Call::BatchAssociate { z, .. } => {
+            let n = z[0].len();
+            let nu_bar = (0..n)
+                .flat_map(|_| [Shape::Scalar(Kind::Number), Shape::Scalar(Kind::Bearing)])
+                .collect();
+            (
+                "",
+                Shape::Object(vec![
+                    ("c", repeat(n, Shape::Scalar(Kind::Index))),
+                    ("outlier", repeat(n, Shape::Scalar(Kind::Flag))),
+                    ("nu_bar", Shape::Array(nu_bar)),
+                    ("H_bar", matrix(2 * n, 3)),
+                ]),
+            )
+        }
+        Call::Update { .. } | Call::BatchUpdate { .. } => (
+            "",
+            Shape::Object(vec![("mu", pose()), ("sigma", matrix(3, 3))]),
+        ),
+    }
+}
+
+/// How close a number must be: |got - expected| <= absolute + relative |expected|.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Tolerance {
+    pub absolute: f64,
+    pub relative: f64,
+}
+
+impl Default for Tolerance {
+    fn default() -> Self {
+        Tolerance {
+            absolute: 1e-9,
+            relative: 1e-9,
+        }
+    }
+}
+
+/// One element of an output that is not what it should be.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Mismatch {
+    /// Where: `sigma_bar[1][2]`, `c`, `nu[3][1]`.
+    pub path: String,
+    pub expected: Value,
+    pub got: Value,
+    pub problem: Problem,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Problem {
+    /// Both are numbers (or indices, or flags) of the right kind, and they differ.
+    Differs,
+    /// A bearing outside [-pi, pi).
+    NotWrapped,
+    /// A value of the wrong type or an array of the wrong length, or a missing field.
+    WrongShape,
+}
+
+/// Every element of `got` that differs from `expected`, for an output of this shape.
+pub fn compare(
+    shape: &(&str, Shape),
+    expected: &Value,
+    got: &Value,
+    tolerance: Tolerance,
+) -> Vec<Mismatch> {
+    let mut mismatches = Vec::new();
+    walk(
+        &shape.1,
+        shape.0.to_owned(),
+        expected,
+        got,
+        tolerance,
+        &mut mismatches,
+    );
+    mismatches
+}
+
+fn walk(
+    shape: &Shape,
+    path: String,
+    expected: &Value,
+    got: &Value,
+    tolerance: Tolerance,
+    out: &mut Vec<Mismatch>,
+) {
+    let mut mismatch = |problem| {
+        out.push(Mismatch {
+            path: path.clone(),
+            expected: expected.clone(),
+            got: got.clone(),
+            problem,
+        })
+    };
+    match shape {
+        Shape::Scalar(kind) => {
+            if let Some(problem) = compare_scalar(*kind, expected, got, tolerance) {
+                mismatch(problem);
+            }
+        }
+        Shape::Array(elements) => match (expected.as_array(), got.as_array()) {
+            (Some(e), Some(g)) if e.len() == elements.len() && g.len() == elements.len() => {
+                for (i, ((shape, e), g)) in elements.iter().zip(e).zip(g).enumerate() {
+                    walk(shape, format!("{path}[{i}]"), e, g, tolerance, out);
+                }
+            }
+            _ => mismatch(Problem::WrongShape),
+        },
+        Shape::Object(fields) => match (expected.as_object(), got.as_object()) {
+            (Some(e), Some(g)) => {
+                for (name, shape) in fields {
+                    let (e, g) = (&e[*name], g.get(*name).unwrap_or(&Value::Null));
+                    let field_path = if path.is_empty() {
+                        (*name).to_owned()
+                    } else {
+                        format!("{path}.{name}")
+                    };
+                    walk(shape, field_path, e, g, tolerance, out);
+                }
+            }
+            _ => mismatch(Problem::WrongShape),
+        },
+    }
+}
+
+fn compare_scalar(
+    kind: Kind,
+    expected: &Value,
+    got: &Value,
+    tolerance: Tolerance,
+) -> Option<Problem> {
+    match kind {
+        Kind::Index => match (expected.as_u64(), got.as_u64()) {
+            (Some(e), Some(g)) => (e != g).then_some(Problem::Differs),
+            _ => Some(Problem::WrongShape),
+        },
+        Kind::Flag => match (expected.as_bool(), got.as_bool()) {
+            (Some(e), Some(g)) => (e != g).then_some(Problem::Differs),
+            _ => Some(Problem::WrongShape),
+        },
+        Kind::Number | Kind::Heading | Kind::Bearing => {
+            let (Some(e), Some(g)) = (expected.as_f64(), got.as_f64()) else {
+                return Some(Problem::WrongShape);
+            };
+            if kind == Kind::Bearing && !(-PI..PI).contains(&g) {
+                return Some(Problem::NotWrapped);
+            }
+            let gap = if kind == Kind::Number {
+                g - e
+            } else {
+                difference(g, e)
+            };
+            (gap.abs() > tolerance.absolute + tolerance.relative * e.abs())
+                .then_some(Problem::Differs)
+        }
+    }
+}

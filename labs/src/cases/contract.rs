@@ -1,0 +1,372 @@
+//! The student functions of the EKF localization exercise, in the shapes of the public
+//! contract (`DESIGN.md`): vectors are arrays, matrices arrays of rows, the map `M` is
+//! 2 x N, indices are 0-based. A [`Call`] is one call of one function with its arguments;
+//! [`reference`] answers it with the reference implementation, in the same shapes.
+
+use crate::Error;
+use crate::ekf::{self, Belief, Landmark, Map, Robot};
+use nalgebra::{Matrix2, Matrix2x3, Matrix3, Vector2, Vector3};
+use serde::{Deserialize, Serialize};
+use serde_json::{Value, json};
+
+pub type Vec2 = [f64; 2];
+pub type Vec3 = [f64; 3];
+pub type Mat2 = [[f64; 2]; 2];
+pub type Mat3 = [[f64; 3]; 3];
+pub type Mat2x3 = [[f64; 3]; 2];
+/// A 2 x n matrix: row 0 and row 1 (the landmark map `M`; the readings `z`).
+pub type TwoRows = [Vec<f64>; 2];
+
+/// One call of a student function, arguments named and ordered as in the contract.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "function", content = "args", rename_all = "snake_case")]
+pub enum Call {
+    CalculateOdometry {
+        #[serde(rename = "e_R")]
+        e_r: f64,
+        #[serde(rename = "e_L")]
+        e_l: f64,
+        #[serde(rename = "E_T")]
+        e_t: f64,
+        #[serde(rename = "B")]
+        b: f64,
+        #[serde(rename = "R_R")]
+        r_r: f64,
+        #[serde(rename = "R_L")]
+        r_l: f64,
+        delta_t: f64,
+        mu: Vec3,
+    },
+    Predict {
+        mu: Vec3,
+        sigma: Mat3,
+        u: Vec3,
+        #[serde(rename = "R")]
+        r: Mat3,
+    },
+    ObservationModel {
+        x: Vec3,
+        #[serde(rename = "M")]
+        m: TwoRows,
+        j: usize,
+    },
+    JacobianObservationModel {
+        x: Vec3,
+        #[serde(rename = "M")]
+        m: TwoRows,
+        j: usize,
+        z_hat: Vec2,
+    },
+    Associate {
+        mu_bar: Vec3,
+        sigma_bar: Mat3,
+        z_i: Vec2,
+        #[serde(rename = "M")]
+        m: TwoRows,
+        #[serde(rename = "Lambda_M", with = "threshold")]
+        lambda_m: f64,
+        #[serde(rename = "Q")]
+        q: Mat2,
+    },
+    BatchAssociate {
+        mu_bar: Vec3,
+        sigma_bar: Mat3,
+        z: TwoRows,
+        #[serde(rename = "M")]
+        m: TwoRows,
+        #[serde(rename = "Lambda_M", with = "threshold")]
+        lambda_m: f64,
+        #[serde(rename = "Q")]
+        q: Mat2,
+    },
+    Update {
+        mu_bar: Vec3,
+        sigma_bar: Mat3,
+        #[serde(rename = "H")]
+        h: Mat2x3,
+        #[serde(rename = "S")]
+        s: Mat2,
+        nu: Vec2,
+    },
+    BatchUpdate {
+        mu_bar: Vec3,
+        sigma_bar: Mat3,
+        #[serde(rename = "H_bar")]
+        h_bar: Vec<Vec3>,
+        #[serde(rename = "Q_bar")]
+        q_bar: Vec<Vec<f64>>,
+        nu_bar: Vec<f64>,
+    },
+}
+
+/// The student functions, in the order the exercise introduces them.
+pub const FUNCTIONS: [&str; 8] = [
+    "calculate_odometry",
+    "predict",
+    "observation_model",
+    "jacobian_observation_model",
+    "associate",
+    "batch_associate",
+    "update",
+    "batch_update",
+];
+
+impl Call {
+    /// The function's name in the contract.
+    pub fn function(&self) -> &'static str {
+        FUNCTIONS[match self {
+            Call::CalculateOdometry { .. } => 0,
+            Call::Predict { .. } => 1,
+            Call::ObservationModel { .. } => 2,
+            Call::JacobianObservationModel { .. } => 3,
+            Call::Associate { .. } => 4,
+            Call::BatchAssociate { .. } => 5,
+            Call::Update { .. } => 6,
+            Call::BatchUpdate { .. } => 7,
+        }]
+    }
+}
+
+/// `Lambda_M` may be infinite (delta_M = 1), which JSON cannot write as a number: it is
+/// written as the string "Infinity".
+mod threshold {
+    use serde::{Deserialize, Deserializer, Serializer, de::Error};
+
+    pub fn serialize<S: Serializer>(value: &f64, serializer: S) -> Result<S::Ok, S::Error> {
+        if value.is_infinite() && *value > 0.0 {
+            serializer.serialize_str("Infinity")
+        } else {
+            serializer.serialize_f64(*value)
+        }
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(deserializer: D) -> Result<f64, D::Error> {
+        #[derive(Deserialize)]
+        #[serde(untagged)]
+        enum Threshold {
+            Number(f64),
+            Text(String),
+        }
+        match Threshold::deserialize(deserializer)? {
+            Threshold::Number(value) => Ok(value),
+            Threshold::Text(text) if text == "Infinity" => Ok(f64::INFINITY),
+            Threshold::Text(text) => Err(D::Error::custom(format!(
+                "Lambda_M: '{text}' is neither a number nor \"Infinity\""
+            ))),
+        }
+    }
+}
+
+/// The reference answer to a call, in the contract's shapes.
+pub fn reference(call: &Call) -> Result<Value, Error> {
+    Ok(match call {
+        Call::CalculateOdometry {
+            e_r,
+            e_l,
+            e_t,
+            b,
+            r_r,
+            r_l,
+            delta_t,
+            mu,
+        } => {
+            let robot = Robot {
+                ticks_per_revolution: *e_t,
+                wheel_base: *b,
+                right_radius: *r_r,
+                left_radius: *r_l,
+            };
+            let u = ekf::calculate_odometry(*e_r, *e_l, &robot, *delta_t, &vector3(mu));
+            json!(u.as_slice())
+        }
+        Call::Predict { mu, sigma, u, r } => {
+            let bar = ekf::predict(
+                &Belief::new(vector3(mu), matrix3(sigma)),
+                &vector3(u),
+                &matrix3(r),
+            );
+            json!({ "mu_bar": bar.mu.as_slice(), "sigma_bar": rows(&bar.sigma) })
+        }
+        Call::ObservationModel { x, m, j } => {
+            let landmark = landmark_at(m, *j)?;
+            json!(ekf::observation_model(&vector3(x), &landmark).as_slice())
+        }
+        Call::JacobianObservationModel { x, m, j, z_hat } => {
+            let landmark = landmark_at(m, *j)?;
+            let h = ekf::jacobian_observation_model(&vector3(x), &landmark, &Vector2::from(*z_hat));
+            json!(rows(&h))
+        }
+        Call::Associate {
+            mu_bar,
+            sigma_bar,
+            z_i,
+            m,
+            lambda_m,
+            q,
+        } => {
+            let bar = Belief::new(vector3(mu_bar), matrix3(sigma_bar));
+            let a = ekf::associate(&bar, &Vector2::from(*z_i), &map(m)?, *lambda_m, &matrix2(q));
+            let each =
+                |f: fn(&ekf::Candidate) -> Value| a.candidates.iter().map(f).collect::<Vec<_>>();
+            json!({
+                "c": a.c,
+                "outlier": a.outlier,
+                "nu": each(|cand| json!(cand.nu.as_slice())),
+                "S": each(|cand| json!(rows(&cand.s))),
+                "H": each(|cand| json!(rows(&cand.h))),
+            })
+        }
+        Call::BatchAssociate {
+            mu_bar,
+            sigma_bar,
+            z,
+            m,
+            lambda_m,
+            q,
+        } => {
+            let bar = Belief::new(vector3(mu_bar), matrix3(sigma_bar));
+            let readings = two_rows("z", z)?;
+            let matches = ekf::batch_associate(&bar, &readings, &map(m)?, *lambda_m, &matrix2(q));
+            json!({
+                "c": matches.iter().map(|m| m.c).collect::<Vec<_>>(),
+                "outlier": matches.iter().map(|m| m.outlier).collect::<Vec<_>>(),
+                "nu_bar": matches.iter().flat_map(|m| m.candidate.nu.iter().copied()).collect::<Vec<_>>(),
+                "H_bar": matches.iter().flat_map(|m| rows(&m.candidate.h)).collect::<Vec<_>>(),
+            })
+        }
+        Call::Update {
+            mu_bar,
+            sigma_bar,
+            h,
+            s,
+            nu,
+        } => {
+            let bar = Belief::new(vector3(mu_bar), matrix3(sigma_bar));
+            let h = Matrix2x3::from_fn(|i, j| h[i][j]);
+            let posterior = ekf::update(&bar, &h, &matrix2(s), &Vector2::from(*nu))
+                .ok_or_else(|| Error::invalid("S", "is singular"))?;
+            posterior_json(&posterior)
+        }
+        Call::BatchUpdate {
+            mu_bar,
+            sigma_bar,
+            h_bar,
+            q_bar,
+            nu_bar,
+        } => {
+            let bar = Belief::new(vector3(mu_bar), matrix3(sigma_bar));
+            let n = h_bar.len();
+            if n % 2 != 0 || nu_bar.len() != n {
+                return Err(Error::invalid(
+                    "H_bar",
+                    format!(
+                        "has {n} rows and nu_bar {} elements; both must be 2n for n readings",
+                        nu_bar.len()
+                    ),
+                ));
+            }
+            let q = repeated_block(q_bar, n / 2)?;
+            let h: Vec<Matrix2x3<f64>> = h_bar
+                .chunks(2)
+                .map(|pair| Matrix2x3::from_fn(|i, j| pair[i][j]))
+                .collect();
+            let nu: Vec<Vector2<f64>> = nu_bar.chunks(2).map(Vector2::from_column_slice).collect();
+            let posterior = ekf::batch_update(&bar, h.iter().zip(&nu), &q)
+                .ok_or_else(|| Error::invalid("Q_bar", "has a singular block"))?;
+            posterior_json(&posterior)
+        }
+    })
+}
+
+fn posterior_json(posterior: &Belief) -> Value {
+    json!({ "mu": posterior.mu.as_slice(), "sigma": rows(&posterior.sigma) })
+}
+
+pub(crate) fn vector3(v: &Vec3) -> Vector3<f64> {
+    Vector3::from(*v)
+}
+
+pub(crate) fn matrix3(a: &Mat3) -> Matrix3<f64> {
+    Matrix3::from_fn(|i, j| a[i][j])
+}
+
+pub(crate) fn matrix2(a: &Mat2) -> Matrix2<f64> {
+    Matrix2::from_fn(|i, j| a[i][j])
+}
+
+/// A matrix as an array of rows.
+pub(crate) fn rows<R: nalgebra::Dim, C: nalgebra::Dim, S: nalgebra::RawStorage<f64, R, C>>(
+    a: &nalgebra::Matrix<f64, R, C, S>,
+) -> Vec<Vec<f64>> {
+    a.row_iter()
+        .map(|row| row.iter().copied().collect())
+        .collect()
+}
+
+/// The columns of a 2 x n matrix, both rows of the same length.
+fn two_rows(field: &str, a: &TwoRows) -> Result<Vec<Vector2<f64>>, Error> {
+    if a[0].len() != a[1].len() {
+        return Err(Error::invalid(
+            field,
+            format!(
+                "rows have {} and {} elements; a 2 x n matrix needs equal rows",
+                a[0].len(),
+                a[1].len()
+            ),
+        ));
+    }
+    Ok(a[0]
+        .iter()
+        .zip(&a[1])
+        .map(|(&x, &y)| Vector2::new(x, y))
+        .collect())
+}
+
+/// The map `M`; its landmarks get ids 1..N as in the lab's test cases.
+pub(crate) fn map(m: &TwoRows) -> Result<Map, Error> {
+    let landmarks = two_rows("M", m)?
+        .into_iter()
+        .zip(1..)
+        .map(|(position, id)| Landmark { id, position })
+        .collect();
+    Map::new(landmarks)
+}
+
+fn landmark_at(m: &TwoRows, j: usize) -> Result<Vector2<f64>, Error> {
+    let positions = two_rows("M", m)?;
+    positions.get(j).copied().ok_or_else(|| {
+        Error::invalid(
+            "j",
+            format!("is {j}, but M has {} landmarks (0-based)", positions.len()),
+        )
+    })
+}
+
+/// The block Q of `Q_bar = blkdiag(Q, ..., Q)` (n blocks), which is what the filter loop
+/// passes to `batch_update`.
+fn repeated_block(q_bar: &[Vec<f64>], n: usize) -> Result<Matrix2<f64>, Error> {
+    let size = 2 * n;
+    if q_bar.len() != size || q_bar.iter().any(|row| row.len() != size) {
+        return Err(Error::invalid(
+            "Q_bar",
+            format!("must be {size} x {size} for {n} readings"),
+        ));
+    }
+    if n == 0 {
+        return Ok(Matrix2::identity());
+    }
+    let q = Matrix2::from_fn(|i, j| q_bar[i][j]);
+    for (i, row) in q_bar.iter().enumerate() {
+        for (j, &value) in row.iter().enumerate() {
+            let expected = if i / 2 == j / 2 {
+                q[(i % 2, j % 2)]
+            } else {
+                0.0
+            };
+            if value != expected {
+                return Err(Error::invalid("Q_bar", "must be blkdiag(Q, ..., Q)"));
+            }
+        }
+    }
+    Ok(q)
+}

@@ -1,0 +1,30 @@
+//! Test cases of the student functions: generated from a seed, or the original EL2320
+//! fixtures; each holds a call and the reference output, and serialises to JSON.
+
+mod compare;
+mod contract;
+mod el2320;
+
+pub use compare::{Kind, Mismatch, Problem, Shape, Tolerance, compare, output_shape};
+pub use contract::{Call, FUNCTIONS, reference};
+pub use el2320::{FIXTURE_FILES, load_fixtures};
+
+use serde::{Deserialize, Serialize};
+use serde_json::Value;
+
+/// One test case: a call of a student function and the output it must return.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Case {
+    /// Unique within its suite: `predict/17`.
+    pub id: String,
+    #[serde(flatten)]
+    pub call: Call,
+    pub expected: Value,
+}
+
+impl Case {
+    /// Every element of `got` that differs from the expected output.
+    pub fn check(&self, got: &Value, tolerance: Tolerance) -> Vec<Mismatch> {
+        compare(&output_shape(&self.call), &self.expected, got, tolerance)
+    }
+}

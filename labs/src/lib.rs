@@ -1,0 +1,19 @@
+//! The reference filters of estlab and everything an exercise is made of.
+//!
+//! Pure computation: no I/O beyond parsing and writing text, no clock, no network. The
+//! crate builds natively and for `wasm32-unknown-unknown`, and every transcendental
+//! function goes through [`libm`] (square roots are exact in IEEE 754 anyway), so a seed
+//! gives bit-identical numbers on both.
+//!
+//! Notation follows Probabilistic Robotics, as the EL2320 lab does: state `mu`,
+//! covariance `Sigma`, control `u`, measurement `z`; **R is the process noise covariance
+//! and Q the measurement noise covariance**.
+
+pub mod angle;
+pub mod cases;
+pub mod dataset;
+pub mod ekf;
+mod error;
+pub mod rng;
+
+pub use error::Error;

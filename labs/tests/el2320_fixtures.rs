@@ -1,0 +1,22 @@
+//! The reference functions reproduce every case of the lab's original test fixtures.
+
+use labs::cases::{FIXTURE_FILES, Tolerance, load_fixtures, reference};
+
+#[test]
+fn every_original_fixture_case_is_reproduced() {
+    let mut checked = 0;
+    for (function, file) in FIXTURE_FILES {
+        let Some(text) = testdata::read(&format!("el2320/test_cases/{file}")) else {
+            return;
+        };
+        let cases = load_fixtures(function, file, &text).unwrap();
+        assert_eq!(cases.len(), 100, "{file}");
+        for case in &cases {
+            let got = reference(&case.call).unwrap();
+            let mismatches = case.check(&got, Tolerance::default());
+            assert!(mismatches.is_empty(), "{}: {mismatches:#?}", case.id);
+            checked += 1;
+        }
+    }
+    assert_eq!(checked, 800);
+}
