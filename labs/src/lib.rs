@@ -10,6 +10,7 @@
 //! and Q the measurement noise covariance**.
 
 pub mod angle;
+pub mod car;
 pub mod cases;
 pub mod dataset;
 pub mod ekf;

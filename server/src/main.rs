@@ -1,1 +1,41 @@
-fn main() {}
+//! `estlab`: the estlab server and command line.
+
+mod commands;
+mod error;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(
+    name = "estlab",
+    version,
+    about = "Kalman filtering and EKF localization, taught and graded"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    Run(commands::run::Args),
+    Simulate(commands::simulate::Args),
+    Car(commands::car::Args),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Run(args) => commands::run::run(&args),
+        Command::Simulate(args) => commands::simulate::run(&args),
+        Command::Car(args) => commands::car::run(&args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(err) => {
+            eprintln!("estlab: {err}");
+            ExitCode::FAILURE
+        }
+    }
+}

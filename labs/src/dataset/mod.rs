@@ -2,8 +2,10 @@
 //! them, and a simulator that makes new ones.
 
 mod format;
+mod simulate;
 
 pub use format::{parse_map, parse_sensor_log, write_map, write_sensor_log};
+pub use simulate::{Kind, simulate};
 
 use crate::ekf::Map;
 use nalgebra::{Vector2, Vector3};

@@ -1,0 +1,36 @@
+//! One module per subcommand of `estlab`.
+
+pub mod car;
+pub mod run;
+pub mod simulate;
+
+use crate::error::Error;
+use std::path::Path;
+
+/// A comma-separated list of exactly `N` numbers, for flags such as `--R 1e-4,1e-4,3e-4`.
+pub fn numbers<const N: usize>(text: &str) -> Result<[f64; N], String> {
+    let values: Vec<f64> = text
+        .split(',')
+        .map(|part| {
+            part.trim()
+                .parse::<f64>()
+                .map_err(|_| format!("'{}' is not a number", part.trim()))
+        })
+        .collect::<Result<_, _>>()?;
+    values.try_into().map_err(|values: Vec<f64>| {
+        format!("expected {N} comma-separated numbers, got {}", values.len())
+    })
+}
+
+/// The text of a file, or an error naming it.
+pub fn read(path: &Path) -> Result<String, Error> {
+    std::fs::read_to_string(path).map_err(Error::io(path))
+}
+
+/// The file name of a path, for messages.
+pub fn file_name(path: &Path) -> String {
+    path.file_name().map_or_else(
+        || path.display().to_string(),
+        |name| name.to_string_lossy().into_owned(),
+    )
+}
