@@ -47,6 +47,7 @@ pub fn load_fixtures(function: &str, file: &str, text: &str) -> Result<Vec<Case>
             let (call, expected) = fixture.case(function, i)?;
             Ok(Case {
                 id: format!("{function}/el2320-{}", i + 1),
+                note: format!("case {} of the original EL2320 test suite", i + 1),
                 call,
                 expected,
             })

@@ -4,10 +4,12 @@
 mod compare;
 mod contract;
 mod el2320;
+mod generate;
 
 pub use compare::{Kind, Mismatch, Problem, Shape, Tolerance, compare, output_shape};
 pub use contract::{Call, FUNCTIONS, reference};
 pub use el2320::{FIXTURE_FILES, load_fixtures};
+pub use generate::generate;
 
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
@@ -17,6 +19,8 @@ use serde_json::Value;
 pub struct Case {
     /// Unique within its suite: `predict/17`.
     pub id: String,
+    /// What the case is about: "a landmark behind the robot".
+    pub note: String,
     #[serde(flatten)]
     pub call: Call,
     pub expected: Value,

@@ -17,7 +17,7 @@ pub use filter::{ReadingOutcome, Run, Settings, StepEstimate, Summary, UpdateMod
 pub use map::{Landmark, Map};
 pub use observation::{jacobian_observation_model, observation_model};
 pub use odometry::{Robot, calculate_odometry};
-pub use predict::predict;
+pub use predict::{motion_jacobian, predict};
 pub use update::{batch_update, update};
 
 use nalgebra::{Matrix3, Vector3};

@@ -1,0 +1,620 @@
+//! Test cases generated from a seed, so that every student can have a variant of their
+//! own. Each function's cases cycle through its scenarios, the regions where classic
+//! mistakes show: headings and bearings near +-pi, landmarks behind the robot, the first
+//! and the last landmark (0- versus 1-based indices), unequal wheels, a zero time step,
+//! outliers, readings just inside the outlier threshold and one exactly on it.
+
+use super::Case;
+use super::contract::{Call, Mat2, Mat3, TwoRows, Vec2, Vec3, matrix2, reference, vector3};
+use crate::angle::wrap;
+use crate::ekf::{self, Belief};
+use crate::rng::Rng;
+use nalgebra::{Matrix3, Vector2, Vector3};
+use std::f64::consts::PI;
+
+/// `per_function` cases of every student function, from `seed`.
+pub fn generate(seed: u64, per_function: usize) -> Vec<Case> {
+    let mut cases = Vec::new();
+    for (part, (function, scenarios)) in SCENARIOS.iter().enumerate() {
+        let mut rng = Rng::substream(seed, part as u64 + 1);
+        for k in 0..per_function {
+            let (note, make) = scenarios[k % scenarios.len()];
+            let call = make(&mut rng);
+            let expected = reference(&call).expect("generated calls are valid");
+            cases.push(Case {
+                id: format!("{function}/{}", k + 1),
+                note: note.to_owned(),
+                call,
+                expected,
+            });
+        }
+    }
+    cases
+}
+
+type Scenario = (&'static str, fn(&mut Rng) -> Call);
+
+const SCENARIOS: [(&str, &[Scenario]); 8] = [
+    (
+        "calculate_odometry",
+        &[
+            ("driving forward", |rng| odometry(rng, Motion::Forward)),
+            ("turning on the spot", |rng| {
+                odometry(rng, Motion::OnTheSpot)
+            }),
+            ("wheels of unequal radius", |rng| {
+                odometry(rng, Motion::UnequalWheels)
+            }),
+            ("heading near +-pi", |rng| {
+                odometry(rng, Motion::HeadingNearPi)
+            }),
+            ("the first step: delta_t = 0", |rng| {
+                odometry(rng, Motion::FirstStep)
+            }),
+        ],
+    ),
+    (
+        "predict",
+        &[
+            ("a general step", |rng| prediction(rng, false)),
+            ("the heading crosses +-pi", |rng| prediction(rng, true)),
+        ],
+    ),
+    (
+        "observation_model",
+        &[
+            ("a landmark ahead", |rng| {
+                observation(rng, Sight::Anywhere, false)
+            }),
+            ("a landmark behind the robot", |rng| {
+                observation(rng, Sight::Behind, false)
+            }),
+            ("the first landmark", |rng| {
+                observation(rng, Sight::First, false)
+            }),
+            ("the last landmark", |rng| {
+                observation(rng, Sight::Last, false)
+            }),
+        ],
+    ),
+    (
+        "jacobian_observation_model",
+        &[
+            ("a landmark ahead", |rng| {
+                observation(rng, Sight::Anywhere, true)
+            }),
+            ("a landmark behind the robot", |rng| {
+                observation(rng, Sight::Behind, true)
+            }),
+            ("the first landmark", |rng| {
+                observation(rng, Sight::First, true)
+            }),
+            ("the last landmark", |rng| {
+                observation(rng, Sight::Last, true)
+            }),
+        ],
+    ),
+    (
+        "associate",
+        &[
+            ("a good reading", |rng| association(rng, Reading::Good)),
+            ("a gross outlier", |rng| association(rng, Reading::Outlier)),
+            ("a reading just inside the threshold", |rng| {
+                association(rng, Reading::JustInside)
+            }),
+            ("a landmark behind the robot", |rng| {
+                association(rng, Reading::Behind)
+            }),
+            ("D_M exactly on Lambda_M = 0", |_| threshold_boundary()),
+            ("no outlier rejection (Lambda_M = Infinity)", |rng| {
+                association(rng, Reading::NoRejection)
+            }),
+        ],
+    ),
+    (
+        "batch_associate",
+        &[
+            ("readings with outliers", |rng| {
+                batch_association(rng, false)
+            }),
+            ("no outlier rejection (Lambda_M = Infinity)", |rng| {
+                batch_association(rng, true)
+            }),
+        ],
+    ),
+    ("update", &[("one reading", single_update)]),
+    (
+        "batch_update",
+        &[("all inliers of a time step", stacked_update)],
+    ),
+];
+
+// ---- random building blocks ----
+
+fn any_heading(rng: &mut Rng) -> f64 {
+    rng.uniform_in(-PI, PI)
+}
+
+/// A heading within 0.05 rad of +-pi.
+fn near_pi(rng: &mut Rng) -> f64 {
+    wrap(PI + rng.uniform_in(-0.05, 0.05))
+}
+
+fn pose(rng: &mut Rng, heading: f64) -> Vec3 {
+    [
+        rng.uniform_in(-5.0, 5.0),
+        rng.uniform_in(-5.0, 5.0),
+        heading,
+    ]
+}
+
+/// A random covariance L L' + eps I, entries of a size between `low` and `high`.
+fn covariance(rng: &mut Rng, low: f64, high: f64) -> Matrix3<f64> {
+    let scale = rng.uniform_in(low, high);
+    let mut l = Matrix3::zeros();
+    for i in 0..3 {
+        for j in 0..=i {
+            l[(i, j)] = rng.normal(0.0, scale.sqrt());
+        }
+    }
+    let sigma = l * l.transpose() + Matrix3::identity() * (scale * 1e-3);
+    (sigma + sigma.transpose()) * 0.5
+}
+
+fn rows3(a: &Matrix3<f64>) -> Mat3 {
+    std::array::from_fn(|i| std::array::from_fn(|j| a[(i, j)]))
+}
+
+fn diag2(a: f64, b: f64) -> Mat2 {
+    [[a, 0.0], [0.0, b]]
+}
+
+/// A measurement noise covariance of range std 0.05-0.3 m, bearing std 0.02-0.2 rad.
+fn measurement_noise(rng: &mut Rng) -> Mat2 {
+    diag2(
+        rng.uniform_in(0.05, 0.3).powi(2),
+        rng.uniform_in(0.02, 0.2).powi(2),
+    )
+}
+
+/// A map of 5-10 landmarks within 10 m of `x`, at least 1.5 m apart and from `x`.
+fn landmarks(rng: &mut Rng, x: &Vec3) -> TwoRows {
+    let n = 5 + (rng.uniform() * 6.0) as usize;
+    let mut points: Vec<Vector2<f64>> = Vec::with_capacity(n);
+    let centre = Vector2::new(x[0], x[1]);
+    while points.len() < n {
+        let p = centre + Vector2::new(rng.uniform_in(-10.0, 10.0), rng.uniform_in(-10.0, 10.0));
+        if (p - centre).norm() >= 1.5 && points.iter().all(|q| (p - q).norm() >= 1.5) {
+            points.push(p);
+        }
+    }
+    [
+        points.iter().map(|p| p.x).collect(),
+        points.iter().map(|p| p.y).collect(),
+    ]
+}
+
+/// Moves landmark `j` of `m` to a point straight behind the pose `x` (bearing within
+/// 0.05 rad of +-pi).
+fn put_behind(rng: &mut Rng, m: &mut TwoRows, j: usize, x: &Vec3) {
+    let direction = x[2] + PI + rng.uniform_in(-0.05, 0.05);
+    let distance = rng.uniform_in(2.0, 8.0);
+    m[0][j] = x[0] + distance * libm::cos(direction);
+    m[1][j] = x[1] + distance * libm::sin(direction);
+}
+
+fn index(rng: &mut Rng, n: usize) -> usize {
+    ((rng.uniform() * n as f64) as usize).min(n - 1)
+}
+
+// ---- one builder per function ----
+
+enum Motion {
+    Forward,
+    OnTheSpot,
+    UnequalWheels,
+    HeadingNearPi,
+    FirstStep,
+}
+
+fn odometry(rng: &mut Rng, motion: Motion) -> Call {
+    let e_t = [512.0, 1024.0, 2048.0, 4096.0][index(rng, 4)];
+    let r = rng.uniform_in(0.05, 0.3);
+    let (r_r, r_l) = match motion {
+        Motion::UnequalWheels => (r, r * rng.uniform_in(0.8, 0.95)),
+        _ => (r, r),
+    };
+    let ticks = (rng.uniform_in(50.0, 600.0) as i64) as f64;
+    let (e_r, e_l) = match motion {
+        Motion::OnTheSpot => (ticks, -ticks),
+        _ => (ticks, (ticks * rng.uniform_in(0.7, 1.0)).round()),
+    };
+    let heading = match motion {
+        Motion::HeadingNearPi => near_pi(rng),
+        _ => any_heading(rng),
+    };
+    Call::CalculateOdometry {
+        e_r,
+        e_l,
+        e_t,
+        b: rng.uniform_in(0.1, 0.5),
+        r_r,
+        r_l,
+        delta_t: if matches!(motion, Motion::FirstStep) {
+            0.0
+        } else {
+            rng.uniform_in(0.05, 1.0)
+        },
+        mu: pose(rng, heading),
+    }
+}
+
+fn prediction(rng: &mut Rng, cross_pi: bool) -> Call {
+    let heading = if cross_pi {
+        PI - rng.uniform_in(0.01, 0.1)
+    } else {
+        any_heading(rng)
+    };
+    let turn = if cross_pi {
+        rng.uniform_in(0.15, 0.4)
+    } else {
+        rng.uniform_in(-0.3, 0.3)
+    };
+    let distance = rng.uniform_in(0.0, 0.5);
+    let u = [
+        distance * libm::cos(heading),
+        distance * libm::sin(heading),
+        turn,
+    ];
+    let r = [
+        rng.uniform_in(0.01, 0.2),
+        rng.uniform_in(0.01, 0.2),
+        rng.uniform_in(0.005, 0.1),
+    ];
+    Call::Predict {
+        mu: pose(rng, heading),
+        sigma: rows3(&covariance(rng, 1e-4, 1.0)),
+        u,
+        r: rows3(&Matrix3::from_diagonal(&Vector3::from(
+            r.map(|s: f64| s * s),
+        ))),
+    }
+}
+
+enum Sight {
+    Anywhere,
+    Behind,
+    First,
+    Last,
+}
+
+fn observation(rng: &mut Rng, sight: Sight, jacobian: bool) -> Call {
+    let heading = any_heading(rng);
+    let x = pose(rng, heading);
+    let mut m = landmarks(rng, &x);
+    let n = m[0].len();
+    let j = match sight {
+        Sight::First => 0,
+        Sight::Last => n - 1,
+        Sight::Anywhere | Sight::Behind => index(rng, n),
+    };
+    if matches!(sight, Sight::Behind) {
+        put_behind(rng, &mut m, j, &x);
+    }
+    if !jacobian {
+        return Call::ObservationModel { x, m, j };
+    }
+    let z_hat = ekf::observation_model(&vector3(&x), &Vector2::new(m[0][j], m[1][j]));
+    Call::JacobianObservationModel {
+        x,
+        m,
+        j,
+        z_hat: z_hat.into(),
+    }
+}
+
+#[derive(Clone, Copy, PartialEq)]
+enum Reading {
+    Good,
+    Outlier,
+    JustInside,
+    Behind,
+    NoRejection,
+}
+
+/// A predicted belief, a map, and a reading of landmark `c` from a pose drawn from the
+/// belief, with measurement noise drawn from `q`.
+struct Scene {
+    mu_bar: Vec3,
+    sigma_bar: Matrix3<f64>,
+    m: TwoRows,
+    q: Mat2,
+}
+
+fn scene(rng: &mut Rng) -> Scene {
+    let heading = any_heading(rng);
+    let mu_bar = pose(rng, heading);
+    let m = landmarks(rng, &mu_bar);
+    Scene {
+        mu_bar,
+        sigma_bar: covariance(rng, 1e-4, 1e-2),
+        m,
+        q: measurement_noise(rng),
+    }
+}
+
+impl Scene {
+    /// A noisy reading of landmark `j`.
+    fn reading(&self, rng: &mut Rng, j: usize) -> Vec2 {
+        let chol = self
+            .sigma_bar
+            .cholesky()
+            .expect("covariances are positive definite")
+            .l();
+        let truth = vector3(&self.mu_bar) + chol * Vector3::from_fn(|_, _| rng.standard_normal());
+        let z = ekf::observation_model(&truth, &Vector2::new(self.m[0][j], self.m[1][j]));
+        [
+            rng.normal(z.x, self.q[0][0].sqrt()),
+            rng.normal(z.y, self.q[1][1].sqrt()),
+        ]
+    }
+
+    fn belief(&self) -> Belief {
+        Belief::new(vector3(&self.mu_bar), self.sigma_bar)
+    }
+}
+
+fn association(rng: &mut Rng, kind: Reading) -> Call {
+    let mut s = scene(rng);
+    let j = index(rng, s.m[0].len());
+    if kind == Reading::Behind {
+        put_behind(rng, &mut s.m, j, &s.mu_bar);
+    }
+    let mut z_i = s.reading(rng, j);
+    let mut lambda_m = ekf::lambda_m([0.95, 0.99, 0.999][index(rng, 3)]);
+    match kind {
+        Reading::Outlier => {
+            z_i[0] += rng.uniform_in(2.0, 4.0);
+            z_i[1] = wrap(z_i[1] + rng.uniform_in(0.5, 1.5));
+        }
+        Reading::JustInside => {
+            // Stretch the innovation of the winning landmark until D_M = 0.97 Lambda_M.
+            let a = ekf::associate(
+                &s.belief(),
+                &Vector2::from(z_i),
+                &contract_map(&s.m),
+                lambda_m,
+                &matrix2(&s.q),
+            );
+            let winner = a.candidates[a.c];
+            let stretch = (0.97 * lambda_m / winner.mahalanobis).sqrt();
+            let z_hat = Vector2::from(z_i) - winner.nu;
+            z_i = [
+                z_hat.x + stretch * winner.nu.x,
+                wrap(z_hat.y + stretch * winner.nu.y),
+            ];
+        }
+        Reading::NoRejection => lambda_m = f64::INFINITY,
+        Reading::Good | Reading::Behind => {}
+    }
+    Call::Associate {
+        mu_bar: s.mu_bar,
+        sigma_bar: rows3(&s.sigma_bar),
+        z_i,
+        m: s.m,
+        lambda_m,
+        q: s.q,
+    }
+}
+
+fn contract_map(m: &TwoRows) -> ekf::Map {
+    super::contract::map(m).expect("generated maps are valid")
+}
+
+/// A reading of a landmark 5 m straight ahead that is exactly what the belief predicts:
+/// every implementation computes D_M = 0 exactly, which is an outlier for Lambda_M = 0
+/// only if the test is D_M >= Lambda_M.
+fn threshold_boundary() -> Call {
+    Call::Associate {
+        mu_bar: [0.0, 0.0, 0.0],
+        sigma_bar: rows3(&(Matrix3::identity() * 0.01)),
+        z_i: [5.0, 0.0],
+        m: [vec![5.0, -3.0, 0.0], vec![0.0, 4.0, -6.0]],
+        lambda_m: 0.0,
+        q: diag2(0.01, 0.0025),
+    }
+}
+
+fn batch_association(rng: &mut Rng, no_rejection: bool) -> Call {
+    let mut s = scene(rng);
+    let n_landmarks = s.m[0].len();
+    let behind = index(rng, n_landmarks);
+    put_behind(rng, &mut s.m, behind, &s.mu_bar);
+    let n = 3 + index(rng, 6);
+    let mut z: TwoRows = [Vec::with_capacity(n), Vec::with_capacity(n)];
+    for k in 0..n {
+        let j = index(rng, n_landmarks);
+        let mut reading = s.reading(rng, j);
+        if k % 3 == 2 {
+            reading[0] += rng.uniform_in(2.0, 4.0);
+            reading[1] = wrap(reading[1] + rng.uniform_in(0.5, 1.5));
+        }
+        z[0].push(reading[0]);
+        z[1].push(reading[1]);
+    }
+    Call::BatchAssociate {
+        mu_bar: s.mu_bar,
+        sigma_bar: rows3(&s.sigma_bar),
+        z,
+        m: s.m,
+        lambda_m: if no_rejection {
+            f64::INFINITY
+        } else {
+            ekf::lambda_m(0.999)
+        },
+        q: s.q,
+    }
+}
+
+fn single_update(rng: &mut Rng) -> Call {
+    let s = scene(rng);
+    let j = index(rng, s.m[0].len());
+    let z = s.reading(rng, j);
+    let cand = ekf::associate(
+        &s.belief(),
+        &Vector2::from(z),
+        &contract_map(&s.m),
+        f64::INFINITY,
+        &matrix2(&s.q),
+    )
+    .candidates[j];
+    Call::Update {
+        mu_bar: s.mu_bar,
+        sigma_bar: rows3(&s.sigma_bar),
+        h: std::array::from_fn(|i| std::array::from_fn(|k| cand.h[(i, k)])),
+        s: std::array::from_fn(|i| std::array::from_fn(|k| cand.s[(i, k)])),
+        nu: cand.nu.into(),
+    }
+}
+
+fn stacked_update(rng: &mut Rng) -> Call {
+    let s = scene(rng);
+    let n = 1 + index(rng, 6);
+    let belief = s.belief();
+    let map = contract_map(&s.m);
+    let mut h_bar = Vec::with_capacity(2 * n);
+    let mut nu_bar = Vec::with_capacity(2 * n);
+    for _ in 0..n {
+        let j = index(rng, s.m[0].len());
+        let z = s.reading(rng, j);
+        let m = ekf::most_likely(
+            &belief,
+            &Vector2::from(z),
+            &map,
+            f64::INFINITY,
+            &matrix2(&s.q),
+        );
+        h_bar.extend((0..2).map(|i| std::array::from_fn(|k| m.candidate.h[(i, k)])));
+        nu_bar.extend(m.candidate.nu.iter());
+    }
+    let size = 2 * n;
+    let q_bar = (0..size)
+        .map(|r| {
+            (0..size)
+                .map(|c| {
+                    if r / 2 == c / 2 {
+                        s.q[r % 2][c % 2]
+                    } else {
+                        0.0
+                    }
+                })
+                .collect()
+        })
+        .collect();
+    Call::BatchUpdate {
+        mu_bar: s.mu_bar,
+        sigma_bar: rows3(&belief.sigma),
+        h_bar,
+        q_bar,
+        nu_bar,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cases::Tolerance;
+    use crate::cases::contract::matrix3;
+
+    #[test]
+    fn the_same_seed_gives_the_same_cases() {
+        assert_eq!(generate(9, 12), generate(9, 12));
+        assert_ne!(generate(9, 12), generate(10, 12));
+    }
+
+    #[test]
+    fn every_case_holds_its_own_reference_output_and_survives_json() {
+        for case in generate(4, 12) {
+            let json = serde_json::to_string(&case).unwrap();
+            let back: Case = serde_json::from_str(&json).unwrap();
+            assert_eq!(back, case);
+            assert!(
+                case.check(&reference(&case.call).unwrap(), Tolerance::default())
+                    .is_empty()
+            );
+        }
+    }
+
+    fn outputs(function: &str) -> Vec<(Call, serde_json::Value)> {
+        generate(21, 30)
+            .into_iter()
+            .filter(|c| c.call.function() == function)
+            .map(|c| (c.call, c.expected))
+            .collect()
+    }
+
+    #[test]
+    fn the_interesting_regions_are_covered() {
+        // Bearings near +-pi.
+        let near = |b: f64| b.abs() > PI - 0.06;
+        assert!(
+            outputs("observation_model")
+                .iter()
+                .any(|(_, z)| near(z[1].as_f64().unwrap()))
+        );
+        // Headings that cross +-pi in the prediction.
+        assert!(outputs("predict").iter().any(|(call, out)| {
+            let Call::Predict { mu, .. } = call else {
+                unreachable!()
+            };
+            mu[2] > 3.0 && out["mu_bar"][2].as_f64().unwrap() < 0.0
+        }));
+        // Outliers, inliers, readings within 5 % below the threshold, the boundary itself.
+        let assoc = outputs("associate");
+        let outlier = |out: &serde_json::Value| out["outlier"].as_bool().unwrap();
+        assert!(assoc.iter().any(|(_, out)| outlier(out)));
+        assert!(assoc.iter().any(|(_, out)| !outlier(out)));
+        let just_inside = assoc.iter().any(|(call, out)| {
+            let Call::Associate {
+                mu_bar,
+                sigma_bar,
+                z_i,
+                m,
+                lambda_m,
+                q,
+            } = call
+            else {
+                unreachable!()
+            };
+            let belief = Belief::new(vector3(mu_bar), matrix3(sigma_bar));
+            let a = ekf::associate(
+                &belief,
+                &Vector2::from(*z_i),
+                &contract_map(m),
+                *lambda_m,
+                &matrix2(q),
+            );
+            let d = a.candidates[a.c].mahalanobis;
+            !outlier(out) && d > 0.95 * lambda_m && d < *lambda_m
+        });
+        assert!(just_inside);
+        assert!(assoc.iter().any(
+            |(call, out)| matches!(call, Call::Associate { lambda_m, .. } if *lambda_m == 0.0)
+                && outlier(out)
+        ));
+        // Both ends of the map, so that a 1-based index shows.
+        let js: Vec<usize> = outputs("observation_model")
+            .iter()
+            .map(|(call, _)| match call {
+                Call::ObservationModel { j, .. } => *j,
+                _ => unreachable!(),
+            })
+            .collect();
+        assert!(js.contains(&0));
+        // A zero time step.
+        assert!(outputs("calculate_odometry").iter().any(|(call, u)| {
+            matches!(call, Call::CalculateOdometry { delta_t, .. } if *delta_t == 0.0)
+                && u == &serde_json::json!([0.0, 0.0, 0.0])
+        }));
+    }
+}
