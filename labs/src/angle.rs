@@ -4,6 +4,9 @@ use std::f64::consts::{PI, TAU};
 
 /// Wraps an angle to [-pi, pi).
 pub fn wrap(angle: f64) -> f64 {
+    if (-PI..PI).contains(&angle) {
+        return angle;
+    }
     let wrapped = angle - TAU * libm::floor((angle + PI) / TAU);
     // Rounding can land exactly on +pi, which belongs to the other end of the interval.
     if wrapped >= PI {

@@ -22,17 +22,23 @@ fn point() -> impl Strategy<Value = Vector2<f64>> {
     (-10.0..10.0, -10.0..10.0).prop_map(|(x, y)| Vector2::new(x, y))
 }
 
-/// A covariance L L' + eps I with entries up to about `scale`.
-fn covariance(scale: f64) -> impl Strategy<Value = Matrix3<f64>> {
-    proptest::collection::vec(-1.0..1.0, 6).prop_map(move |v| {
+/// A covariance L L' + eps I with entries of about 10^`exponent`, for an exponent drawn
+/// from `exponents`.
+fn covariance(exponents: std::ops::Range<f64>) -> impl Strategy<Value = Matrix3<f64>> {
+    (proptest::collection::vec(-1.0..1.0, 6), exponents).prop_map(move |(v, exponent)| {
+        let scale = 10f64.powf(exponent);
         let l = Matrix3::new(v[0], 0.0, 0.0, v[1], v[2], 0.0, v[3], v[4], v[5]) * scale.sqrt();
         let s = l * l.transpose() + Matrix3::identity() * (scale * 1e-4);
         (s + s.transpose()) * 0.5
     })
 }
 
-fn measurement_noise() -> impl Strategy<Value = Matrix2<f64>> {
-    (0.01..0.5, 0.005..0.3).prop_map(|(r, b): (f64, f64)| Matrix2::new(r * r, 0.0, 0.0, b * b))
+/// Range and bearing standard deviations from 10^`exponents`.
+fn measurement_noise(exponents: std::ops::Range<f64>) -> impl Strategy<Value = Matrix2<f64>> {
+    (exponents.clone(), exponents).prop_map(|(r, b): (f64, f64)| {
+        let (r, b) = (10f64.powf(r), 10f64.powf(b));
+        Matrix2::new(r * r, 0.0, 0.0, b * b)
+    })
 }
 
 fn map(points: Vec<Vector2<f64>>) -> Map {
@@ -94,7 +100,7 @@ proptest! {
     /// The pruned association picks exactly the landmark the exhaustive one picks.
     #[test]
     fn fast_association_agrees_with_the_exhaustive_one(
-        mu in pose(), sigma in covariance(0.5), q in measurement_noise(),
+        mu in pose(), sigma in covariance(-10.0..1.0), q in measurement_noise(-4.0..0.0),
         points in proptest::collection::vec(point(), 1..15), z in (0.1..15.0, -PI..PI),
         delta in 0.5..1.0,
     ) {
@@ -110,9 +116,12 @@ proptest! {
     }
 
     /// The information-form batch update equals K = Sigma H' (H Sigma H' + Q_bar)^-1.
+    /// (Where the stacked innovation covariance is ill-conditioned the textbook formula is
+    /// the less accurate one: with Q_rr = 1e-7, checked in 50-digit arithmetic, it was 1 %
+    /// off and the information form exact; so the comparison keeps to moderate noise.)
     #[test]
     fn batch_update_equals_the_textbook_formula(
-        mu in pose(), sigma in covariance(0.5), q in measurement_noise(),
+        mu in pose(), sigma in covariance(-4.0..0.0), q in measurement_noise(-2.0..-0.3),
         rows in proptest::collection::vec((proptest::collection::vec(-2.0..2.0, 6), -0.5..0.5, -0.5..0.5), 0..8),
     ) {
         let h: Vec<Matrix2x3<f64>> = rows.iter().map(|(v, _, _)| Matrix2x3::from_row_slice(v)).collect();

@@ -362,6 +362,26 @@ impl Scene {
     fn belief(&self) -> Belief {
         Belief::new(vector3(&self.mu_bar), self.sigma_bar)
     }
+
+    /// The reading `z` moved along the innovation of its most likely landmark until that
+    /// innovation's D_M is `target`: an outlier of a chosen size, or an inlier just inside
+    /// the threshold. Targets stay below ~1400, where psi itself would underflow and an
+    /// implementation that takes the argmax of psi could no longer tell the landmarks
+    /// apart.
+    fn stretched(&self, z: Vec2, target: f64) -> Vec2 {
+        let map = contract_map(&self.m);
+        let m = ekf::most_likely(
+            &self.belief(),
+            &Vector2::from(z),
+            &map,
+            f64::INFINITY,
+            &matrix2(&self.q),
+        );
+        let nu = m.candidate.nu;
+        let stretch = (target / m.candidate.mahalanobis.max(1e-12)).sqrt();
+        let z_hat = Vector2::from(z) - nu;
+        [z_hat.x + stretch * nu.x, wrap(z_hat.y + stretch * nu.y)]
+    }
 }
 
 fn association(rng: &mut Rng, kind: Reading) -> Call {
@@ -373,27 +393,8 @@ fn association(rng: &mut Rng, kind: Reading) -> Call {
     let mut z_i = s.reading(rng, j);
     let mut lambda_m = ekf::lambda_m([0.95, 0.99, 0.999][index(rng, 3)]);
     match kind {
-        Reading::Outlier => {
-            z_i[0] += rng.uniform_in(2.0, 4.0);
-            z_i[1] = wrap(z_i[1] + rng.uniform_in(0.5, 1.5));
-        }
-        Reading::JustInside => {
-            // Stretch the innovation of the winning landmark until D_M = 0.97 Lambda_M.
-            let a = ekf::associate(
-                &s.belief(),
-                &Vector2::from(z_i),
-                &contract_map(&s.m),
-                lambda_m,
-                &matrix2(&s.q),
-            );
-            let winner = a.candidates[a.c];
-            let stretch = (0.97 * lambda_m / winner.mahalanobis).sqrt();
-            let z_hat = Vector2::from(z_i) - winner.nu;
-            z_i = [
-                z_hat.x + stretch * winner.nu.x,
-                wrap(z_hat.y + stretch * winner.nu.y),
-            ];
-        }
+        Reading::Outlier => z_i = s.stretched(z_i, rng.uniform_in(1.5 * lambda_m, 400.0)),
+        Reading::JustInside => z_i = s.stretched(z_i, 0.97 * lambda_m),
         Reading::NoRejection => lambda_m = f64::INFINITY,
         Reading::Good | Reading::Behind => {}
     }
@@ -436,8 +437,7 @@ fn batch_association(rng: &mut Rng, no_rejection: bool) -> Call {
         let j = index(rng, n_landmarks);
         let mut reading = s.reading(rng, j);
         if k % 3 == 2 {
-            reading[0] += rng.uniform_in(2.0, 4.0);
-            reading[1] = wrap(reading[1] + rng.uniform_in(0.5, 1.5));
+            reading = s.stretched(reading, rng.uniform_in(30.0, 400.0));
         }
         z[0].push(reading[0]);
         z[1].push(reading[1]);

@@ -2,7 +2,6 @@ use super::observation::{jacobian_observation_model, observation_model};
 use super::{Belief, Map};
 use crate::angle::wrap;
 use nalgebra::{Matrix2, Matrix2x3, Vector2};
-use std::f64::consts::TAU;
 
 /// What one landmark predicts about one reading.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -49,7 +48,7 @@ pub fn lambda_m(delta_m: f64) -> f64 {
 /// psi_j = det(2 pi S_j)^(-1/2) exp(-D_j / 2),  c = argmax_j psi_j,
 /// outlier = D_c >= Lambda_M.
 ///
-/// The argmax is taken on -2 ln psi_j, which neither underflows nor changes the winner;
+/// The argmax is taken on [`score`], which neither underflows nor changes the winner;
 /// ties go to the first landmark.
 pub fn associate(
     bar: &Belief,
@@ -63,9 +62,10 @@ pub fn associate(
         .iter()
         .map(|landmark| candidate(bar, z, &landmark.position, q))
         .collect();
+    let det_q = q.determinant();
     let mut c = 0;
     for (j, cand) in candidates.iter().enumerate().skip(1) {
-        if neg_log_likelihood(cand) < neg_log_likelihood(&candidates[c]) {
+        if score(cand, det_q) < score(&candidates[c], det_q) {
             c = j;
         }
     }
@@ -76,16 +76,19 @@ pub fn associate(
     }
 }
 
-/// The same association as [`associate`], winner only, and faster: the range part alone
-/// bounds the Mahalanobis distance from below (D_j >= nu_r^2 / S_j,rr, the Schur
-/// complement), and S_j >= Q gives det S_j >= det Q, so
+/// The same association as [`associate`], winner only, and faster. The range part alone
+/// bounds the Mahalanobis distance from below, D_j >= nu_r^2 / S_j,rr (the Schur
+/// complement), and S_j,rr <= s_max = lambda_max(Sigma_bar,xy) + Q_rr because the range
+/// row of H_j is a unit vector in x, y; S_j >= Q gives det S_j >= det Q. So
 ///
-/// -2 ln psi_j >= nu_r^2 / S_j,rr + ln det(2 pi Q),
+/// score_j = D_j + ln(det S_j / det Q) >= nu_r^2 / s_max,
 ///
-/// and a landmark whose bound is already worse than the best so far cannot win. The
-/// bound needs no arctangent and no 2 x 2 inverse. Landmarks are visited best bound
-/// first, and ties still go to the first landmark, so the winner is exactly the one
-/// [`associate`] picks.
+/// and a landmark can only beat the best score so far if its distance r_j from mu_bar
+/// lies within w = sqrt(best s_max) of the measured range: a test on r_j^2 that needs no
+/// square root, no arctangent, no 2 x 2 inverse and no logarithm. The landmark of the
+/// closest range is scored first, its score bounded by D + det S / det Q - 1 (as
+/// ln x <= x - 1) until a rival makes the exact value matter. Ties still go to the first
+/// landmark, so the winner is exactly the one [`associate`] picks.
 pub fn most_likely(
     bar: &Belief,
     z: &Vector2<f64>,
@@ -94,27 +97,44 @@ pub fn most_likely(
     q: &Matrix2<f64>,
 ) -> Match {
     let landmarks = map.landmarks();
-    let floor = libm::log((q * TAU).determinant());
-    let bound = |j: usize| range_bound(bar, z, &landmarks[j].position, q) + floor;
-
+    let at = bar.mu.xy();
+    let distance2 = |j: usize| (landmarks[j].position - at).norm_squared();
+    let range2 = z.x * z.x;
     let first = (0..landmarks.len())
-        .map(|j| (bound(j), j))
+        .map(|j| ((distance2(j) - range2).abs(), j))
         .fold((f64::INFINITY, 0), |best, next| {
             if next.0 < best.0 { next } else { best }
         })
         .1;
+
+    let det_q = q.determinant();
+    let p = &bar.sigma;
+    let half_trace = (p[(0, 0)] + p[(1, 1)]) / 2.0;
+    let half_gap = (p[(0, 0)] - p[(1, 1)]) / 2.0;
+    let s_max = half_trace + (half_gap * half_gap + p[(0, 1)] * p[(0, 1)]).sqrt() + q[(0, 0)];
+    // The squared distances a landmark must lie between to be worth scoring against a
+    // best score of at most `bound`. The margin, far above rounding, keeps the pruning
+    // from ever skipping the winner.
+    let window = |bound: f64| {
+        let w = (bound.max(0.0) * s_max).sqrt() * (1.0 + 1e-6) + 1e-9 * (1.0 + z.x);
+        ((z.x - w).max(0.0).powi(2), (z.x + w).powi(2))
+    };
+
     let mut c = first;
     let mut best = candidate(bar, z, &landmarks[first].position, q);
-    let mut best_score = neg_log_likelihood(&best);
+    let mut best_score: Option<f64> = None;
+    let (mut low, mut high) = window(best.mahalanobis + best.s.determinant() / det_q - 1.0);
     for j in (0..landmarks.len()).filter(|&j| j != first) {
-        // A margin far above rounding keeps the pruning from ever skipping the winner.
-        if bound(j) > best_score + 1e-9 * (1.0 + best_score.abs()) {
+        let r2 = distance2(j);
+        if r2 < low || r2 > high {
             continue;
         }
         let cand = candidate(bar, z, &landmarks[j].position, q);
-        let score = neg_log_likelihood(&cand);
-        if score < best_score || (score == best_score && j < c) {
-            (c, best, best_score) = (j, cand, score);
+        let rival = score(&cand, det_q);
+        let current = *best_score.get_or_insert_with(|| score(&best, det_q));
+        if rival < current || (rival == current && j < c) {
+            (c, best, best_score) = (j, cand, Some(rival));
+            (low, high) = window(rival);
         }
     }
     Match {
@@ -161,19 +181,8 @@ pub(crate) fn candidate(
     }
 }
 
-/// -2 ln psi = D + ln det(2 pi S), the association's score (lower is more likely).
-fn neg_log_likelihood(candidate: &Candidate) -> f64 {
-    candidate.mahalanobis + libm::log((candidate.s * TAU).determinant())
-}
-
-/// nu_r^2 / S_rr, the lower bound of D from the range alone, with H_r = [-dx/r, -dy/r, 0].
-fn range_bound(bar: &Belief, z: &Vector2<f64>, m: &Vector2<f64>, q: &Matrix2<f64>) -> f64 {
-    let dx = m.x - bar.mu.x;
-    let dy = m.y - bar.mu.y;
-    let r2 = dx * dx + dy * dy;
-    let p = &bar.sigma;
-    let s_rr =
-        (dx * dx * p[(0, 0)] + 2.0 * dx * dy * p[(0, 1)] + dy * dy * p[(1, 1)]) / r2 + q[(0, 0)];
-    let nu_r = z.x - r2.sqrt();
-    nu_r * nu_r / s_rr
+/// The association's score, lower for more likely: -2 ln psi = D + ln det(2 pi S), less
+/// the same constant ln det(2 pi Q) for every landmark, so that it is never below 0.
+fn score(candidate: &Candidate, det_q: f64) -> f64 {
+    candidate.mahalanobis + libm::log(candidate.s.determinant() / det_q)
 }

@@ -14,12 +14,14 @@ pub fn update(
     s: &Matrix2<f64>,
     nu: &Vector2<f64>,
 ) -> Option<Belief> {
-    let k = bar.sigma * h.transpose() * s.try_inverse()?;
+    let sigma_ht = bar.sigma * h.transpose();
+    let k = sigma_ht * s.try_inverse()?;
     let mut mu = bar.mu + k * nu;
     mu.z = wrap(mu.z);
+    // (I - K H) Sigma_bar = Sigma_bar - K (Sigma_bar H')', Sigma_bar being symmetric.
     Some(Belief {
         mu,
-        sigma: symmetrise(&((Matrix3::identity() - k * h) * bar.sigma)),
+        sigma: symmetrise(&(bar.sigma - k * sigma_ht.transpose())),
     })
 }
 
@@ -34,8 +36,9 @@ pub fn update(
 ///
 /// Sigma = Sigma_bar (I + A Sigma_bar)^-1,  mu = mu_bar + Sigma b,
 ///
-/// which holds for a singular Sigma_bar too. `readings` gives each reading's `(H_i, nu_i)`.
-/// `None` when `Q` is singular.
+/// which holds for a singular Sigma_bar too (M = I + A Sigma_bar has the eigenvalues of
+/// I + Sigma_bar^1/2 A Sigma_bar^1/2, all >= 1). `readings` gives each reading's
+/// `(H_i, nu_i)`. `None` when `Q` is singular.
 pub fn batch_update<'a>(
     bar: &Belief,
     readings: impl IntoIterator<Item = (&'a Matrix2x3<f64>, &'a Vector2<f64>)>,
@@ -49,7 +52,10 @@ pub fn batch_update<'a>(
         a += ht_q_inv * h;
         b += ht_q_inv * nu;
     }
-    let sigma = bar.sigma * (Matrix3::identity() + a * bar.sigma).try_inverse()?;
+    // Sigma = Sigma_bar M^-1 with M = I + A Sigma_bar, i.e. Sigma' = M'^-1 Sigma_bar: an LU
+    // solve with pivoting (the closed-form 3 x 3 inverse loses digits when A is large).
+    let m = Matrix3::identity() + a * bar.sigma;
+    let sigma = m.transpose().lu().solve(&bar.sigma)?.transpose();
     let mut mu = bar.mu + sigma * b;
     mu.z = wrap(mu.z);
     Some(Belief {
