@@ -34,14 +34,25 @@ fn observe(x: &[f64; 3], mx: f64, my: f64) -> (f64, f64, DMatrix<f64>) {
     (r, b, h)
 }
 
-/// For every landmark: (nu, S, H), and psi = det(2 pi S)^(-1/2) exp(-D / 2) and D.
+/// What one landmark predicts about a reading.
+struct Candidate {
+    nu: DVector<f64>,
+    s: DMatrix<f64>,
+    h: DMatrix<f64>,
+    /// psi = det(2 pi S)^(-1/2) exp(-D / 2)
+    psi: f64,
+    /// D = nu' S^-1 nu
+    d: f64,
+}
+
+/// Every landmark's candidate.
 fn per_landmark(
     mu: &[f64; 3],
     sigma: &DMatrix<f64>,
     z: (f64, f64),
     m: &[Vec<f64>; 2],
     q: &DMatrix<f64>,
-) -> Vec<(DVector<f64>, DMatrix<f64>, DMatrix<f64>, f64, f64)> {
+) -> Vec<Candidate> {
     (0..m[0].len())
         .map(|j| {
             let (r, b, h) = observe(mu, m[0][j], m[1][j]);
@@ -49,14 +60,14 @@ fn per_landmark(
             let nu = DVector::from_vec(vec![z.0 - r, wrap(z.1 - b)]);
             let d = (nu.transpose() * s.clone().try_inverse().unwrap() * &nu)[(0, 0)];
             let psi = (2.0 * PI * &s).determinant().powf(-0.5) * (-d / 2.0).exp();
-            (nu, s, h, psi, d)
+            Candidate { nu, s, h, psi, d }
         })
         .collect()
 }
 
 /// The first index of the largest psi, as MATLAB's max returns it.
-fn argmax(list: &[(DVector<f64>, DMatrix<f64>, DMatrix<f64>, f64, f64)]) -> usize {
-    (1..list.len()).fold(0, |c, j| if list[j].3 > list[c].3 { j } else { c })
+fn argmax(list: &[Candidate]) -> usize {
+    (1..list.len()).fold(0, |c, j| if list[j].psi > list[c].psi { j } else { c })
 }
 
 fn straightforward(call: &Call) -> Value {
@@ -109,10 +120,10 @@ fn straightforward(call: &Call) -> Value {
             let c = argmax(&list);
             json!({
                 "c": c,
-                "outlier": list[c].4 >= *lambda_m,
-                "nu": list.iter().map(|l| l.0.as_slice().to_vec()).collect::<Vec<_>>(),
-                "S": list.iter().map(|l| rows(&l.1)).collect::<Vec<_>>(),
-                "H": list.iter().map(|l| rows(&l.2)).collect::<Vec<_>>(),
+                "outlier": list[c].d >= *lambda_m,
+                "nu": list.iter().map(|l| l.nu.as_slice().to_vec()).collect::<Vec<_>>(),
+                "S": list.iter().map(|l| rows(&l.s)).collect::<Vec<_>>(),
+                "H": list.iter().map(|l| rows(&l.h)).collect::<Vec<_>>(),
             })
         }
         Call::BatchAssociate {
@@ -124,13 +135,13 @@ fn straightforward(call: &Call) -> Value {
             q,
         } => {
             let (mut c, mut outlier, mut nu_bar, mut h_bar) = (vec![], vec![], vec![], vec![]);
-            for i in 0..z[0].len() {
-                let list = per_landmark(mu_bar, &mat(sigma_bar), (z[0][i], z[1][i]), m, &mat(q));
+            for (&range, &bearing) in z[0].iter().zip(&z[1]) {
+                let list = per_landmark(mu_bar, &mat(sigma_bar), (range, bearing), m, &mat(q));
                 let best = argmax(&list);
                 c.push(best);
-                outlier.push(list[best].4 >= *lambda_m);
-                nu_bar.extend(list[best].0.iter().copied());
-                h_bar.extend(rows(&list[best].2));
+                outlier.push(list[best].d >= *lambda_m);
+                nu_bar.extend(list[best].nu.iter().copied());
+                h_bar.extend(rows(&list[best].h));
             }
             json!({ "c": c, "outlier": outlier, "nu_bar": nu_bar, "H_bar": h_bar })
         }

@@ -10,7 +10,7 @@ use super::{Encoders, Reading, SensorLog, Step};
 use crate::Error;
 use crate::ekf::{Landmark, Map};
 use nalgebra::{Vector2, Vector3};
-use std::fmt::Write;
+use std::fmt::{self, Write};
 
 const MAP_COLUMNS: [&str; 3] = ["id", "x", "y"];
 const STEP_COLUMNS: [&str; 10] = [
@@ -59,13 +59,13 @@ pub fn parse_sensor_log(text: &str, file: &str, map: &Map) -> Result<SensorLog, 
     let mut previous: Option<(usize, f64)> = None;
     for line in lines(text, file) {
         let step = line.step(map)?;
-        if let Some((previous_line, previous_t)) = previous {
-            if step.t < previous_t {
-                return Err(line.error(format!(
-                    "time goes backwards: t = {} here, but t = {previous_t} on line {previous_line}",
-                    step.t
-                )));
-            }
+        if let Some((previous_line, previous_t)) = previous
+            && step.t < previous_t
+        {
+            return Err(line.error(format!(
+                "time goes backwards: t = {} here, but t = {previous_t} on line {previous_line}",
+                step.t
+            )));
         }
         previous = Some((line.number, step.t));
         steps.push(step);
@@ -140,7 +140,7 @@ impl Line<'_> {
     }
 
     /// The finite number at `index`, which the message calls `what`.
-    fn number(&self, index: usize, what: &str) -> Result<f64, Error> {
+    fn number(&self, index: usize, what: impl fmt::Display) -> Result<f64, Error> {
         let token = self.tokens[index];
         match token.parse::<f64>() {
             Ok(value) if value.is_finite() => Ok(value),
@@ -152,8 +152,8 @@ impl Line<'_> {
     }
 
     /// The non-negative whole number at `index` (`7` and `7.000000` both are).
-    fn whole(&self, index: usize, what: &str) -> Result<u32, Error> {
-        let value = self.number(index, what)?;
+    fn whole(&self, index: usize, what: impl fmt::Display) -> Result<u32, Error> {
+        let value = self.number(index, &what)?;
         if value < 0.0 || value.fract() != 0.0 || value > f64::from(u32::MAX) {
             return Err(self.error(format!(
                 "value {} ({what}) is '{}', which is not a whole number >= 0",
@@ -209,10 +209,10 @@ impl Line<'_> {
 
     /// Reading `k` (1-based), whose id starts at token `at`.
     fn reading(&self, at: usize, k: usize, map: &Map) -> Result<Reading, Error> {
-        let what = |column: &str| format!("reading {k} {column}");
-        let id = self.whole(at, &what("id"))?;
-        let bearing = self.number(at + 1, &what("bearing"))?;
-        let range = self.number(at + 2, &what("range"))?;
+        // The column names are formatted only for a message.
+        let id = self.whole(at, format_args!("reading {k} id"))?;
+        let bearing = self.number(at + 1, format_args!("reading {k} bearing"))?;
+        let range = self.number(at + 2, format_args!("reading {k} range"))?;
         let landmark = map.index_of(id).ok_or_else(|| {
             self.error(format!(
                 "reading {k} is of landmark id {id}, which is not on the map (its ids: {})",

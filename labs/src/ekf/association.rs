@@ -78,17 +78,19 @@ pub fn associate(
 
 /// The same association as [`associate`], winner only, and faster. The range part alone
 /// bounds the Mahalanobis distance from below, D_j >= nu_r^2 / S_j,rr (the Schur
-/// complement), and S_j,rr <= s_max = lambda_max(Sigma_bar,xy) + Q_rr because the range
-/// row of H_j is a unit vector in x, y; S_j >= Q gives det S_j >= det Q. So
+/// complement), and S_j >= Q gives det S_j >= det Q, so
 ///
-/// score_j = D_j + ln(det S_j / det Q) >= nu_r^2 / s_max,
+/// score_j = D_j + ln(det S_j / det Q) >= nu_r^2 / S_j,rr >= nu_r^2 / s_max,
 ///
-/// and a landmark can only beat the best score so far if its distance r_j from mu_bar
-/// lies within w = sqrt(best s_max) of the measured range: a test on r_j^2 that needs no
-/// square root, no arctangent, no 2 x 2 inverse and no logarithm. The landmark of the
-/// closest range is scored first, its score bounded by D + det S / det Q - 1 (as
-/// ln x <= x - 1) until a rival makes the exact value matter. Ties still go to the first
-/// landmark, so the winner is exactly the one [`associate`] picks.
+/// with s_max = lambda_max(Sigma_bar,xy) + Q_rr >= S_j,rr, as the range row of H_j is a
+/// unit vector in x, y. A landmark can only beat the best score so far if its distance
+/// r_j from mu_bar lies within w = sqrt(best s_max) of the measured range, a test on
+/// r_j^2 alone; the few that pass face their own bound nu_r^2 / S_j,rr before they are
+/// scored in full. The landmark of the closest range is scored first; while no rival
+/// needs it, its score is bounded by D + (x - 1) / sqrt(x), x = det S / det Q >= 1 (as
+/// ln x <= (x - 1) / sqrt(x) for x >= 1) instead of taking a logarithm, unless x is so
+/// large that the bound would be loose. Ties still go to the first landmark, so the
+/// winner is exactly the one [`associate`] picks.
 pub fn most_likely(
     bar: &Belief,
     z: &Vector2<f64>,
@@ -98,43 +100,57 @@ pub fn most_likely(
 ) -> Match {
     let landmarks = map.landmarks();
     let at = bar.mu.xy();
-    let distance2 = |j: usize| (landmarks[j].position - at).norm_squared();
+    let offset = |j: usize| landmarks[j].position - at;
     let range2 = z.x * z.x;
     let first = (0..landmarks.len())
-        .map(|j| ((distance2(j) - range2).abs(), j))
+        .map(|j| ((offset(j).norm_squared() - range2).abs(), j))
         .fold((f64::INFINITY, 0), |best, next| {
             if next.0 < best.0 { next } else { best }
         })
         .1;
 
     let det_q = q.determinant();
-    let p = &bar.sigma;
+    let p = bar.sigma.fixed_view::<2, 2>(0, 0);
     let half_trace = (p[(0, 0)] + p[(1, 1)]) / 2.0;
     let half_gap = (p[(0, 0)] - p[(1, 1)]) / 2.0;
     let s_max = half_trace + (half_gap * half_gap + p[(0, 1)] * p[(0, 1)]).sqrt() + q[(0, 0)];
-    // The squared distances a landmark must lie between to be worth scoring against a
-    // best score of at most `bound`. The margin, far above rounding, keeps the pruning
-    // from ever skipping the winner.
-    let window = |bound: f64| {
-        let w = (bound.max(0.0) * s_max).sqrt() * (1.0 + 1e-6) + 1e-9 * (1.0 + z.x);
+    // Margins far above rounding keep the pruning from ever skipping the winner.
+    let beyond = |lower: f64, upper: f64| lower > upper * (1.0 + 1e-9) + 1e-9;
+    // The squared distances a landmark must lie between to beat a score of `upper`.
+    let window = |upper: f64| {
+        let w = (upper.max(0.0) * s_max).sqrt() * (1.0 + 1e-6) + 1e-9 * (1.0 + z.x);
         ((z.x - w).max(0.0).powi(2), (z.x + w).powi(2))
     };
 
     let mut c = first;
     let mut best = candidate(bar, z, &landmarks[first].position, q);
-    let mut best_score: Option<f64> = None;
-    let (mut low, mut high) = window(best.mahalanobis + best.s.determinant() / det_q - 1.0);
+    let ratio = best.s.determinant() / det_q;
+    // An upper bound of the best score, exact once `exact` is set.
+    let (mut upper, mut exact) = if ratio <= 64.0 {
+        (best.mahalanobis + (ratio - 1.0) / ratio.sqrt(), false)
+    } else {
+        (score(&best, det_q), true)
+    };
+    let (mut low, mut high) = window(upper);
     for j in (0..landmarks.len()).filter(|&j| j != first) {
-        let r2 = distance2(j);
+        let d = offset(j);
+        let r2 = d.norm_squared();
         if r2 < low || r2 > high {
+            continue;
+        }
+        let s_rr = (d.transpose() * p * d).x / r2 + q[(0, 0)];
+        let nu_r = z.x - r2.sqrt();
+        if beyond(nu_r * nu_r / s_rr, upper) {
             continue;
         }
         let cand = candidate(bar, z, &landmarks[j].position, q);
         let rival = score(&cand, det_q);
-        let current = *best_score.get_or_insert_with(|| score(&best, det_q));
-        if rival < current || (rival == current && j < c) {
-            (c, best, best_score) = (j, cand, Some(rival));
-            (low, high) = window(rival);
+        if !exact {
+            (upper, exact) = (score(&best, det_q), true);
+        }
+        if rival < upper || (rival == upper && j < c) {
+            (c, best, upper) = (j, cand, rival);
+            (low, high) = window(upper);
         }
     }
     Match {

@@ -1,6 +1,6 @@
 //! `estlab car`: the warm-up, a car on a line and its Kalman filter.
 
-use super::numbers;
+use super::{numbers, short};
 use crate::error::Error;
 use labs::car::{CarParams, run as run_car};
 
@@ -77,10 +77,10 @@ pub fn run(args: &Args) -> Result<(), Error> {
         params.process_std[0], params.process_std[1], params.measurement_std
     );
     println!(
-        "modelled: R = diag({:e}, {:e}), Q = {:e}, mu0 = ({}, {}), Sigma0 = diag({}, {})",
-        params.r[0][0],
-        params.r[1][1],
-        params.q,
+        "modelled: R = diag({}, {}), Q = {}, mu0 = ({}, {}), Sigma0 = diag({}, {})",
+        short(params.r[0][0]),
+        short(params.r[1][1]),
+        short(params.q),
         params.mu0[0],
         params.mu0[1],
         params.sigma0[0][0],

@@ -34,3 +34,17 @@ pub fn file_name(path: &Path) -> String {
         |name| name.to_string_lossy().into_owned(),
     )
 }
+
+/// A number in scientific notation with at most 5 significant digits: `1e-4`, `3.0462e-4`.
+pub fn short(value: f64) -> String {
+    let text = format!("{value:.4e}");
+    match text.split_once('e') {
+        Some((mantissa, exponent)) if mantissa.contains('.') => {
+            format!(
+                "{}e{exponent}",
+                mantissa.trim_end_matches('0').trim_end_matches('.')
+            )
+        }
+        _ => text,
+    }
+}

@@ -1,7 +1,7 @@
 //! `estlab run SENSOR MAP`: the EKF over a data set, printing what the lab's script
 //! printed.
 
-use super::{file_name, numbers, read};
+use super::{file_name, numbers, read, short};
 use crate::error::Error;
 use labs::dataset::{Dataset, parse_map, parse_sensor_log};
 use labs::ekf::{Run, Settings, UpdateMode, run as run_filter};
@@ -112,7 +112,7 @@ fn print_summary(args: &Args, settings: &Settings, result: &Run, seconds: f64) {
 fn list(values: &[f64]) -> String {
     values
         .iter()
-        .map(|v| format!("{v:e}"))
+        .map(|&v| short(v))
         .collect::<Vec<_>>()
         .join(", ")
 }
