@@ -119,5 +119,18 @@ fn single_steps(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, whole_runs, single_steps);
+fn parsing(c: &mut Criterion) {
+    let (Some(map_text), Some(sensor_text)) = (
+        testdata::read("el2320/datasets/map_o3.txt"),
+        testdata::read("el2320/datasets/so_o3_ie.txt"),
+    ) else {
+        return;
+    };
+    let map = parse_map(&map_text, "map_o3.txt").unwrap();
+    c.bench_function("parse so_o3_ie.txt", |b| {
+        b.iter(|| parse_sensor_log(black_box(&sensor_text), "so_o3_ie.txt", &map).unwrap())
+    });
+}
+
+criterion_group!(benches, whole_runs, single_steps, parsing);
 criterion_main!(benches);

@@ -129,7 +129,7 @@ fn lines<'a>(text: &'a str, file: &'a str) -> impl Iterator<Item = Line<'a>> {
         .map(move |(i, line)| Line {
             file,
             number: i + 1,
-            tokens: line.split_whitespace().collect(),
+            tokens: line.split_ascii_whitespace().collect(),
         })
         .filter(|line| !line.tokens.is_empty())
 }
