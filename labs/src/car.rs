@@ -67,6 +67,13 @@ pub struct CarStep {
     pub gain: Vector2<f64>,
 }
 
+impl CarStep {
+    /// The filter's own standard deviations of position and velocity: sqrt(P11), sqrt(P22).
+    pub fn std_dev(&self) -> [f64; 2] {
+        [self.sigma[(0, 0)].sqrt(), self.sigma[(1, 1)].sqrt()]
+    }
+}
+
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct CarRun {
     pub steps: Vec<CarStep>,
@@ -167,6 +174,64 @@ pub fn run(params: &CarParams) -> Result<CarRun, Error> {
     Ok(CarRun { steps, error_std })
 }
 
+/// The same car and filter run with many seeds: how the estimation error actually spreads
+/// over time, beside the spread the filter believes in.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MonteCarlo {
+    pub runs: usize,
+    pub t: Vec<f64>,
+    /// Per step, over the runs: the mean of the error (estimate - truth), position and
+    /// velocity; a mean far from zero is a bias.
+    pub error_mean: Vec<[f64; 2]>,
+    /// Per step, over the runs: the sample standard deviation of the error.
+    pub error_std: Vec<[f64; 2]>,
+    /// Per step: sqrt(P11), sqrt(P22). The covariance of a linear Kalman filter does not
+    /// depend on the measurements, so it is the same in every run.
+    pub filter_std: Vec<[f64; 2]>,
+}
+
+/// Runs the car with the seeds `params.seed`, `params.seed + 1`, ... (`runs` of them).
+pub fn monte_carlo(params: &CarParams, runs: usize) -> Result<MonteCarlo, Error> {
+    if !(2..=10_000).contains(&runs) {
+        return Err(Error::invalid(
+            "runs",
+            format!("must lie in 2..=10000, got {runs}"),
+        ));
+    }
+    let results = (0..runs as u64)
+        .map(|k| {
+            run(&CarParams {
+                seed: params.seed.wrapping_add(k),
+                ..params.clone()
+            })
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let n = runs as f64;
+    let steps = results[0].steps.len();
+    let mut monte_carlo = MonteCarlo {
+        runs,
+        t: results[0].steps.iter().map(|s| s.t).collect(),
+        error_mean: Vec::with_capacity(steps),
+        error_std: Vec::with_capacity(steps),
+        filter_std: results[0].steps.iter().map(CarStep::std_dev).collect(),
+    };
+    for k in 0..steps {
+        let error = |r: &CarRun, i: usize| r.steps[k].mu[i] - r.steps[k].truth[i];
+        let mean: [f64; 2] =
+            std::array::from_fn(|i| results.iter().map(|r| error(r, i)).sum::<f64>() / n);
+        let std = std::array::from_fn(|i| {
+            let squares = results
+                .iter()
+                .map(|r| (error(r, i) - mean[i]).powi(2))
+                .sum::<f64>();
+            (squares / (n - 1.0)).sqrt()
+        });
+        monte_carlo.error_mean.push(mean);
+        monte_carlo.error_std.push(std);
+    }
+    Ok(monte_carlo)
+}
+
 /// The sample standard deviation of each error component over the second half.
 fn second_half_error_std(steps: &[CarStep]) -> [f64; 2] {
     let half = &steps[steps.len() / 2..];
@@ -234,6 +299,37 @@ mod tests {
             assert!((s[(0, 1)] - s[(1, 0)]).abs() < 1e-12);
             assert!(s[(0, 0)] > 0.0 && s.determinant() > 0.0);
         }
+    }
+
+    #[test]
+    fn a_well_tuned_filter_believes_the_spread_it_shows() {
+        let mc = monte_carlo(&CarParams::default(), 400).unwrap();
+        // Over the second half the actual error spread matches the filter's sigma.
+        for k in 50..100 {
+            for i in 0..2 {
+                let ratio = mc.error_std[k][i] / mc.filter_std[k][i];
+                assert!(
+                    (0.8..1.25).contains(&ratio),
+                    "step {k}, component {i}: ratio {ratio}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn an_overconfident_filter_underestimates_the_spread() {
+        let overconfident = CarParams {
+            r: [[1e-8, 0.0], [0.0, 1e-6]],
+            ..CarParams::default()
+        };
+        let mc = monte_carlo(&overconfident, 200).unwrap();
+        let k = 99;
+        assert!(
+            mc.error_std[k][1] > 3.0 * mc.filter_std[k][1],
+            "{:?} vs {:?}",
+            mc.error_std[k],
+            mc.filter_std[k]
+        );
     }
 
     #[test]

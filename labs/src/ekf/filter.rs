@@ -73,6 +73,16 @@ impl Settings {
         }
     }
 
+    /// These settings with diagonal R and Q given as variances (x, y, theta; range,
+    /// bearing), as the command line and the browser set them.
+    pub fn with_diagonals(self, r: [f64; 3], q: [f64; 2]) -> Self {
+        Settings {
+            r: Matrix3::from_diagonal(&Vector3::from(r)),
+            q: Matrix2::from_diagonal(&Vector2::from(q)),
+            ..self
+        }
+    }
+
     /// Checks every setting, naming the first that is out of its domain.
     pub fn validate(&self) -> Result<(), Error> {
         positive_semidefinite("R", self.r.as_slice(), 3)?;
@@ -142,6 +152,14 @@ pub struct StepEstimate {
     pub odometry: Vector3<f64>,
 }
 
+impl StepEstimate {
+    /// The filter's standard deviations of x, y and theta: the square roots of the
+    /// diagonal of Sigma.
+    pub fn std_dev(&self) -> Vector3<f64> {
+        self.sigma.diagonal().map(f64::sqrt)
+    }
+}
+
 /// What the filter made of one reading.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ReadingOutcome {
@@ -151,6 +169,8 @@ pub struct ReadingOutcome {
     pub c: usize,
     /// The landmark (map index) that truly produced it, from the sensor file.
     pub truth: usize,
+    /// The reading, `[range, bearing]`.
+    pub z: Vector2<f64>,
     /// The squared Mahalanobis distance to the associated landmark.
     pub mahalanobis: f64,
     pub outlier: bool,
@@ -171,6 +191,20 @@ pub struct Summary {
     pub misassociated: usize,
     /// `Lambda_M`, the outlier threshold used.
     pub lambda_m: f64,
+}
+
+impl Summary {
+    /// The figures as the lab's script printed them, and the rejections.
+    pub fn report(&self) -> String {
+        let triple = |v: &Vector3<f64>| format!("({:.6}, {:.6}, {:.6})", v.x, v.y, v.z);
+        format!(
+            "mean error (x, y, theta):          {}\nmean absolute error (x, y, theta): {}\nrejected readings: {} of {}\n",
+            triple(&self.mean_error),
+            triple(&self.mean_absolute_error),
+            self.rejected,
+            self.readings
+        )
+    }
 }
 
 /// A whole run of the filter over a data set.
@@ -271,6 +305,7 @@ pub fn run(data: &Dataset, settings: &Settings) -> Result<Run, Error> {
                     step: k,
                     c: m.c,
                     truth: reading.landmark,
+                    z: reading.z,
                     mahalanobis: m.candidate.mahalanobis,
                     outlier: m.outlier,
                 }),

@@ -4,6 +4,7 @@
 
 mod association;
 mod filter;
+mod geometry;
 mod map;
 mod observation;
 mod odometry;
@@ -14,6 +15,7 @@ pub use association::{
     Association, Candidate, Match, associate, batch_associate, lambda_m, most_likely,
 };
 pub use filter::{ReadingOutcome, Run, Settings, StepEstimate, Summary, UpdateMode, run};
+pub use geometry::{covariance_ellipse, reading_position};
 pub use map::{Landmark, Map};
 pub use observation::{jacobian_observation_model, observation_model};
 pub use odometry::{Robot, calculate_odometry};

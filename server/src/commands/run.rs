@@ -5,7 +5,6 @@ use super::{file_name, numbers, read, short};
 use crate::error::Error;
 use labs::dataset::{Dataset, parse_map, parse_sensor_log};
 use labs::ekf::{Run, Settings, UpdateMode, run as run_filter};
-use nalgebra::{Matrix2, Matrix3, Vector2, Vector3};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -56,6 +55,8 @@ pub fn run(args: &Args) -> Result<(), Error> {
 
 fn settings(args: &Args) -> Settings {
     let lab = Settings::lab_o3();
+    let r = args.r.unwrap_or(lab.r.diagonal().into());
+    let q = args.q.unwrap_or(lab.q.diagonal().into());
     Settings {
         mode: if args.batch {
             UpdateMode::Batch
@@ -63,20 +64,14 @@ fn settings(args: &Args) -> Settings {
             UpdateMode::Sequential
         },
         known_associations: args.known_associations,
-        r: args
-            .r
-            .map_or(lab.r, |d| Matrix3::from_diagonal(&Vector3::from(d))),
-        q: args
-            .q
-            .map_or(lab.q, |d| Matrix2::from_diagonal(&Vector2::from(d))),
         delta_m: args.delta_m.unwrap_or(lab.delta_m),
         ..lab
     }
+    .with_diagonals(r, q)
 }
 
 fn print_summary(args: &Args, settings: &Settings, result: &Run, seconds: f64) {
     let s = &result.summary;
-    let triple = |v: &Vector3<f64>| format!("({:.6}, {:.6}, {:.6})", v.x, v.y, v.z);
     println!(
         "{} on {}: {} time steps, {} readings, {} update, {}",
         file_name(&args.sensor),
@@ -97,15 +92,7 @@ fn print_summary(args: &Args, settings: &Settings, result: &Run, seconds: f64) {
         settings.delta_m,
         s.lambda_m
     );
-    println!(
-        "mean error (x, y, theta):          {}",
-        triple(&s.mean_error)
-    );
-    println!(
-        "mean absolute error (x, y, theta): {}",
-        triple(&s.mean_absolute_error)
-    );
-    println!("rejected readings: {} of {}", s.rejected, s.readings);
+    print!("{}", s.report());
     println!("time: {:.3} ms", seconds * 1e3);
 }
 
