@@ -68,6 +68,11 @@ pub struct CarStep {
 }
 
 impl CarStep {
+    /// The estimation error `mu - truth` (position, velocity).
+    pub fn error(&self) -> Vector2<f64> {
+        self.mu - self.truth
+    }
+
     /// The filter's own standard deviations of position and velocity: sqrt(P11), sqrt(P22).
     pub fn std_dev(&self) -> [f64; 2] {
         [self.sigma[(0, 0)].sqrt(), self.sigma[(1, 1)].sqrt()]
@@ -216,7 +221,7 @@ pub fn monte_carlo(params: &CarParams, runs: usize) -> Result<MonteCarlo, Error>
         filter_std: results[0].steps.iter().map(CarStep::std_dev).collect(),
     };
     for k in 0..steps {
-        let error = |r: &CarRun, i: usize| r.steps[k].mu[i] - r.steps[k].truth[i];
+        let error = |r: &CarRun, i: usize| r.steps[k].error()[i];
         let mean: [f64; 2] =
             std::array::from_fn(|i| results.iter().map(|r| error(r, i)).sum::<f64>() / n);
         let std = std::array::from_fn(|i| {
@@ -237,7 +242,7 @@ fn second_half_error_std(steps: &[CarStep]) -> [f64; 2] {
     let half = &steps[steps.len() / 2..];
     let n = half.len() as f64;
     std::array::from_fn(|i| {
-        let errors = half.iter().map(|s| s.mu[i] - s.truth[i]);
+        let errors = half.iter().map(|s| s.error()[i]);
         let mean = errors.clone().sum::<f64>() / n;
         (errors.map(|e| (e - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt()
     })

@@ -5,6 +5,8 @@ use std::path::PathBuf;
 pub enum Error {
     #[error(transparent)]
     Labs(#[from] labs::Error),
+    #[error(transparent)]
+    Web(#[from] crate::web::Error),
     #[error("{}: {source}", path.display())]
     Io {
         path: PathBuf,

@@ -2,6 +2,7 @@
 
 pub mod car;
 pub mod run;
+pub mod serve;
 pub mod simulate;
 
 use crate::error::Error;

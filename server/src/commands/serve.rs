@@ -1,0 +1,42 @@
+//! `estlab serve`: the web application.
+
+use crate::error::Error;
+use crate::web::{self, AppState, Assets};
+use std::net::SocketAddr;
+use std::path::PathBuf;
+use std::sync::Arc;
+
+/// Serve the exercises, the experiments and the grader over HTTP.
+#[derive(clap::Args)]
+pub struct Args {
+    /// Address and port to listen on; port 0 picks a free one.
+    #[arg(long, default_value = "127.0.0.1:8080")]
+    addr: SocketAddr,
+    /// The built browser assets (scripts/build-web writes them to target/web/dist).
+    #[arg(long = "static", value_name = "DIR", default_value = DEFAULT_STATIC_DIR)]
+    static_dir: PathBuf,
+}
+
+/// Where `scripts/build-web` puts the assets, in the tree this binary was built from.
+const DEFAULT_STATIC_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../target/web/dist");
+
+pub fn run(args: &Args) -> Result<(), Error> {
+    let runtime = tokio::runtime::Runtime::new().map_err(Error::io("the async runtime"))?;
+    runtime.block_on(serve(args))
+}
+
+async fn serve(args: &Args) -> Result<(), Error> {
+    let assets = Assets::load(&args.static_dir)?;
+    let app = web::router(Arc::new(AppState { assets }));
+    let listener = tokio::net::TcpListener::bind(args.addr)
+        .await
+        .map_err(Error::io(args.addr.to_string()))?;
+    let addr = listener.local_addr().map_err(Error::io(args.addr.to_string()))?;
+    println!("estlab is serving on http://{addr}/");
+    axum::serve(listener, app)
+        .with_graceful_shutdown(async {
+            let _ = tokio::signal::ctrl_c().await;
+        })
+        .await
+        .map_err(Error::io(addr.to_string()))
+}

@@ -1,0 +1,82 @@
+//! The built browser assets (`scripts/build-web` writes them): content-hashed files,
+//! served with long cache lifetimes and precompressed, and the manifest that names each
+//! page's script and style.
+
+use axum::http::{HeaderValue, Response, StatusCode, header};
+use super::Error;
+use serde::Deserialize;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use tower_http::services::ServeDir;
+
+/// `manifest.json`: file names relative to the asset directory.
+#[derive(Debug, Deserialize)]
+struct Manifest {
+    /// The stylesheet of every page.
+    style: String,
+    /// The script of each page.
+    scripts: HashMap<String, String>,
+}
+
+/// What a page links to.
+#[derive(Debug)]
+pub struct PageAssets<'a> {
+    pub style: &'a str,
+    pub script: &'a str,
+}
+
+/// The pages that have a script of their own.
+pub const PAGES: [&str; 3] = ["home", "car", "ekf"];
+
+#[derive(Debug)]
+pub struct Assets {
+    dir: PathBuf,
+    manifest: Manifest,
+}
+
+impl Assets {
+    /// Reads `manifest.json` in `dir`; an error says how to build the assets when they are
+    /// not there.
+    pub fn load(dir: &Path) -> Result<Assets, Error> {
+        let manifest = dir.join("manifest.json");
+        let broken = |problem: String| Error::Assets(format!("{}: {problem}", manifest.display()));
+        let text = std::fs::read_to_string(&manifest).map_err(|e| {
+            broken(format!(
+                "{e}; the browser assets are not built there (scripts/build-web builds them, or pass --static DIR)"
+            ))
+        })?;
+        let manifest: Manifest = serde_json::from_str(&text).map_err(|e| broken(e.to_string()))?;
+        for page in PAGES {
+            if !manifest.scripts.contains_key(page) {
+                return Err(broken(format!("the script of the page '{page}' is missing")));
+            }
+        }
+        Ok(Assets { dir: dir.to_owned(), manifest })
+    }
+
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+
+    /// The assets of one of [`PAGES`].
+    pub fn page(&self, name: &str) -> PageAssets<'_> {
+        PageAssets { style: &self.manifest.style, script: &self.manifest.scripts[name] }
+    }
+}
+
+/// Every file name carries a hash of its content, so a file never changes under its
+/// name and may be cached for a year.
+pub fn service(dir: &Path) -> axum::routing::MethodRouter {
+    let files = ServeDir::new(dir).precompressed_br().precompressed_gzip();
+    axum::routing::get_service(files).layer(axum::middleware::map_response(immutable))
+}
+
+async fn immutable<B>(mut response: Response<B>) -> Response<B> {
+    if response.status() == StatusCode::OK {
+        response.headers_mut().insert(
+            header::CACHE_CONTROL,
+            HeaderValue::from_static("public, max-age=31536000, immutable"),
+        );
+    }
+    response
+}

@@ -1,0 +1,49 @@
+//! The web application: the pages, rendered with askama, and the built browser assets.
+
+mod assets;
+mod error;
+mod pages;
+
+pub use assets::Assets;
+pub use error::Error;
+
+use axum::Router;
+use axum::http::{HeaderValue, header};
+use axum::routing::get;
+use std::sync::Arc;
+use tower_http::compression::CompressionLayer;
+use tower_http::set_header::SetResponseHeaderLayer;
+
+/// What every request handler can reach.
+pub struct AppState {
+    pub assets: Assets,
+}
+
+/// Scripts from this origin only (and the wasm module they compile); styles may be
+/// inline, as the plotting and formula libraries set them on elements.
+const CONTENT_SECURITY_POLICY: &str = "default-src 'self'; script-src 'self' 'wasm-unsafe-eval'; \
+    style-src 'self' 'unsafe-inline'; img-src 'self' data: blob:; font-src 'self'; \
+    object-src 'none'; base-uri 'none'; frame-ancestors 'none'";
+
+pub fn router(state: Arc<AppState>) -> Router {
+    let static_files = assets::service(state.assets.dir());
+    Router::new()
+        .route("/", get(pages::home))
+        .route("/car", get(pages::car))
+        .route("/ekf", get(pages::ekf))
+        .route("/healthz", get(|| async { "ok" }))
+        .route("/favicon.svg", get(pages::icon))
+        .route("/favicon.ico", get(pages::icon))
+        .nest_service("/static", static_files)
+        .fallback(pages::not_found)
+        .layer(CompressionLayer::new())
+        .layer(SetResponseHeaderLayer::if_not_present(
+            header::CONTENT_SECURITY_POLICY,
+            HeaderValue::from_static(CONTENT_SECURITY_POLICY),
+        ))
+        .layer(SetResponseHeaderLayer::if_not_present(
+            header::X_CONTENT_TYPE_OPTIONS,
+            HeaderValue::from_static("nosniff"),
+        ))
+        .with_state(state)
+}

@@ -1,0 +1,57 @@
+// Bundles the page scripts and the styles with esbuild into content-hashed files, writes
+// manifest.json (the style, and each page's script) for the server, and precompresses every text
+// asset with brotli and gzip so that the server can send the smaller one.
+//
+//   node build.mjs PKG_DIR OUT_DIR
+import * as esbuild from 'esbuild';
+import { readdirSync, readFileSync, rmSync, statSync, writeFileSync } from 'node:fs';
+import { join, relative } from 'node:path';
+import { brotliCompressSync, constants, gzipSync } from 'node:zlib';
+
+const [pkg, out] = process.argv.slice(2);
+const pages = ['home', 'car', 'ekf'];
+
+rmSync(out, { recursive: true, force: true });
+const result = await esbuild.build({
+  entryPoints: { ...Object.fromEntries(pages.map((page) => [page, `src/pages/${page}.js`])), style: 'src/style.css' },
+  bundle: true,
+  splitting: true,
+  format: 'esm',
+  target: 'es2022',
+  minify: true,
+  sourcemap: false,
+  legalComments: 'linked',
+  outdir: out,
+  entryNames: '[name]-[hash]',
+  chunkNames: 'chunks/[name]-[hash]',
+  assetNames: 'assets/[name]-[hash]',
+  publicPath: '/static/',
+  alias: { 'estlab-wasm': pkg },
+  loader: { '.wasm': 'file', '.woff2': 'file', '.woff': 'file', '.ttf': 'file' },
+  metafile: true,
+  logLevel: 'warning',
+});
+
+const manifest = { style: null, scripts: {} };
+for (const [file, output] of Object.entries(result.metafile.outputs)) {
+  const page = pages.find((p) => output.entryPoint === `src/pages/${p}.js`);
+  if (page) manifest.scripts[page] = relative(out, file);
+  if (output.entryPoint === 'src/style.css') manifest.style = relative(out, file);
+}
+writeFileSync(join(out, 'manifest.json'), JSON.stringify(manifest, null, 2));
+
+const compressible = /\.(js|css|wasm|svg|json|ttf|txt)$/;
+function compress(dir) {
+  for (const name of readdirSync(dir)) {
+    const path = join(dir, name);
+    if (statSync(path).isDirectory()) {
+      compress(path);
+    } else if (compressible.test(name)) {
+      const data = readFileSync(path);
+      writeFileSync(`${path}.br`, brotliCompressSync(data, { params: { [constants.BROTLI_PARAM_QUALITY]: 11 } }));
+      writeFileSync(`${path}.gz`, gzipSync(data, { level: 9 }));
+    }
+  }
+}
+compress(out);
+console.log(`built ${Object.keys(manifest.scripts).length} pages into ${out}`);

@@ -1,0 +1,54 @@
+// Small helpers for the experiment controls.
+
+/**
+ * A range input that holds log10 of its value: `<input type=range min=-2 max=2>` spans
+ * 1/100 to 100. `label` shows the value as `show(value)` returns it.
+ */
+export class LogSlider {
+  constructor(input, label, show) {
+    this.input = input;
+    this.label = label;
+    this.show = show;
+    input.addEventListener('input', () => this.render());
+    this.render();
+  }
+
+  get value() {
+    return 10 ** Number(this.input.value);
+  }
+
+  set value(v) {
+    this.input.value = String(Math.log10(v));
+    this.render();
+  }
+
+  render() {
+    if (this.label) this.label.textContent = this.show(this.value);
+  }
+}
+
+/** The element with this id, or an error that says which is missing. */
+export function byId(id) {
+  const element = document.getElementById(id);
+  if (!element) throw new Error(`the page has no element #${id}`);
+  return element;
+}
+
+/** Offers `data` (a Blob, or text of MIME type `type`) as a file download named `name`. */
+export function download(name, data, type = 'text/plain') {
+  const blob = data instanceof Blob ? data : new Blob([data], { type });
+  const url = URL.createObjectURL(blob);
+  const a = document.createElement('a');
+  a.href = url;
+  a.download = name;
+  document.body.append(a);
+  a.click();
+  a.remove();
+  setTimeout(() => URL.revokeObjectURL(url), 1000);
+}
+
+/** Shows `message` in the page's error box, or hides the box when it is empty. */
+export function showError(box, message) {
+  box.textContent = message ?? '';
+  box.hidden = !message;
+}

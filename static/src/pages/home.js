@@ -1,0 +1,4 @@
+import { renderMath } from '../math.js';
+
+renderMath();
+document.body.dataset.ready = 'true';
