@@ -18,7 +18,7 @@ const result = await esbuild.build({
   splitting: true,
   format: 'esm',
   target: 'es2022',
-  minify: true,
+  minify: process.env.ESTLAB_MINIFY !== '0',
   sourcemap: false,
   legalComments: 'linked',
   outdir: out,

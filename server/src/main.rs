@@ -24,6 +24,7 @@ enum Command {
     Run(commands::run::Args),
     Simulate(commands::simulate::Args),
     Car(commands::car::Args),
+    Cases(commands::cases::Args),
 }
 
 fn main() -> ExitCode {
@@ -33,6 +34,7 @@ fn main() -> ExitCode {
         Command::Run(args) => commands::run::run(&args),
         Command::Simulate(args) => commands::simulate::run(&args),
         Command::Car(args) => commands::car::run(&args),
+        Command::Cases(args) => commands::cases::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

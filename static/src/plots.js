@@ -57,25 +57,77 @@ export class Plot {
       buttons.append(button);
     }
     figure.querySelector('figcaption').append(buttons);
+    // A plot out of view keeps its newest option and draws it when it comes into view:
+    // moving a control then costs only the plots the reader can see.
+    this.visible = true;
+    this.pending = [];
+    new IntersectionObserver(([entry]) => {
+      this.visible = entry.isIntersecting;
+      if (this.visible) this.flush();
+    }).observe(this.element);
   }
 
-  /** Replaces the whole option. */
+  /**
+   * Shows `option`. Series are matched by id and keep their models (and components, such
+   * as the axes, are merged), which costs far less than building the chart anew.
+   */
   set(option) {
-    this.chart.setOption(option, { notMerge: true });
+    this.pending = [[option, { replaceMerge: ['series'] }]];
+    if (this.visible) this.flush();
   }
 
   /** Merges `option` into the current one (series matched by id). */
   update(option) {
-    this.chart.setOption(option, { notMerge: false, lazyUpdate: false });
+    this.pending.push([option, { notMerge: false }]);
+    if (this.visible) this.flush();
   }
 
-  /** What the chart shows now, for tests and exports. */
+  /**
+   * A transparent chart laid over this one, with the same zoom (and legend), for what
+   * changes more often than the rest: redrawing it leaves the charts beneath alone. The
+   * caller keeps its axes the same as this chart's. Later overlays lie on earlier ones.
+   */
+  addOverlay() {
+    if (!this.stack) {
+      this.stack = document.createElement('div');
+      this.stack.className = 'stack';
+      this.element.replaceWith(this.stack);
+      this.stack.append(this.element);
+      this.chart.group = `overlays of ${this.name}`;
+      this.overlays = [];
+    }
+    const div = document.createElement('div');
+    div.className = 'overlay';
+    this.stack.append(div);
+    const overlay = echarts.init(div, null, { renderer: 'canvas' });
+    new ResizeObserver(() => overlay.resize()).observe(div);
+    overlay.group = this.chart.group;
+    echarts.connect(this.chart.group);
+    this.overlays.push(overlay);
+    return overlay;
+  }
+
+  /** Draws what is pending. */
+  flush() {
+    for (const [option, how] of this.pending) this.chart.setOption(option, how);
+    this.pending = [];
+  }
+
+  /** What the chart shows, its overlays' series in place of any with the same id. */
   series() {
-    return this.chart.getOption().series;
+    this.flush();
+    const above = (this.overlays ?? []).flatMap((overlay) => overlay.getOption().series ?? []);
+    const covered = new Set(above.map((s) => s.id));
+    return [...this.chart.getOption().series.filter((s) => !covered.has(s.id)), ...above];
   }
 
   savePng() {
-    const url = this.chart.getDataURL({ type: 'png', pixelRatio: 2, backgroundColor: '#fff' });
+    this.flush();
+    // With overlays, every layer composed into one image on white.
+    const background = this.overlays
+      ? { backgroundColor: 'transparent', connectedBackgroundColor: '#fff' }
+      : { backgroundColor: '#fff' };
+    const url = this.chart.getConnectedDataURL({ type: 'png', pixelRatio: 2, ...background });
     const bytes = Uint8Array.from(atob(url.slice(url.indexOf(',') + 1)), (c) => c.charCodeAt(0));
     download(`${this.name}.png`, new Blob([bytes], { type: 'image/png' }));
   }
@@ -86,13 +138,14 @@ export class Plot {
 
   /** The chart rendered again as SVG, at its size on the page. */
   svg() {
+    this.flush();
     const vector = echarts.init(null, null, {
       renderer: 'svg',
       ssr: true,
       width: this.chart.getWidth(),
       height: this.chart.getHeight(),
     });
-    vector.setOption({ ...this.chart.getOption(), backgroundColor: '#fff' });
+    vector.setOption({ ...this.chart.getOption(), series: this.series(), backgroundColor: '#fff' });
     const svg = vector.renderToSVGString();
     vector.dispose();
     return svg;
@@ -118,28 +171,30 @@ export function pairs(xs, ys) {
 /** A line through (xs, ys). */
 export function line(name, xs, ys, colour, extra = {}) {
   return {
+    id: name,
     name,
     type: 'line',
     data: pairs(xs, ys),
     showSymbol: false,
     lineStyle: { width: 1.5, color: colour },
     itemStyle: { color: colour },
+    emphasis: { disabled: true },
+    silent: true,
     ...extra,
   };
 }
 
-/**
- * The band between `lower` and `upper`, shaded: an invisible line at `lower` with the
- * width stacked on top of it, kept out of the tooltip.
- */
-export function band(name, xs, lower, upper, colour) {
-  const stack = `band ${name}`;
-  const width = upper.map((u, i) => u - lower[i]);
-  // stackStrategy 'all': stack the width on the lower line even where that is negative.
-  const hidden = { showSymbol: false, lineStyle: { opacity: 0 }, stack, stackStrategy: 'all', silent: true };
+/** A line over time: x increases, so it can be thinned to the pixels it covers. */
+export function timeLine(name, t, ys, colour, extra = {}) {
+  return line(name, t, ys, colour, { sampling: 'lttb', ...extra });
+}
+
+/** The bounds `lower` and `upper` of a band, as two faint lines under one legend entry. */
+export function band(name, t, lower, upper, colour) {
+  const bound = { lineStyle: { width: 1, color: colour, opacity: 0.5 } };
   return [
-    { ...hidden, id: `${stack} low`, name, type: 'line', data: pairs(xs, lower) },
-    { ...hidden, id: `${stack} width`, name, type: 'line', data: pairs(xs, width), areaStyle: { color: colour, opacity: 0.15 } },
+    timeLine(name, t, lower, colour, { ...bound, id: `band ${name} low` }),
+    timeLine(name, t, upper, colour, { ...bound, id: `band ${name} high` }),
   ];
 }
 
@@ -147,7 +202,8 @@ export function band(name, xs, lower, upper, colour) {
 export function overTime(yName, series, yAxis = {}) {
   return {
     animation: false,
-    grid: { left: 64, right: 20, top: 40, bottom: 44 },
+    // The margins are fixed: measuring the labels to fit them costs a redraw dearly.
+    grid: { left: 64, right: 20, top: 40, bottom: 44, outerBoundsMode: 'none' },
     legend: { top: 4, type: 'scroll' },
     tooltip: {
       trigger: 'axis',

@@ -14,7 +14,7 @@ export const chromiumPath = process.env.CHROMIUM ?? '/usr/bin/chromium';
 
 /** The estlab command line: its standard output, or a thrown error with its stderr. */
 export function estlab(...args) {
-  return execFileSync(estlabBinary, args, { encoding: 'utf8' });
+  return execFileSync(estlabBinary, args, { encoding: 'utf8', maxBuffer: 1 << 28 });
 }
 
 /** A fresh temporary directory. */
@@ -77,6 +77,10 @@ export async function openPage(browser, url) {
   page.on('pageerror', (error) => page.problems.push(`uncaught: ${error.message}`));
   page.on('requestfailed', (request) => page.problems.push(`request failed: ${request.url()}`));
   await page.goto(url);
-  await page.waitForSelector('body[data-ready=true]', { timeout: 20000 });
+  try {
+    await page.waitForSelector('body[data-ready=true]', { timeout: 20000 });
+  } catch (error) {
+    throw new Error(`${url} never got ready: ${error.message}\nwhat went wrong on the page: ${page.problems.join('\n')}`);
+  }
   return page;
 }

@@ -15,7 +15,9 @@ pub fn car_defaults() -> String {
 #[wasm_bindgen(js_name = runCar)]
 pub fn run_car(params: &str) -> Result<CarRun, JsError> {
     let params: CarParams = from_json("car parameters", params)?;
-    Ok(CarRun { inner: car::run(&params).map_err(to_js)? })
+    Ok(CarRun {
+        inner: car::run(&params).map_err(to_js)?,
+    })
 }
 
 /// One run of the car, series by series.
@@ -89,7 +91,9 @@ impl CarRun {
 #[wasm_bindgen(js_name = carMonteCarlo)]
 pub fn car_monte_carlo(params: &str, runs: u32) -> Result<CarMonteCarlo, JsError> {
     let params: CarParams = from_json("car parameters", params)?;
-    Ok(CarMonteCarlo { inner: car::monte_carlo(&params, runs as usize).map_err(to_js)? })
+    Ok(CarMonteCarlo {
+        inner: car::monte_carlo(&params, runs as usize).map_err(to_js)?,
+    })
 }
 
 /// Many runs of the car: the actual spread of the error beside the filter's sigma.

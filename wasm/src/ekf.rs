@@ -38,15 +38,26 @@ impl Dataset {
     /// A simulated data set: `kind` is o3, outliers or no-odometry.
     pub fn simulate(kind: &str, seed_value: f64) -> Result<Dataset, JsError> {
         let kind = Kind::from_name(kind).map_err(to_js)?;
-        Ok(Dataset { inner: dataset::simulate(kind, seed(seed_value)?), kind: Some(kind) })
+        Ok(Dataset {
+            inner: dataset::simulate(kind, seed(seed_value)?),
+            kind: Some(kind),
+        })
     }
 
     /// The user's own EL2320 files; an error carries the parser's message, which names
     /// the file and the line.
-    pub fn parse(map_text: &str, map_name: &str, sensor_text: &str, sensor_name: &str) -> Result<Dataset, JsError> {
+    pub fn parse(
+        map_text: &str,
+        map_name: &str,
+        sensor_text: &str,
+        sensor_name: &str,
+    ) -> Result<Dataset, JsError> {
         let map = parse_map(map_text, map_name).map_err(to_js)?;
         let log = parse_sensor_log(sensor_text, sensor_name, &map).map_err(to_js)?;
-        Ok(Dataset { inner: dataset::Dataset { map, log }, kind: None })
+        Ok(Dataset {
+            inner: dataset::Dataset { map, log },
+            kind: None,
+        })
     }
 
     /// The lab's settings for this kind of data (o3's for the user's files), as JSON of
@@ -66,11 +77,21 @@ impl Dataset {
 
     #[wasm_bindgen(js_name = landmarkX)]
     pub fn landmark_x(&self) -> Vec<f64> {
-        self.inner.map.landmarks().iter().map(|l| l.position.x).collect()
+        self.inner
+            .map
+            .landmarks()
+            .iter()
+            .map(|l| l.position.x)
+            .collect()
     }
     #[wasm_bindgen(js_name = landmarkY)]
     pub fn landmark_y(&self) -> Vec<f64> {
-        self.inner.map.landmarks().iter().map(|l| l.position.y).collect()
+        self.inner
+            .map
+            .landmarks()
+            .iter()
+            .map(|l| l.position.y)
+            .collect()
     }
     #[wasm_bindgen(js_name = landmarkIds)]
     pub fn landmark_ids(&self) -> Vec<u32> {
@@ -103,7 +124,9 @@ impl Dataset {
             ..self.kind.unwrap_or(Kind::O3).lab_settings()
         }
         .with_diagonals(c.r, c.q);
-        Ok(EkfRun { inner: ekf::run(&self.inner, &settings).map_err(to_js)? })
+        Ok(EkfRun {
+            inner: ekf::run(&self.inner, &settings).map_err(to_js)?,
+        })
     }
 }
 
@@ -118,7 +141,11 @@ impl EkfRun {
         self.inner.steps.iter().map(f).collect()
     }
 
-    fn component(&self, component: usize, f: impl Fn(&ekf::StepEstimate) -> Vector3<f64>) -> Vec<f64> {
+    fn component(
+        &self,
+        component: usize,
+        f: impl Fn(&ekf::StepEstimate) -> Vector3<f64>,
+    ) -> Vec<f64> {
         let i = component.min(2);
         self.series(|s| f(s)[i])
     }

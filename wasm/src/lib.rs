@@ -27,6 +27,8 @@ fn seed(value: f64) -> Result<u64, JsError> {
     if value >= 0.0 && value.fract() == 0.0 && value <= 9_007_199_254_740_992.0 {
         Ok(value as u64)
     } else {
-        Err(JsError::new(&format!("seed: {value} is not a whole number from 0 to 2^53")))
+        Err(JsError::new(&format!(
+            "seed: {value} is not a whole number from 0 to 2^53"
+        )))
     }
 }

@@ -1,6 +1,7 @@
 //! One module per subcommand of `estlab`.
 
 pub mod car;
+pub mod cases;
 pub mod run;
 pub mod serve;
 pub mod simulate;

@@ -31,7 +31,9 @@ async fn serve(args: &Args) -> Result<(), Error> {
     let listener = tokio::net::TcpListener::bind(args.addr)
         .await
         .map_err(Error::io(args.addr.to_string()))?;
-    let addr = listener.local_addr().map_err(Error::io(args.addr.to_string()))?;
+    let addr = listener
+        .local_addr()
+        .map_err(Error::io(args.addr.to_string()))?;
     println!("estlab is serving on http://{addr}/");
     axum::serve(listener, app)
         .with_graceful_shutdown(async {

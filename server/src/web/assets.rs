@@ -2,8 +2,8 @@
 //! served with long cache lifetimes and precompressed, and the manifest that names each
 //! page's script and style.
 
-use axum::http::{HeaderValue, Response, StatusCode, header};
 use super::Error;
+use axum::http::{HeaderValue, Response, StatusCode, header};
 use serde::Deserialize;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -48,10 +48,15 @@ impl Assets {
         let manifest: Manifest = serde_json::from_str(&text).map_err(|e| broken(e.to_string()))?;
         for page in PAGES {
             if !manifest.scripts.contains_key(page) {
-                return Err(broken(format!("the script of the page '{page}' is missing")));
+                return Err(broken(format!(
+                    "the script of the page '{page}' is missing"
+                )));
             }
         }
-        Ok(Assets { dir: dir.to_owned(), manifest })
+        Ok(Assets {
+            dir: dir.to_owned(),
+            manifest,
+        })
     }
 
     pub fn dir(&self) -> &Path {
@@ -60,7 +65,10 @@ impl Assets {
 
     /// The assets of one of [`PAGES`].
     pub fn page(&self, name: &str) -> PageAssets<'_> {
-        PageAssets { style: &self.manifest.style, script: &self.manifest.scripts[name] }
+        PageAssets {
+            style: &self.manifest.style,
+            script: &self.manifest.scripts[name],
+        }
     }
 }
 

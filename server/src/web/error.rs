@@ -14,7 +14,10 @@ pub enum Error {
 impl IntoResponse for Error {
     fn into_response(self) -> Response {
         eprintln!("estlab: {self}");
-        (StatusCode::INTERNAL_SERVER_ERROR, "estlab could not answer this request; the server log says why.\n")
+        (
+            StatusCode::INTERNAL_SERVER_ERROR,
+            "estlab could not answer this request; the server log says why.\n",
+        )
             .into_response()
     }
 }

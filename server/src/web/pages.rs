@@ -39,28 +39,52 @@ struct NotFound<'a> {
 
 /// A rendered page that browsers revalidate before they reuse it.
 fn html(template: &impl Template) -> Result<Response, Error> {
-    Ok(([(header::CACHE_CONTROL, "no-cache")], Html(template.render()?)).into_response())
+    Ok((
+        [(header::CACHE_CONTROL, "no-cache")],
+        Html(template.render()?),
+    )
+        .into_response())
 }
 
 pub async fn home(State(state): State<Arc<AppState>>) -> Result<Response, Error> {
-    html(&Home { page: "home", assets: state.assets.page("home") })
+    html(&Home {
+        page: "home",
+        assets: state.assets.page("home"),
+    })
 }
 
 pub async fn car(State(state): State<Arc<AppState>>) -> Result<Response, Error> {
-    html(&Car { page: "car", assets: state.assets.page("car") })
+    html(&Car {
+        page: "car",
+        assets: state.assets.page("car"),
+    })
 }
 
 pub async fn ekf(State(state): State<Arc<AppState>>) -> Result<Response, Error> {
-    html(&Ekf { page: "ekf", assets: state.assets.page("ekf") })
+    html(&Ekf {
+        page: "ekf",
+        assets: state.assets.page("ekf"),
+    })
 }
 
 pub async fn not_found(State(state): State<Arc<AppState>>, uri: Uri) -> Result<Response, Error> {
-    let page = NotFound { page: "", assets: state.assets.page("home"), path: uri.path() };
+    let page = NotFound {
+        page: "",
+        assets: state.assets.page("home"),
+        path: uri.path(),
+    };
     Ok((StatusCode::NOT_FOUND, html(&page)?).into_response())
 }
 
 /// The site's icon: a belief (an ellipse) round an estimate.
 pub async fn icon() -> Response {
     const ICON: &str = r##"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 32 32"><ellipse cx="16" cy="16" rx="13" ry="8" transform="rotate(-30 16 16)" fill="none" stroke="#c62828" stroke-width="3"/><circle cx="16" cy="16" r="3.5" fill="#1d2125"/></svg>"##;
-    ([(header::CONTENT_TYPE, "image/svg+xml"), (header::CACHE_CONTROL, "public, max-age=86400")], ICON).into_response()
+    (
+        [
+            (header::CONTENT_TYPE, "image/svg+xml"),
+            (header::CACHE_CONTROL, "public, max-age=86400"),
+        ],
+        ICON,
+    )
+        .into_response()
 }

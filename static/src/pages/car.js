@@ -4,7 +4,7 @@
 import { LogSlider, byId, showError } from '../controls.js';
 import { fmt } from '../format.js';
 import { renderMath } from '../math.js';
-import { band, colours, line, overTime, pairs, plotsIn } from '../plots.js';
+import { band, colours, line, overTime, pairs, plotsIn, timeLine } from '../plots.js';
 import { loadEstlab } from '../wasm.js';
 
 renderMath();
@@ -72,25 +72,25 @@ function draw(run) {
   plots.position.set(overTime('position (m)', [
     ...band('±2σ', t, twoSigma(position, positionStd, -1), twoSigma(position, positionStd, 1), colours.band),
     { name: 'measurement', type: 'scatter', data: pairs(t, run.measurement()), symbolSize: 4, itemStyle: { color: colours.measurement } },
-    line('true', t, run.truePosition(), colours.truth),
-    line('estimate', t, position, colours.estimate),
+    timeLine('true', t, run.truePosition(), colours.truth),
+    timeLine('estimate', t, position, colours.estimate),
   ]));
   plots.velocity.set(overTime('velocity (m/s)', [
     ...band('±2σ', t, twoSigma(velocity, velocityStd, -1), twoSigma(velocity, velocityStd, 1), colours.band),
-    line('true', t, run.trueVelocity(), colours.truth),
-    line('estimate', t, velocity, colours.estimate),
+    timeLine('true', t, run.trueVelocity(), colours.truth),
+    timeLine('estimate', t, velocity, colours.estimate),
   ]));
   plots.errors.set(overTime('estimate − truth', [
-    line('position error (m)', t, run.positionError(), colours.estimate),
-    line('velocity error (m/s)', t, run.velocityError(), colours.second),
+    timeLine('position error (m)', t, run.positionError(), colours.estimate),
+    timeLine('velocity error (m/s)', t, run.velocityError(), colours.second),
   ]));
   plots.sigmas.set(overTime('standard deviation', [
-    line('√P₁₁, position (m)', t, positionStd, colours.estimate),
-    line('√P₂₂, velocity (m/s)', t, velocityStd, colours.second),
+    timeLine('√P₁₁, position (m)', t, positionStd, colours.estimate),
+    timeLine('√P₂₂, velocity (m/s)', t, velocityStd, colours.second),
   ], { type: 'log', scale: false }));
   plots.gains.set(overTime('Kalman gain', [
-    line('K₁, position', t, run.gainPosition(), colours.estimate),
-    line('K₂, velocity', t, run.gainVelocity(), colours.second),
+    timeLine('K₁, position', t, run.gainPosition(), colours.estimate),
+    timeLine('K₂, velocity', t, run.gainVelocity(), colours.second),
   ]));
   const [positionSpread, velocitySpread] = run.errorStd();
   byId('summary').textContent =
@@ -100,14 +100,14 @@ function draw(run) {
 function drawMonteCarlo(mc, runs) {
   const t = mc.t();
   plots.spread.set(overTime(`over ${runs} seeds`, [
-    line('actual spread of the position error (m)', t, mc.errorStd(0), colours.estimate),
-    line('filter σ, position (m)', t, mc.filterStd(0), colours.estimate, { lineStyle: { type: 'dashed', color: colours.estimate } }),
-    line('actual spread of the velocity error (m/s)', t, mc.errorStd(1), colours.second),
-    line('filter σ, velocity (m/s)', t, mc.filterStd(1), colours.second, { lineStyle: { type: 'dashed', color: colours.second } }),
+    timeLine('actual spread of the position error (m)', t, mc.errorStd(0), colours.estimate),
+    timeLine('filter σ, position (m)', t, mc.filterStd(0), colours.estimate, { lineStyle: { type: 'dashed', color: colours.estimate } }),
+    timeLine('actual spread of the velocity error (m/s)', t, mc.errorStd(1), colours.second),
+    timeLine('filter σ, velocity (m/s)', t, mc.filterStd(1), colours.second, { lineStyle: { type: 'dashed', color: colours.second } }),
   ], { type: 'log', scale: false }));
   plots.bias.set(overTime(`mean error over ${runs} seeds`, [
-    line('position (m)', t, mc.errorMean(0), colours.estimate),
-    line('velocity (m/s)', t, mc.errorMean(1), colours.second),
+    timeLine('position (m)', t, mc.errorMean(0), colours.estimate),
+    timeLine('velocity (m/s)', t, mc.errorMean(1), colours.second),
   ]));
 }
 

@@ -4,15 +4,15 @@
 import { byId, download, showError } from '../controls.js';
 import { fmt } from '../format.js';
 import { renderMath } from '../math.js';
-import { band, colours, line, overTime, pairs, plotsIn } from '../plots.js';
+import { MapView } from '../ekf/map.js';
+import { band, colours, overTime, plotsIn, timeLine } from '../plots.js';
 import { loadEstlab } from '../wasm.js';
 
 renderMath();
 const estlab = await loadEstlab();
 const plots = plotsIn(byId('ekf-plots'), 'ekf');
+const map = new MapView(plots.map);
 const degrees = Math.PI / 180;
-const star = 'path://M0,-10L2.9,-4 9.5,-3.1 4.7,1.5 5.9,8.1 0,5 -5.9,8.1 -4.7,1.5 -9.5,-3.1 -2.9,-4Z';
-const cross = 'path://M-4,-5L0,-1 4,-5 5,-4 1,0 5,4 4,5 0,1 -4,5 -5,4 -1,0 -5,-4Z';
 
 const ui = {
   kind: byId('dataset-kind'),
@@ -36,15 +36,29 @@ const ui = {
 let dataset = null;
 let view = null;
 
+/**
+ * The variance an input of standard deviations (in `unit`s) stands for. An input filled
+ * from the lab's settings shows a rounded value but keeps the exact variance until the
+ * reader edits it, so that the lab's settings run exactly.
+ */
+function variance(input, unit = 1) {
+  if (input.dataset.variance && input.value === input.dataset.shown) return Number(input.dataset.variance);
+  return (Number(input.value) * unit) ** 2;
+}
+
+function showVariance(input, value, unit = 1) {
+  input.value = fmt(Math.sqrt(value) / unit, 4);
+  input.dataset.shown = input.value;
+  input.dataset.variance = String(value);
+}
+
 /** The filter settings the controls say: standard deviations become variances. */
 function settings() {
-  const mode = document.querySelector('input[name=mode]:checked').value;
-  const std = (input, unit = 1) => (Number(input.value) * unit) ** 2;
   return {
-    mode,
+    mode: document.querySelector('input[name=mode]:checked').value,
     known_associations: ui.known.checked,
-    r: [std(ui.rX), std(ui.rY), std(ui.rTheta, degrees)],
-    q: [std(ui.qRange), std(ui.qBearing, degrees)],
+    r: [variance(ui.rX), variance(ui.rY), variance(ui.rTheta, degrees)],
+    q: [variance(ui.qRange), variance(ui.qBearing, degrees)],
     delta_m: Number(ui.deltaM.value),
   };
 }
@@ -52,12 +66,11 @@ function settings() {
 /** Sets the controls to the lab's settings for the current data. */
 function labSettings() {
   const lab = JSON.parse(dataset.labSettings());
-  const show = (input, variance, unit = 1) => { input.value = fmt(Math.sqrt(variance) / unit, 4); };
-  show(ui.rX, lab.r[0]);
-  show(ui.rY, lab.r[1]);
-  show(ui.rTheta, lab.r[2], degrees);
-  show(ui.qRange, lab.q[0]);
-  show(ui.qBearing, lab.q[1], degrees);
+  showVariance(ui.rX, lab.r[0]);
+  showVariance(ui.rY, lab.r[1]);
+  showVariance(ui.rTheta, lab.r[2], degrees);
+  showVariance(ui.qRange, lab.q[0]);
+  showVariance(ui.qBearing, lab.q[1], degrees);
   ui.deltaM.value = lab.delta_m;
   ui.known.checked = lab.known_associations;
   document.querySelector(`input[name=mode][value=${lab.mode}]`).checked = true;
@@ -88,23 +101,7 @@ async function loadDataset() {
   labSettings();
   ui.time.max = String(dataset.steps() - 1);
   ui.time.value = ui.time.max;
-  update();
-}
-
-/** Axis ranges that show `points` with one metre as long on x as on y. */
-function equalScale(plot, xs, ys) {
-  const grid = { left: 56, right: 20, top: 40, bottom: 44 };
-  const width = plot.chart.getWidth() - grid.left - grid.right;
-  const height = plot.chart.getHeight() - grid.top - grid.bottom;
-  const [x0, x1] = [Math.min(...xs), Math.max(...xs)];
-  const [y0, y1] = [Math.min(...ys), Math.max(...ys)];
-  const perPixel = Math.max((x1 - x0) / width, (y1 - y0) / height) * 1.08 || 1;
-  const [cx, cy] = [(x0 + x1) / 2, (y0 + y1) / 2];
-  return {
-    grid,
-    xAxis: { type: 'value', name: 'x (m)', min: cx - (perPixel * width) / 2, max: cx + (perPixel * width) / 2, nameLocation: 'middle', nameGap: 26, axisLabel: { showMinLabel: false, showMaxLabel: false } },
-    yAxis: { type: 'value', name: 'y (m)', min: cy - (perPixel * height) / 2, max: cy + (perPixel * height) / 2, axisLabel: { showMinLabel: false, showMaxLabel: false } },
-  };
+  update(true);
 }
 
 /** Everything the plots need from a run, taken out of wasm once. */
@@ -113,6 +110,12 @@ function collect(run) {
   const firstReading = new Uint32Array(dataset.steps() + 1);
   for (const step of readingStep) firstReading[step + 1]++;
   for (let k = 1; k < firstReading.length; k++) firstReading[k] += firstReading[k - 1];
+  const outlier = run.readingOutlier();
+  const readingXY = run.readingPosition();
+  const rejected = [];
+  for (let r = 0; r < outlier.length; r++) {
+    if (outlier[r]) rejected.push([readingXY[2 * r], readingXY[2 * r + 1]]);
+  }
   return {
     t: run.t(),
     estimate: [0, 1, 2].map((i) => run.estimate(i)),
@@ -123,54 +126,13 @@ function collect(run) {
     variance: [0, 1, 2].map((i) => run.variance(i)),
     ellipses: run.ellipses(Math.max(1, Math.round(dataset.steps() / 40)), 3, 36),
     association: run.readingAssociation(),
-    outlier: run.readingOutlier(),
-    readingXY: run.readingPosition(),
+    outlier,
+    readingXY,
+    rejected,
     firstReading,
     landmarks: [dataset.landmarkX(), dataset.landmarkY()],
     report: run.report(),
   };
-}
-
-/** The closed outlines in a flat [x, y, x, y, ..., NaN, NaN, ...] array. */
-function outlines(flat) {
-  const polygons = [];
-  let current = [];
-  for (let i = 0; i < flat.length; i += 2) {
-    if (Number.isNaN(flat[i])) {
-      if (current.length) polygons.push({ coords: current });
-      current = [];
-    } else {
-      current.push([flat[i], flat[i + 1]]);
-    }
-  }
-  return polygons;
-}
-
-function drawMap(v) {
-  const [lx, ly] = v.landmarks;
-  const rejected = [];
-  for (let r = 0; r < v.outlier.length; r++) {
-    if (v.outlier[r]) rejected.push([v.readingXY[2 * r], v.readingXY[2 * r + 1]]);
-  }
-  const xs = [...lx, ...v.truth[0], ...v.estimate[0], ...v.odometry[0]];
-  const ys = [...ly, ...v.truth[1], ...v.estimate[1], ...v.odometry[1]];
-  plots.map.set({
-    animation: false,
-    ...equalScale(plots.map, xs, ys),
-    legend: { top: 4, type: 'scroll' },
-    tooltip: { trigger: 'item', formatter: (p) => `${p.seriesName}${Array.isArray(p.value) ? `: (${fmt(p.value[0])}, ${fmt(p.value[1])})` : ''}` },
-    dataZoom: [{ type: 'inside', xAxisIndex: 0, filterMode: 'none' }, { type: 'inside', yAxisIndex: 0, filterMode: 'none' }],
-    series: [
-      line('odometry only', v.odometry[0], v.odometry[1], colours.odometry, { id: 'odometry' }),
-      line('true', v.truth[0], v.truth[1], colours.truth, { id: 'truth' }),
-      line('estimate', v.estimate[0], v.estimate[1], colours.estimate, { id: 'estimate' }),
-      { id: 'ellipses', name: '3σ ellipses', type: 'lines', coordinateSystem: 'cartesian2d', polyline: true, silent: true, data: outlines(v.ellipses), lineStyle: { color: colours.estimate, width: 1, opacity: 0.6 } },
-      { id: 'rejected', name: 'rejected readings', type: 'scatter', data: rejected, symbol: cross, symbolSize: 8, itemStyle: { color: colours.outlier } },
-      { id: 'landmarks', name: 'landmarks', type: 'scatter', data: pairs(lx, ly), symbol: star, symbolSize: 14, itemStyle: { color: colours.landmark } },
-      { id: 'associations', name: 'associations now', type: 'lines', coordinateSystem: 'cartesian2d', data: [], silent: true },
-      { id: 'now', name: 'pose now', type: 'scatter', data: [], symbolSize: 10, z: 10 },
-    ],
-  });
 }
 
 /** The time step `k` on the map: the poses, and each reading's association. */
@@ -187,18 +149,7 @@ function drawNow(k) {
     lines.push({ coords: [at, [lx[c], ly[c]]], lineStyle: style });
     lines.push({ coords: [at, [v.readingXY[2 * r], v.readingXY[2 * r + 1]]], lineStyle: { color: colours.measurement, type: 'dotted', width: 1 } });
   }
-  plots.map.update({
-    series: [
-      { id: 'associations', data: lines },
-      {
-        id: 'now',
-        data: [
-          { value: at, itemStyle: { color: colours.estimate } },
-          { value: [v.truth[0][k], v.truth[1][k]], itemStyle: { color: colours.truth } },
-        ],
-      },
-    ],
-  });
+  map.showNow(at, [v.truth[0][k], v.truth[1][k]], lines);
   const n = v.firstReading[k + 1] - v.firstReading[k];
   let rejected = 0;
   for (let r = v.firstReading[k]; r < v.firstReading[k + 1]; r++) rejected += v.outlier[r];
@@ -211,13 +162,13 @@ function drawOverTime(v) {
     const bound = v.std[i].map((s) => 3 * s);
     plots[name].set(overTime(`error in ${names[i]}`, [
       ...band('±3σ', v.t, bound.map((b) => -b), bound, colours.band),
-      line('estimate − truth', v.t, v.error[i], colours.estimate),
+      timeLine('estimate − truth', v.t, v.error[i], colours.estimate),
     ]));
   });
   plots.covariance.set(overTime('variance', [
-    line('Σₓₓ (m²)', v.t, v.variance[0], colours.estimate),
-    line('Σᵧᵧ (m²)', v.t, v.variance[1], colours.second),
-    line('Σθθ (rad²)', v.t, v.variance[2], colours.third),
+    timeLine('Σₓₓ (m²)', v.t, v.variance[0], colours.estimate),
+    timeLine('Σᵧᵧ (m²)', v.t, v.variance[1], colours.second),
+    timeLine('Σθθ (rad²)', v.t, v.variance[2], colours.third),
   ], { type: 'log', scale: false }));
 }
 
@@ -235,7 +186,8 @@ function commandLine(current) {
   return { flags, text: `${simulate} && ${['estlab run', `data/so_${stem}.txt`, `data/map_${stem}.txt`, ...flags].join(' ')}` };
 }
 
-function update() {
+/** Runs the filter and redraws; `newData` when the data set changed too. */
+function update(newData = false) {
   if (!dataset) return;
   const start = performance.now();
   const current = settings();
@@ -250,7 +202,8 @@ function update() {
   showError(ui.error, null);
   view = collect(run);
   run.free();
-  drawMap(view);
+  if (newData) map.showData(view.landmarks, view.truth, view.odometry);
+  map.showRun(view.estimate, view.ellipses, view.rejected);
   drawNow(Number(ui.time.value));
   drawOverTime(view);
   byId('summary').textContent = view.report;
@@ -265,7 +218,7 @@ ui.kind.addEventListener('change', loadDataset);
 ui.seed.addEventListener('change', loadDataset);
 ui.mapFile.addEventListener('change', loadDataset);
 ui.sensorFile.addEventListener('change', loadDataset);
-for (const input of document.querySelectorAll('#ekf-settings .filter input')) input.addEventListener('input', update);
+for (const input of document.querySelectorAll('#ekf-settings .filter input')) input.addEventListener('input', () => update());
 byId('lab-settings').addEventListener('click', () => { labSettings(); update(); });
 ui.time.addEventListener('input', () => view && drawNow(Number(ui.time.value)));
 for (const [id, delta] of [['time-back', -1], ['time-forward', 1]]) {
@@ -278,7 +231,7 @@ byId('download-map').addEventListener('click', () => download(`map_${ui.kind.val
 byId('download-sensor').addEventListener('click', () => download(`so_${ui.kind.value}_${ui.seed.value}.txt`, dataset.sensorFile()));
 window.addEventListener('resize', () => {
   if (!view) return;
-  drawMap(view);
-  drawNow(Number(ui.time.value));
+  map.axesKey = null;
+  map.showRun(view.estimate, view.ellipses, view.rejected);
 });
 await loadDataset();
