@@ -15,6 +15,7 @@ pub mod cases;
 pub mod dataset;
 pub mod ekf;
 mod error;
+pub mod grading;
 pub mod rng;
 
 pub use error::Error;

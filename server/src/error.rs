@@ -7,6 +7,9 @@ pub enum Error {
     Labs(#[from] labs::Error),
     #[error(transparent)]
     Web(#[from] crate::web::Error),
+    /// Bad input that is not a data file: a submission too large, a job that is not JSON.
+    #[error("{0}")]
+    Invalid(String),
     #[error("{}: {source}", path.display())]
     Io {
         path: PathBuf,

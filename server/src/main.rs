@@ -2,6 +2,7 @@
 
 mod commands;
 mod error;
+mod sandbox;
 mod web;
 
 use clap::{Parser, Subcommand};
@@ -25,6 +26,10 @@ enum Command {
     Simulate(commands::simulate::Args),
     Car(commands::car::Args),
     Cases(commands::cases::Args),
+    Grade(commands::grade::Args),
+    /// The sandbox's worker process (started by `grade` and `serve`).
+    #[command(hide = true)]
+    SandboxWorker,
 }
 
 fn main() -> ExitCode {
@@ -35,6 +40,8 @@ fn main() -> ExitCode {
         Command::Simulate(args) => commands::simulate::run(&args),
         Command::Car(args) => commands::car::run(&args),
         Command::Cases(args) => commands::cases::run(&args),
+        Command::Grade(args) => commands::grade::run(&args),
+        Command::SandboxWorker => commands::sandbox_worker::run(),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

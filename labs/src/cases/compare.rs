@@ -28,6 +28,9 @@ pub enum Shape {
     Scalar(Kind),
     Array(Vec<Shape>),
     Object(Vec<(&'static str, Shape)>),
+    /// An n x n matrix the contract says is symmetrised: besides matching, it must be
+    /// exactly symmetric, as (A + A^T) / 2 is in floating point.
+    Symmetric(usize),
 }
 
 fn numbers(n: usize) -> Shape {
@@ -100,7 +103,7 @@ pub fn output_shape(call: &Call) -> (&'static str, Shape) {
         }
         Call::Update { .. } | Call::BatchUpdate { .. } => (
             "",
-            Shape::Object(vec![("mu", pose()), ("sigma", matrix(3, 3))]),
+            Shape::Object(vec![("mu", pose()), ("sigma", Shape::Symmetric(3))]),
         ),
     }
 }
@@ -140,6 +143,9 @@ pub enum Problem {
     NotWrapped,
     /// A value of the wrong type or an array of the wrong length, or a missing field.
     WrongShape,
+    /// An element of a matrix that should be symmetric differs from its mirror image
+    /// (`expected` holds the mirror image).
+    NotSymmetric,
 }
 
 /// Every element of `got` that differs from `expected`, for an output of this shape.
@@ -191,6 +197,26 @@ fn walk(
             }
             _ => mismatch(Problem::WrongShape),
         },
+        Shape::Symmetric(n) => {
+            let before = out.len();
+            walk(&matrix(*n, *n), path.clone(), expected, got, tolerance, out);
+            let shaped = out[before..].iter().all(|m| m.problem != Problem::WrongShape);
+            if shaped {
+                for i in 0..*n {
+                    for j in 0..i {
+                        let (a, b) = (&got[i][j], &got[j][i]);
+                        if a.as_f64() != b.as_f64() {
+                            out.push(Mismatch {
+                                path: format!("{path}[{i}][{j}]"),
+                                expected: b.clone(),
+                                got: a.clone(),
+                                problem: Problem::NotSymmetric,
+                            });
+                        }
+                    }
+                }
+            }
+        }
         Shape::Object(fields) => match (expected.as_object(), got.as_object()) {
             (Some(e), Some(g)) => {
                 for (name, shape) in fields {

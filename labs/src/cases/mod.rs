@@ -8,6 +8,7 @@ mod generate;
 
 pub use compare::{Kind, Mismatch, Problem, Shape, Tolerance, compare, output_shape};
 pub use contract::{Call, FUNCTIONS, reference};
+pub(crate) use contract::rows;
 pub use el2320::{FIXTURE_FILES, load_fixtures};
 pub use generate::generate;
 

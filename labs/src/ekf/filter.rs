@@ -223,22 +223,17 @@ pub fn run(data: &Dataset, settings: &Settings) -> Result<Run, Error> {
     let lambda = lambda_m(settings.delta_m);
     let landmarks = data.map.landmarks();
     let mut belief = Belief::new(settings.mu0, settings.sigma0);
-    let mut dead_reckoning = settings.mu0;
-    let mut previous: Option<&Step> = None;
-    let mut steps = Vec::with_capacity(data.log.steps.len());
-    let mut readings = Vec::with_capacity(data.log.readings());
+    let mut beliefs = Vec::with_capacity(data.log.steps.len());
+    let mut outcomes = Vec::with_capacity(data.log.readings());
     let mut matches: Vec<Match> = Vec::new();
 
-    for (k, step) in data.log.steps.iter().enumerate() {
-        let (delta_right, delta_left, delta_t) = match previous {
-            Some(p) => (
-                step.encoders.right - p.encoders.right,
-                step.encoders.left - p.encoders.left,
-                step.t - p.t,
-            ),
-            None => (0.0, 0.0, 0.0),
-        };
-        previous = Some(step);
+    for (k, (step, (delta_right, delta_left, delta_t))) in data
+        .log
+        .steps
+        .iter()
+        .zip(increments(&data.log.steps))
+        .enumerate()
+    {
         let u = calculate_odometry(
             delta_right,
             delta_left,
@@ -296,44 +291,93 @@ pub fn run(data: &Dataset, settings: &Settings) -> Result<Run, Error> {
             }
         }
         belief = bar;
-
-        readings.extend(
-            step.readings
-                .iter()
-                .zip(&matches)
-                .map(|(reading, m)| ReadingOutcome {
-                    step: k,
-                    c: m.c,
-                    truth: reading.landmark,
-                    z: reading.z,
-                    mahalanobis: m.candidate.mahalanobis,
-                    outlier: m.outlier,
-                }),
-        );
-        let odometry = calculate_odometry(
-            delta_right,
-            delta_left,
-            &settings.robot,
-            delta_t,
-            &dead_reckoning,
-        );
-        dead_reckoning += odometry;
-        dead_reckoning.z = wrap(dead_reckoning.z);
-        steps.push(StepEstimate {
-            t: step.t,
-            mu: belief.mu,
-            sigma: belief.sigma,
-            truth: step.truth,
-            error: pose_error(&belief.mu, &step.truth),
-            odometry: dead_reckoning,
-        });
+        beliefs.push(belief);
+        outcomes.extend(matches.iter().map(|m| Decision {
+            c: m.c,
+            outlier: m.outlier,
+            mahalanobis: m.candidate.mahalanobis,
+        }));
     }
-    let summary = summarise(&steps, &readings, lambda);
-    Ok(Run {
+    Ok(assemble(data, &settings.robot, settings.mu0, lambda, &beliefs, &outcomes))
+}
+
+/// What became of one reading: the landmark it was associated with, whether it was
+/// rejected, and its Mahalanobis distance (NaN when unknown).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Decision {
+    pub c: usize,
+    pub outlier: bool,
+    pub mahalanobis: f64,
+}
+
+/// The encoder ticks and the seconds since the previous step, for every step; zero for
+/// the first (so that its control is zero).
+pub fn increments(steps: &[Step]) -> impl Iterator<Item = (f64, f64, f64)> + '_ {
+    let previous = std::iter::once(None).chain(steps.iter().map(Some));
+    steps.iter().zip(previous).map(|(step, previous)| match previous {
+        Some(p) => (
+            step.encoders.right - p.encoders.right,
+            step.encoders.left - p.encoders.left,
+            step.t - p.t,
+        ),
+        None => (0.0, 0.0, 0.0),
+    })
+}
+
+/// A whole run from the belief after every step and the association of every reading
+/// (in the order of the file), whoever computed them: the errors against the ground truth,
+/// the odometry-only trajectory from `mu0` for plotting, and the summary.
+pub fn assemble(
+    data: &Dataset,
+    robot: &Robot,
+    mu0: Vector3<f64>,
+    lambda_m: f64,
+    beliefs: &[Belief],
+    decisions: &[Decision],
+) -> Run {
+    let mut dead_reckoning = mu0;
+    let steps: Vec<StepEstimate> = data
+        .log
+        .steps
+        .iter()
+        .zip(increments(&data.log.steps))
+        .zip(beliefs)
+        .map(|((step, (delta_right, delta_left, delta_t)), belief)| {
+            dead_reckoning +=
+                calculate_odometry(delta_right, delta_left, robot, delta_t, &dead_reckoning);
+            dead_reckoning.z = wrap(dead_reckoning.z);
+            StepEstimate {
+                t: step.t,
+                mu: belief.mu,
+                sigma: belief.sigma,
+                truth: step.truth,
+                error: pose_error(&belief.mu, &step.truth),
+                odometry: dead_reckoning,
+            }
+        })
+        .collect();
+    let readings: Vec<ReadingOutcome> = data
+        .log
+        .steps
+        .iter()
+        .enumerate()
+        .flat_map(|(k, step)| step.readings.iter().map(move |reading| (k, reading)))
+        .zip(decisions)
+        .map(|((k, reading), a)| ReadingOutcome {
+            step: k,
+            c: a.c,
+            truth: reading.landmark,
+            z: reading.z,
+            mahalanobis: a.mahalanobis,
+            outlier: a.outlier,
+        })
+        .collect();
+    let summary = summarise(&steps, &readings, lambda_m);
+    Run {
         steps,
         readings,
         summary,
-    })
+    }
 }
 
 /// `estimate - truth`, the heading difference wrapped.

@@ -14,7 +14,10 @@ mod update;
 pub use association::{
     Association, Candidate, Match, associate, batch_associate, lambda_m, most_likely,
 };
-pub use filter::{ReadingOutcome, Run, Settings, StepEstimate, Summary, UpdateMode, run};
+pub use filter::{
+    Decision, ReadingOutcome, Run, Settings, StepEstimate, Summary, UpdateMode, assemble, increments,
+    run,
+};
 pub use geometry::{covariance_ellipse, reading_position};
 pub use map::{Landmark, Map};
 pub use observation::{jacobian_observation_model, observation_model};

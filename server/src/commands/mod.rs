@@ -2,7 +2,9 @@
 
 pub mod car;
 pub mod cases;
+pub mod grade;
 pub mod run;
+pub mod sandbox_worker;
 pub mod serve;
 pub mod simulate;
 

@@ -1,0 +1,338 @@
+//! Hints: when a failing output is exactly what a classic mistake would give, say which
+//! mistake. Each check recomputes the reference with the mistake made (wheels swapped, an
+//! index off by one, a product transposed, ...) and compares the student's output with it.
+
+use crate::cases::{Call, Mismatch, Problem, Tolerance, compare, output_shape, reference};
+use crate::ekf::motion_jacobian;
+use nalgebra::{Matrix2, Matrix3, Vector2};
+use serde::{Deserialize, Serialize};
+use serde_json::{Value, json};
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Hint {
+    pub kind: HintKind,
+    pub text: String,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum HintKind {
+    BearingNotWrapped,
+    JacobianSign,
+    JacobianTransposed,
+    OneBasedIndex,
+    ThresholdStrict,
+    NotSymmetrised,
+    WheelsSwapped,
+    FirstStep,
+    PredictTransposed,
+    #[serde(rename = "r_q_swapped")]
+    RQSwapped,
+    StaleAssociation,
+    BatchQBar,
+    WrongShape,
+    NotFinite,
+}
+
+impl HintKind {
+    fn text(self) -> &'static str {
+        match self {
+            HintKind::BearingNotWrapped => {
+                "A bearing lies outside [-pi, pi): wrap every angle you compute, for example \
+                 as ((b + pi) mod 2 pi) - pi, minding that JavaScript's % keeps the sign of \
+                 its left operand."
+            }
+            HintKind::JacobianSign => {
+                "Some elements of H have the right size and the wrong sign: differentiate \
+                 with respect to the robot's x, y and theta (not the landmark's), e.g. \
+                 d range / dx = -(m_x - x) / range."
+            }
+            HintKind::JacobianTransposed => {
+                "H came back 3 x 2, the transpose of what it should be: H is 2 x 3, a row \
+                 per measurement component (range, bearing) and a column per state \
+                 component (x, y, theta)."
+            }
+            HintKind::OneBasedIndex => {
+                "The result belongs to the neighbouring landmark: indices are 0-based in \
+                 JavaScript (landmark j is M[0][j], M[1][j], and c counts from 0), not \
+                 1-based as in MATLAB."
+            }
+            HintKind::ThresholdStrict => {
+                "A reading exactly on the threshold (D_M = Lambda_M) is an outlier: the \
+                 test is D_M >= Lambda_M, not >."
+            }
+            HintKind::NotSymmetrised => {
+                "The covariance is not exactly symmetric: rounding lets its two triangles \
+                 drift apart, and over a whole run the drift grows. Return (A + A^T) / 2, \
+                 which is exactly symmetric."
+            }
+            HintKind::WheelsSwapped => {
+                "The control is what the two wheels swapped would give: e_R and R_R belong \
+                 to the right wheel, and omega = (omega_R R_R - omega_L R_L) / B."
+            }
+            HintKind::FirstStep => {
+                "At the first step delta_t is 0: return u = [0, 0, 0] then, instead of \
+                 dividing by delta_t."
+            }
+            HintKind::PredictTransposed => {
+                "sigma_bar is what G^T Sigma G + R gives: the product goes the other way \
+                 round, G Sigma G^T + R."
+            }
+            HintKind::RQSwapped => {
+                "init returned R as a 2 x 2 and Q as a 3 x 3 matrix: in this lab (as in \
+                 Probabilistic Robotics) R is the process noise (3 x 3) and Q the \
+                 measurement noise (2 x 2); the lectures use the letters the other way \
+                 round."
+            }
+            HintKind::StaleAssociation => {
+                "The same call gave another answer in a fresh copy of your file: the \
+                 function keeps state between calls (a stale association from an earlier \
+                 reading?). Compute every result from its arguments alone."
+            }
+            HintKind::BatchQBar => {
+                "The result is what S = H_bar Sigma_bar H_bar^T + q I gives, with the range \
+                 variance q all along the diagonal: add the whole Q_bar = blkdiag(Q, ..., \
+                 Q), whose bearing entries hold the bearing variance."
+            }
+            HintKind::WrongShape => "The output does not have the contract's shape.",
+            HintKind::NotFinite => {
+                "The output holds NaN or Infinity: a division by zero, or arithmetic with \
+                 an undefined value (an index past the end of an array?)."
+            }
+        }
+    }
+
+    pub fn hint(self) -> Hint {
+        Hint {
+            kind: self,
+            text: self.text().to_owned(),
+        }
+    }
+}
+
+/// The classic mistake that explains a failing output, if one does.
+pub fn diagnose(call: &Call, expected: &Value, got: &Value, mismatches: &[Mismatch]) -> Option<Hint> {
+    let gives = |alternative: Option<Value>| {
+        alternative.is_some_and(|alt| {
+            compare(&output_shape(call), &alt, got, Tolerance::default()).is_empty()
+        })
+    };
+    let any = |problem| mismatches.iter().any(|m| m.problem == problem);
+
+    if holds_non_finite(got) {
+        return Some(match call {
+            Call::CalculateOdometry { delta_t, .. } if *delta_t == 0.0 => HintKind::FirstStep,
+            Call::ObservationModel { j: 0, .. } | Call::JacobianObservationModel { j: 0, .. } => {
+                HintKind::OneBasedIndex
+            }
+            _ => HintKind::NotFinite,
+        }
+        .hint());
+    }
+    if any(Problem::WrongShape) {
+        let transposed_right = transpose(got).is_some_and(|t| {
+            compare(&output_shape(call), expected, &t, Tolerance::default()).is_empty()
+        });
+        if matches!(call, Call::JacobianObservationModel { .. }) && transposed_right {
+            return Some(HintKind::JacobianTransposed.hint());
+        }
+        return mismatches
+            .iter()
+            .find(|m| m.problem == Problem::WrongShape)
+            .map(|m| shape_hint(m, got));
+    }
+    if any(Problem::NotWrapped) {
+        return Some(HintKind::BearingNotWrapped.hint());
+    }
+    if any(Problem::NotSymmetric) {
+        return Some(HintKind::NotSymmetrised.hint());
+    }
+    let kind = match call {
+        Call::CalculateOdometry { delta_t, .. } if *delta_t == 0.0 => Some(HintKind::FirstStep),
+        Call::CalculateOdometry { .. } => {
+            gives(reference(&swap_wheels(call)).ok()).then_some(HintKind::WheelsSwapped)
+        }
+        Call::ObservationModel { j, .. } | Call::JacobianObservationModel { j, .. } => {
+            (*j > 0 && gives(reference(&with_landmark(call, j - 1)).ok()))
+                .then_some(HintKind::OneBasedIndex)
+                .or_else(|| {
+                    (matches!(call, Call::JacobianObservationModel { .. })
+                        && mismatches.iter().all(|m| negated(&m.expected, &m.got)))
+                    .then_some(HintKind::JacobianSign)
+                })
+        }
+        Call::Associate { lambda_m, .. } => {
+            if index_plus_one(mismatches) {
+                Some(HintKind::OneBasedIndex)
+            } else if mismatches.iter().any(|m| m.path == "outlier")
+                && mahalanobis_of_choice(expected).is_some_and(|d| d == *lambda_m)
+            {
+                Some(HintKind::ThresholdStrict)
+            } else {
+                None
+            }
+        }
+        Call::BatchAssociate { .. } => index_plus_one(mismatches).then_some(HintKind::OneBasedIndex),
+        Call::Predict { .. } => {
+            gives(transposed_prediction(call)).then_some(HintKind::PredictTransposed)
+        }
+        Call::Update { .. } => None,
+        Call::BatchUpdate { .. } => {
+            gives(reference(&range_variance_only(call)).ok()).then_some(HintKind::BatchQBar)
+        }
+    };
+    kind.map(HintKind::hint)
+}
+
+/// Whether the output holds a number JSON cannot (the harness writes them as strings).
+fn holds_non_finite(value: &Value) -> bool {
+    match value {
+        Value::String(s) => matches!(s.as_str(), "NaN" | "Infinity" | "-Infinity"),
+        Value::Array(items) => items.iter().any(holds_non_finite),
+        Value::Object(fields) => fields.values().any(holds_non_finite),
+        _ => false,
+    }
+}
+
+fn shape_hint(mismatch: &Mismatch, got: &Value) -> Hint {
+    let place = if mismatch.path.is_empty() {
+        "The output".to_owned()
+    } else {
+        format!("`{}`", mismatch.path)
+    };
+    let mut text = format!(
+        "{place} should be {}, but is {}.",
+        describe(&mismatch.expected),
+        describe(&mismatch.got)
+    );
+    if let (Value::Null, Some(fields)) = (&mismatch.got, got.as_object()) {
+        let names: Vec<&str> = fields.keys().map(String::as_str).collect();
+        text.push_str(&format!(
+            " The returned object has the fields {}; field names are those of the contract.",
+            names.join(", ")
+        ));
+    }
+    Hint {
+        kind: HintKind::WrongShape,
+        text,
+    }
+}
+
+/// A value's shape in words: "a 3 x 3 array of rows", "an object with fields mu, sigma".
+pub fn describe(value: &Value) -> String {
+    match value {
+        Value::Null => "missing".to_owned(),
+        Value::Bool(_) => "true or false".to_owned(),
+        Value::Number(_) => "a number".to_owned(),
+        Value::String(s) if matches!(s.as_str(), "NaN" | "Infinity" | "-Infinity" | "undefined") => {
+            s.clone()
+        }
+        Value::String(_) => "a string".to_owned(),
+        Value::Array(items) => {
+            let n = items.len();
+            if n > 0 && items.iter().all(Value::is_number) {
+                format!("an array of {n} numbers")
+            } else if let Some(cols) = items.first().and_then(Value::as_array).map(Vec::len) {
+                if items.iter().all(|row| row.as_array().is_some_and(|r| r.len() == cols)) {
+                    format!("a {n} x {cols} array of rows")
+                } else {
+                    format!("an array of {n} rows of different lengths")
+                }
+            } else {
+                format!("an array of {n} elements")
+            }
+        }
+        Value::Object(fields) => {
+            let names: Vec<&str> = fields.keys().map(String::as_str).collect();
+            format!("an object with the fields {}", names.join(", "))
+        }
+    }
+}
+
+fn transpose(value: &Value) -> Option<Value> {
+    let rows: Vec<&Vec<Value>> = value.as_array()?.iter().map(Value::as_array).collect::<Option<_>>()?;
+    let cols = rows.first()?.len();
+    if rows.iter().any(|r| r.len() != cols) {
+        return None;
+    }
+    Some(Value::Array(
+        (0..cols)
+            .map(|j| Value::Array(rows.iter().map(|r| r[j].clone()).collect()))
+            .collect(),
+    ))
+}
+
+fn swap_wheels(call: &Call) -> Call {
+    let mut swapped = call.clone();
+    if let Call::CalculateOdometry { e_r, e_l, r_r, r_l, .. } = &mut swapped {
+        std::mem::swap(e_r, e_l);
+        std::mem::swap(r_r, r_l);
+    }
+    swapped
+}
+
+fn with_landmark(call: &Call, index: usize) -> Call {
+    let mut other = call.clone();
+    if let Call::ObservationModel { j, .. } | Call::JacobianObservationModel { j, .. } = &mut other {
+        *j = index;
+    }
+    other
+}
+
+fn negated(expected: &Value, got: &Value) -> bool {
+    match (expected.as_f64(), got.as_f64()) {
+        (Some(e), Some(g)) => (e + g).abs() <= 1e-9 * (1.0 + e.abs()),
+        _ => false,
+    }
+}
+
+/// Every differing index is one more than the expected one.
+fn index_plus_one(mismatches: &[Mismatch]) -> bool {
+    let indices: Vec<&Mismatch> = mismatches
+        .iter()
+        .filter(|m| m.path == "c" || m.path.starts_with("c["))
+        .collect();
+    !indices.is_empty()
+        && indices.iter().all(|m| match (m.expected.as_u64(), m.got.as_u64()) {
+            (Some(e), Some(g)) => g == e + 1,
+            _ => false,
+        })
+}
+
+/// D_M of the landmark the reference chose: nu^T S^-1 nu from the expected output.
+fn mahalanobis_of_choice(expected: &Value) -> Option<f64> {
+    let c = expected["c"].as_u64()? as usize;
+    let nu: [f64; 2] = serde_json::from_value(expected["nu"][c].clone()).ok()?;
+    let s: [[f64; 2]; 2] = serde_json::from_value(expected["S"][c].clone()).ok()?;
+    let nu = Vector2::from(nu);
+    let s = Matrix2::from_fn(|i, j| s[i][j]);
+    Some(nu.dot(&(s.try_inverse()? * nu)))
+}
+
+/// What predict returns with G^T Sigma G + R in place of G Sigma G^T + R.
+fn transposed_prediction(call: &Call) -> Option<Value> {
+    let Call::Predict { sigma, u, r, .. } = call else {
+        return None;
+    };
+    let mut right = reference(call).ok()?;
+    let g = motion_jacobian(&nalgebra::Vector3::from(*u));
+    let sigma = Matrix3::from_fn(|i, j| sigma[i][j]);
+    let r = Matrix3::from_fn(|i, j| r[i][j]);
+    let wrong = g.transpose() * sigma * g + r;
+    right["sigma_bar"] = json!(crate::cases::rows(&wrong));
+    Some(right)
+}
+
+/// The batch update call with Q_bar = q I, q the range variance of Q_bar's first block.
+fn range_variance_only(call: &Call) -> Call {
+    let mut other = call.clone();
+    if let Call::BatchUpdate { q_bar, .. } = &mut other {
+        let q = q_bar.first().and_then(|row| row.first()).copied().unwrap_or(0.0);
+        for (i, row) in q_bar.iter_mut().enumerate() {
+            for (j, value) in row.iter_mut().enumerate() {
+                *value = if i == j { q } else { 0.0 };
+            }
+        }
+    }
+    other
+}

@@ -1,0 +1,330 @@
+//! What a grading consists of, from a seed: the test cases of every student function (the
+//! public suite everyone shares and the student's own variant) and the data-set runs, and
+//! the job the JavaScript harness carries out with the student's code.
+
+use crate::cases::{Call, Case, FUNCTIONS, generate};
+use crate::dataset::{Dataset, Kind, simulate};
+use crate::ekf::{self, UpdateMode, increments};
+use crate::rng::Rng;
+use serde::Serialize;
+use serde_json::{Value, json};
+
+/// The seed of the public suite, the same for every student.
+pub const PUBLIC_SEED: u64 = 2320;
+/// Cases of each function in the public suite and in the student's variant.
+pub const CASES_PER_FUNCTION: usize = 6;
+/// How long the student's code may take over all the cases of one function.
+pub const FUNCTION_LIMIT_MS: u32 = 2_000;
+/// How long the student's code may take over one whole data-set run.
+pub const RUN_LIMIT_MS: u32 = 5_000;
+
+/// Everything one grading checks, made from the student's seed.
+#[derive(Clone, Debug)]
+pub struct Plan {
+    pub seed: u64,
+    pub cases: Vec<Case>,
+    pub runs: Vec<RunSpec>,
+}
+
+/// The readings of each data set that grading runs through: the first few hundred, so
+/// that the student's code, interpreted by QuickJS on the server, gets through all of
+/// them within the budget of a second (the associations dominate, one per reading and
+/// landmark: 17, 10 and 40 landmarks).
+pub fn graded_readings(kind: Kind) -> usize {
+    match kind {
+        Kind::O3 => 300,
+        Kind::Outliers => 400,
+        Kind::NoOdometry => 150,
+    }
+}
+
+/// A run of the given filter loop with the student's functions on a data set.
+#[derive(Clone, Debug)]
+pub struct RunSpec {
+    /// `no-odometry/batch`.
+    pub name: String,
+    pub kind: Kind,
+    pub mode: UpdateMode,
+    /// The seed the data set was simulated from.
+    pub data_seed: u64,
+    /// The first `graded_readings(kind)` readings of that data set.
+    pub data: Dataset,
+}
+
+impl Plan {
+    /// The public suite, the variant of `seed`, and one data set of each kind from `seed`
+    /// (sequential updates on the first two, batch and sequential on the third).
+    pub fn new(seed: u64) -> Plan {
+        let mut cases = suite(PUBLIC_SEED, "p");
+        cases.extend(suite(seed, "s"));
+        cases.sort_by_key(|case| FUNCTIONS.iter().position(|f| *f == case.call.function()));
+        let mut runs = Vec::new();
+        for kind in Kind::ALL {
+            let (data_seed, data) = qualified_data(kind, seed);
+            let modes: &[UpdateMode] = match kind {
+                Kind::NoOdometry => &[UpdateMode::Batch, UpdateMode::Sequential],
+                _ => &[UpdateMode::Sequential],
+            };
+            for &mode in modes {
+                runs.push(RunSpec {
+                    name: run_name(kind, mode),
+                    kind,
+                    mode,
+                    data_seed,
+                    data: data.clone(),
+                });
+            }
+        }
+        Plan { seed, cases, runs }
+    }
+
+    pub fn cases_of<'a>(&'a self, function: &'a str) -> impl Iterator<Item = &'a Case> + 'a {
+        self.cases
+            .iter()
+            .filter(move |case| case.call.function() == function)
+    }
+
+    pub fn run(&self, name: &str) -> Option<&RunSpec> {
+        self.runs.iter().find(|run| run.name == name)
+    }
+
+    /// What the harness needs to call the student's code: the arguments of every case (not
+    /// the expected outputs) and the data of every run (not the ground truth).
+    pub fn job(&self) -> Value {
+        let functions: Vec<Value> = FUNCTIONS
+            .iter()
+            .map(|&function| {
+                let calls: Vec<Value> = self
+                    .cases_of(function)
+                    .map(|case| json!({ "id": case.id, "args": arguments(&case.call) }))
+                    .collect();
+                json!({ "function": function, "calls": calls, "limit_ms": FUNCTION_LIMIT_MS })
+            })
+            .collect();
+        let runs: Vec<Value> = self.runs.iter().map(run_job).collect();
+        json!({ "functions": functions, "runs": runs })
+    }
+}
+
+pub fn run_name(kind: Kind, mode: UpdateMode) -> String {
+    format!("{}/{}", kind.name(), mode_name(mode))
+}
+
+pub fn mode_name(mode: UpdateMode) -> &'static str {
+    match mode {
+        UpdateMode::Sequential => "sequential",
+        UpdateMode::Batch => "batch",
+    }
+}
+
+/// The cases of one seed, their ids marked with the suite: `predict/p3` is public,
+/// `predict/s3` the student's own.
+fn suite(seed: u64, mark: &str) -> Vec<Case> {
+    let mut cases = generate(seed, CASES_PER_FUNCTION);
+    for case in &mut cases {
+        let (function, number) = case.id.split_once('/').expect("ids are function/number");
+        case.id = format!("{function}/{mark}{number}");
+    }
+    cases
+}
+
+/// The first data set of this kind drawn from the student's seed (cut to the graded
+/// readings) on which the reference filter with the lab's settings keeps within 80% of
+/// the lab's bound, so that a correct implementation passes with room to spare. Nearly
+/// every draw qualifies; after a hundred that did not, the last is taken.
+fn qualified_data(kind: Kind, seed: u64) -> (u64, Dataset) {
+    let mut draws = Rng::substream(seed, 0x6461_7461 + kind as u64);
+    let mut draw = || {
+        let data_seed = (draws.uniform() * (1u64 << 53) as f64) as u64;
+        (data_seed, first_readings(simulate(kind, data_seed), graded_readings(kind)))
+    };
+    let mut candidate = draw();
+    for _ in 1..100 {
+        if qualifies(kind, &candidate.1) {
+            break;
+        }
+        candidate = draw();
+    }
+    candidate
+}
+
+/// The data set up to the time step in which its `n`th reading falls.
+fn first_readings(mut data: Dataset, n: usize) -> Dataset {
+    let mut seen = 0;
+    let steps = data
+        .log
+        .steps
+        .iter()
+        .take_while(|step| {
+            let before = seen;
+            seen += step.readings.len();
+            before < n
+        })
+        .count();
+    data.log.steps.truncate(steps);
+    data
+}
+
+fn qualifies(kind: Kind, data: &Dataset) -> bool {
+    let mode = match kind {
+        Kind::NoOdometry => UpdateMode::Batch,
+        _ => UpdateMode::Sequential,
+    };
+    let settings = ekf::Settings {
+        mode,
+        ..kind.lab_settings()
+    };
+    ekf::run(data, &settings).is_ok_and(|run| {
+        run.summary
+            .mean_absolute_error
+            .iter()
+            .all(|&e| e < 0.8 * bound(kind))
+    })
+}
+
+/// The lab's bound on every component of the mean absolute error: 0.01 on `so_o3_ie`,
+/// 0.06 on `so_pb_10_outlier`, and 0.1 with the batch update on `so_pb_40_no`.
+pub fn bound(kind: Kind) -> f64 {
+    match kind {
+        Kind::O3 => 0.01,
+        Kind::Outliers => 0.06,
+        Kind::NoOdometry => 0.1,
+    }
+}
+
+/// The arguments of a call in the contract's order; an infinite `Lambda_M` as the string
+/// "Infinity" (the harness turns it back into a number).
+pub fn arguments(call: &Call) -> Vec<Value> {
+    let threshold = |lambda: &f64| {
+        if lambda.is_infinite() {
+            json!("Infinity")
+        } else {
+            json!(lambda)
+        }
+    };
+    match call {
+        Call::CalculateOdometry {
+            e_r,
+            e_l,
+            e_t,
+            b,
+            r_r,
+            r_l,
+            delta_t,
+            mu,
+        } => vec![
+            json!(e_r),
+            json!(e_l),
+            json!(e_t),
+            json!(b),
+            json!(r_r),
+            json!(r_l),
+            json!(delta_t),
+            json!(mu),
+        ],
+        Call::Predict { mu, sigma, u, r } => vec![json!(mu), json!(sigma), json!(u), json!(r)],
+        Call::ObservationModel { x, m, j } => vec![json!(x), json!(m), json!(j)],
+        Call::JacobianObservationModel { x, m, j, z_hat } => {
+            vec![json!(x), json!(m), json!(j), json!(z_hat)]
+        }
+        Call::Associate {
+            mu_bar,
+            sigma_bar,
+            z_i,
+            m,
+            lambda_m,
+            q,
+        } => vec![
+            json!(mu_bar),
+            json!(sigma_bar),
+            json!(z_i),
+            json!(m),
+            threshold(lambda_m),
+            json!(q),
+        ],
+        Call::BatchAssociate {
+            mu_bar,
+            sigma_bar,
+            z,
+            m,
+            lambda_m,
+            q,
+        } => vec![
+            json!(mu_bar),
+            json!(sigma_bar),
+            json!(z),
+            json!(m),
+            threshold(lambda_m),
+            json!(q),
+        ],
+        Call::Update {
+            mu_bar,
+            sigma_bar,
+            h,
+            s,
+            nu,
+        } => vec![json!(mu_bar), json!(sigma_bar), json!(h), json!(s), json!(nu)],
+        Call::BatchUpdate {
+            mu_bar,
+            sigma_bar,
+            h_bar,
+            q_bar,
+            nu_bar,
+        } => vec![
+            json!(mu_bar),
+            json!(sigma_bar),
+            json!(h_bar),
+            json!(q_bar),
+            json!(nu_bar),
+        ],
+    }
+}
+
+#[derive(Serialize)]
+struct StepJob {
+    /// Seconds since the previous step (0 for the first).
+    delta_t: f64,
+    /// Encoder ticks of the right and the left wheel since the previous step.
+    e_r: f64,
+    e_l: f64,
+    /// The readings of the step, 2 x n: ranges, then bearings.
+    z: [Vec<f64>; 2],
+}
+
+fn run_job(run: &RunSpec) -> Value {
+    let steps: Vec<StepJob> = run
+        .data
+        .log
+        .steps
+        .iter()
+        .zip(increments(&run.data.log.steps))
+        .map(|(step, (e_r, e_l, delta_t))| StepJob {
+            delta_t,
+            e_r,
+            e_l,
+            z: [
+                step.readings.iter().map(|r| r.z.x).collect(),
+                step.readings.iter().map(|r| r.z.y).collect(),
+            ],
+        })
+        .collect();
+    let robot = run.kind.lab_settings().robot;
+    let landmarks = run.data.map.landmarks();
+    json!({
+        "name": run.name,
+        "dataset": run.kind.name(),
+        "mode": mode_name(run.mode),
+        "robot": {
+            "E_T": robot.ticks_per_revolution,
+            "B": robot.wheel_base,
+            "R_R": robot.right_radius,
+            "R_L": robot.left_radius,
+        },
+        "M": [
+            landmarks.iter().map(|l| l.position.x).collect::<Vec<_>>(),
+            landmarks.iter().map(|l| l.position.y).collect::<Vec<_>>(),
+        ],
+        "steps": steps,
+        "limit_ms": RUN_LIMIT_MS,
+    })
+}

@@ -1,0 +1,72 @@
+//! `estlab grade`: grade one student file, as the server would.
+
+use super::read;
+use crate::error::Error;
+use crate::sandbox::{MAX_SOURCE, Sandbox};
+use labs::grading::{LAB, student_seed};
+use std::path::PathBuf;
+
+/// Grade a student's JavaScript file and print the result. The exit code is 0 whenever a
+/// result was produced, whatever the score.
+#[derive(clap::Args)]
+pub struct Args {
+    /// The exercise; for now the EKF localization exercise.
+    #[arg(long, value_parser = [LAB], default_value = LAB)]
+    lab: String,
+    /// The student's JavaScript file.
+    file: PathBuf,
+    /// The seed of the student's variant (as the browser shows it).
+    #[arg(long, conflicts_with = "student")]
+    seed: Option<u64>,
+    /// Or the student's id, whose variant within --course is graded.
+    #[arg(long)]
+    student: Option<String>,
+    #[arg(long, default_value = "el2320")]
+    course: String,
+    #[arg(long, value_enum, default_value_t = Format::Json)]
+    format: Format,
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum Format {
+    /// The whole result, with every failing case in detail.
+    Json,
+    /// Gradescope's results.json.
+    Gradescope,
+    /// PrairieLearn's results.json.
+    Prairielearn,
+    /// The score and every test's message, for a person.
+    Text,
+}
+
+pub fn run(args: &Args) -> Result<(), Error> {
+    let source = read(&args.file)?;
+    if source.len() > MAX_SOURCE {
+        return Err(Error::Invalid(format!(
+            "{}: {} bytes; a submission may have at most {} KB",
+            args.file.display(),
+            source.len(),
+            MAX_SOURCE >> 10
+        )));
+    }
+    let seed = match (&args.seed, &args.student) {
+        (Some(seed), _) => *seed,
+        (None, Some(student)) => student_seed(&args.course, student),
+        (None, None) => 1,
+    };
+    let sandbox = Sandbox::current().map_err(Error::io("the estlab executable"))?;
+    let result = sandbox.grade(&source, seed);
+    let text = match args.format {
+        Format::Json => serde_json::to_string_pretty(&result),
+        Format::Gradescope => serde_json::to_string_pretty(&result.gradescope()),
+        Format::Prairielearn => serde_json::to_string_pretty(&result.prairielearn()),
+        Format::Text => Ok(result
+            .tests
+            .iter()
+            .map(|t| format!("\n{} [{}/{}]\n{}", t.name, t.points, t.max_points, t.message))
+            .fold(result.summary(), |text, test| text + "\n" + &test)),
+    }
+    .expect("results serialise");
+    println!("{text}");
+    Ok(())
+}

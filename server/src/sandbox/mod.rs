@@ -1,0 +1,7 @@
+//! Student code on the server: QuickJS in a worker process per grading.
+
+mod engine;
+mod worker;
+
+pub use engine::carry_out;
+pub use worker::{MAX_SOURCE, Sandbox};

@@ -1,0 +1,406 @@
+// The harness that calls a student's code: this one file runs unchanged in the browser's
+// Web Worker and in the server's QuickJS sandbox. It takes a phase of a grading job (made
+// by `labs::grading::Plan::job`) as JSON, calls the student's functions on copies of the
+// inputs, and returns JSON that `labs::grading::grade` compares with the reference:
+//
+//   estlabHarness.callFunction(source, phaseJson, progress) -> outputs of one function
+//   estlabHarness.runFilter(source, runJson, progress)       -> one data-set run
+//
+// `progress(label)` is told what is about to run, so that the host can say where its time
+// limit stopped the code. Numbers JSON cannot hold are written "NaN", "Infinity" and
+// "-Infinity", undefined as "undefined".
+(function (global) {
+  'use strict';
+
+  // Built-ins captured before any student code runs: a file that replaces JSON.stringify
+  // or Array.prototype.push changes nothing in here (the harness calls no array methods).
+  const FunctionConstructor = Function;
+  const ErrorConstructor = Error;
+  const ProxyConstructor = Proxy;
+  const apply = Reflect.apply;
+  const isArray = Array.isArray;
+  const keysOf = Object.keys;
+  const freeze = Object.freeze;
+  const isView = ArrayBuffer.isView;
+  const stringify = JSON.stringify;
+  const parse = JSON.parse;
+  const numberIsFinite = Number.isFinite;
+  const toText = String;
+  const stringSlice = String.prototype.slice;
+  const regExpExec = RegExp.prototype.exec;
+
+  const CONTRACT = [
+    'calculate_odometry', 'predict', 'observation_model', 'jacobian_observation_model',
+    'associate', 'batch_associate', 'update', 'batch_update', 'init',
+  ];
+  /// Values the student's code may return, at most (an answer is a few dozen numbers).
+  const MAX_VALUES = 100000;
+  const MAX_DEPTH = 8;
+
+  // Names a student's file may reach for that the sandbox does not give it: each is
+  // shadowed by a stand-in that says so when used.
+  const UNAVAILABLE = ['require', 'process', 'fetch', 'XMLHttpRequest', 'WebSocket',
+    'importScripts', 'postMessage', 'close', 'Deno', 'Bun'];
+  const WHY = ' is not available here: your file runs on its own, with no modules, ' +
+    'files or network. Write everything it needs in the file itself.';
+
+  function unavailable(name) {
+    const fail = function () { throw new ErrorConstructor(name + WHY); };
+    return new ProxyConstructor(fail, {
+      get: fail, set: fail, apply: fail, construct: fail, has: fail,
+    });
+  }
+  const standIns = [];
+  for (let i = 0; i < UNAVAILABLE.length; i++) standIns[i] = unavailable(UNAVAILABLE[i]);
+
+  // The line of the student's file that an error's stack names: calibrated once, since
+  // every engine wraps a Function body in a header of its own length.
+  const LINE = /(?:<anonymous>|<input>|eval|Function)[^\n]*?:(\d+)(?::\d+)?\)?/;
+  function stackLine(error) {
+    const stack = error && typeof error.stack === 'string' ? error.stack : '';
+    const found = apply(regExpExec, LINE, [stack]);
+    return found ? +found[1] : null;
+  }
+  let lineOffset = null;
+  try {
+    FunctionConstructor('throw new Error("probe");')();
+  } catch (probe) {
+    const line = stackLine(probe);
+    lineOffset = line === null ? null : line - 1;
+  }
+
+  function describeError(error) {
+    if (error instanceof ErrorConstructor || (error && typeof error.message === 'string')) {
+      const name = typeof error.name === 'string' ? error.name : 'Error';
+      const line = stackLine(error);
+      const where = line !== null && lineOffset !== null && line > lineOffset
+        ? ' (line ' + (line - lineOffset) + ')' : '';
+      return name + ': ' + clip(toText(error.message)) + where;
+    }
+    return 'a value that is not an Error: ' + clip(safeText(error));
+  }
+
+  function safeText(value) {
+    try { return stringify(plain(value)); } catch (e) { return typeof value; }
+  }
+
+  function clip(text) {
+    return text.length > 300 ? apply(stringSlice, text, [0, 300]) + '...' : text;
+  }
+
+  /// The student's file evaluated afresh: its top-level functions of the contract.
+  function load(source) {
+    let body = source + '\n;return {';
+    for (let i = 0; i < CONTRACT.length; i++) {
+      const name = CONTRACT[i];
+      body += name + ': typeof ' + name + " === 'function' ? " + name + ' : undefined,';
+    }
+    body += '};';
+    const params = [];
+    for (let i = 0; i < UNAVAILABLE.length; i++) params[i] = UNAVAILABLE[i];
+    params[params.length] = body;
+    let make;
+    try {
+      make = apply(FunctionConstructor, undefined, params);
+    } catch (error) {
+      throw new HarnessError('Your file does not compile: ' + describeError(error) +
+        (apply(regExpExec, /import|export/, [toText(error && error.message)])
+          ? '. There are no modules here: declare the functions at top level, without import or export.'
+          : ''));
+    }
+    try {
+      return apply(make, undefined, standIns);
+    } catch (error) {
+      throw new HarnessError('Your file throws while it loads: ' + describeError(error));
+    }
+  }
+
+  function HarnessError(message) {
+    this.message = message;
+  }
+
+  /// A deep copy of JSON data from the job, with "Infinity" back as a number: every call
+  /// gets inputs of its own, so a function that changes its arguments harms nothing.
+  function copy(value) {
+    if (value === 'Infinity') return Infinity;
+    if (!isArray(value)) return value;
+    const out = [];
+    for (let i = 0; i < value.length; i++) out[i] = copy(value[i]);
+    return out;
+  }
+
+  /// What the student's code returned, as JSON data (see the top of the file).
+  function plain(value) {
+    const budget = { left: MAX_VALUES };
+    return walk(value, 0, budget);
+  }
+
+  function walk(value, depth, budget) {
+    if (--budget.left < 0) {
+      throw new HarnessError('returned more than ' + MAX_VALUES + ' values');
+    }
+    switch (typeof value) {
+      case 'number':
+        if (numberIsFinite(value)) return value;
+        return value !== value ? 'NaN' : value > 0 ? 'Infinity' : '-Infinity';
+      case 'boolean':
+        return value;
+      case 'undefined':
+        return 'undefined';
+      case 'string':
+        return clip(value);
+      case 'bigint':
+        return toText(value) + 'n';
+      case 'function':
+        return 'a function';
+      case 'symbol':
+        return 'a symbol';
+    }
+    if (value === null) return null;
+    if (depth >= MAX_DEPTH) throw new HarnessError('returned data nested too deep');
+    if (typeof value.then === 'function') {
+      throw new HarnessError('returned a Promise: return the result itself, not async');
+    }
+    const out = [];
+    if (isArray(value) || isView(value)) {
+      for (let i = 0; i < value.length; i++) out[i] = walk(value[i], depth + 1, budget);
+      return out;
+    }
+    const object = {};
+    const names = keysOf(value);
+    for (let i = 0; i < names.length; i++) {
+      object[names[i]] = walk(value[names[i]], depth + 1, budget);
+    }
+    return object;
+  }
+
+  function callFunction(source, phaseJson, progress) {
+    const phase = parse(phaseJson);
+    const out = { function: phase.function, results: [], repeat: null };
+    let functions;
+    try {
+      functions = load(source);
+    } catch (error) {
+      out.error = error.message;
+      return stringify(out);
+    }
+    const f = functions[phase.function];
+    if (typeof f !== 'function') {
+      out.error = phase.function + ' is not defined: declare it at top level, as function ' +
+        phase.function + '(...) { ... }';
+      return stringify(out);
+    }
+    const calls = phase.calls;
+    for (let i = 0; i < calls.length; i++) {
+      progress(calls[i].id);
+      out.results[i] = call(f, calls[i]);
+    }
+    // The last call once more, in a fresh copy of the file: another answer means the
+    // function keeps state between calls.
+    if (calls.length > 0) {
+      const last = calls[calls.length - 1];
+      progress(last.id + ' (again, in a fresh copy of your file)');
+      out.repeat = call(load(source)[phase.function], last);
+    }
+    return stringify(out);
+  }
+
+  function call(f, testCall) {
+    try {
+      return { id: testCall.id, output: plain(apply(f, undefined, copy(testCall.args))) };
+    } catch (error) {
+      return {
+        id: testCall.id,
+        error: error instanceof HarnessError ? error.message : describeError(error),
+      };
+    }
+  }
+
+  // ---- the filter loop of the lab, with the student's functions ----
+
+  function runFilter(source, runJson, progress) {
+    const run = parse(runJson);
+    const out = { name: run.name, init: null, mu: [], sigma: [], c: [], outlier: [] };
+    let doing = 'loading your file';
+    try {
+      const functions = load(source);
+      const needed = run.mode === 'batch'
+        ? ['init', 'calculate_odometry', 'predict', 'batch_associate', 'batch_update']
+        : ['init', 'calculate_odometry', 'predict', 'associate', 'update'];
+      for (let i = 0; i < needed.length; i++) {
+        if (typeof functions[needed[i]] !== 'function') {
+          throw new HarnessError(needed[i] + ' is not defined');
+        }
+      }
+      doing = "init('" + run.dataset + "')";
+      progress(run.name + ': ' + doing);
+      const tuning = plain(apply(functions.init, undefined, [run.dataset]));
+      out.init = tuning;
+      const field = (object, name, check) => {
+        if (object === null || typeof object !== 'object' || !(name in object)) {
+          throw new HarnessError('returned ' + describe(object) + ' without the field ' + name);
+        }
+        return check(object[name], name);
+      };
+      let mu = field(tuning, 'mu', vector(3));
+      let sigma = field(tuning, 'sigma', matrix(3, 3));
+      const R = field(tuning, 'R', matrix(3, 3));
+      const Q = field(tuning, 'Q', matrix(2, 2));
+      const lambda = field(tuning, 'Lambda_M', threshold);
+      const robot = run.robot;
+      const M = run.M;
+      const landmarks = M[0].length;
+      const index = (value, what) => {
+        if (typeof value !== 'number' || value % 1 !== 0 || value < 0 || value >= landmarks) {
+          throw new HarnessError(what + ' is ' + describe(value) +
+            ', not a landmark index from 0 to ' + (landmarks - 1));
+        }
+        return value;
+      };
+      const flag = (value, what) => {
+        if (typeof value !== 'boolean') {
+          throw new HarnessError(what + ' is ' + describe(value) + ', not true or false');
+        }
+        return value;
+      };
+      let at = '';
+      const invoke = (name, args) => {
+        doing = at + name;
+        return plain(apply(functions[name], undefined, args));
+      };
+
+      for (let k = 0; k < run.steps.length; k++) {
+        const step = run.steps[k];
+        if (k % 100 === 0) progress(run.name + ': time step ' + (k + 1));
+        at = 'at time step ' + (k + 1) + ', ';
+        const u = vector(3)(invoke('calculate_odometry', [step.e_r, step.e_l, robot.E_T,
+          robot.B, robot.R_R, robot.R_L, step.delta_t, copy(mu)]), 'u');
+        const bar = invoke('predict', [copy(mu), copy(sigma), u, copy(R)]);
+        let muBar = field(bar, 'mu_bar', vector(3));
+        let sigmaBar = field(bar, 'sigma_bar', matrix(3, 3));
+        const z = step.z;
+        const n = z[0].length;
+        if (run.mode === 'batch') {
+          const a = invoke('batch_associate', [copy(muBar), copy(sigmaBar), copy(z), copy(M),
+            lambda, copy(Q)]);
+          const c = field(a, 'c', list(n));
+          const outlier = field(a, 'outlier', list(n));
+          const nuBar = field(a, 'nu_bar', vector(2 * n));
+          const hBar = field(a, 'H_bar', matrix(2 * n, 3));
+          const H = [];
+          const nu = [];
+          for (let i = 0; i < n; i++) {
+            out.c[out.c.length] = index(c[i], 'c[' + i + ']');
+            if (!flag(outlier[i], 'outlier[' + i + ']')) {
+              H[H.length] = hBar[2 * i];
+              H[H.length] = hBar[2 * i + 1];
+              nu[nu.length] = nuBar[2 * i];
+              nu[nu.length] = nuBar[2 * i + 1];
+            }
+            out.outlier[out.outlier.length] = outlier[i];
+          }
+          if (nu.length > 0) {
+            const post = invoke('batch_update', [copy(muBar), copy(sigmaBar), H,
+              blockDiagonal(Q, nu.length / 2), nu]);
+            muBar = field(post, 'mu', vector(3));
+            sigmaBar = field(post, 'sigma', matrix(3, 3));
+          }
+        } else {
+          for (let i = 0; i < n; i++) {
+            const a = invoke('associate', [copy(muBar), copy(sigmaBar), [z[0][i], z[1][i]],
+              copy(M), lambda, copy(Q)]);
+            const c = index(field(a, 'c', (v) => v), 'c');
+            const isOutlier = flag(field(a, 'outlier', (v) => v), 'outlier');
+            out.c[out.c.length] = c;
+            out.outlier[out.outlier.length] = isOutlier;
+            if (!isOutlier) {
+              const H = field(a, 'H', list(landmarks))[c];
+              const S = field(a, 'S', list(landmarks))[c];
+              const nu = field(a, 'nu', list(landmarks))[c];
+              const post = invoke('update', [copy(muBar), copy(sigmaBar),
+                matrix(2, 3)(H, 'H[' + c + ']'), matrix(2, 2)(S, 'S[' + c + ']'),
+                vector(2)(nu, 'nu[' + c + ']')]);
+              muBar = field(post, 'mu', vector(3));
+              sigmaBar = field(post, 'sigma', matrix(3, 3));
+            }
+          }
+        }
+        mu = muBar;
+        sigma = sigmaBar;
+        out.mu[k] = mu;
+        out.sigma[k] = [sigma[0][0], sigma[0][1], sigma[0][2], sigma[1][0], sigma[1][1],
+          sigma[1][2], sigma[2][0], sigma[2][1], sigma[2][2]];
+      }
+    } catch (error) {
+      out.error = (doing ? doing + ': ' : '') +
+        (error instanceof HarnessError ? error.message : 'threw ' + describeError(error));
+    }
+    return stringify(out);
+  }
+
+  function blockDiagonal(Q, n) {
+    const out = [];
+    for (let i = 0; i < 2 * n; i++) {
+      out[i] = [];
+      for (let j = 0; j < 2 * n; j++) {
+        out[i][j] = (i >> 1) === (j >> 1) ? Q[i & 1][j & 1] : 0;
+      }
+    }
+    return out;
+  }
+
+  // Checks of what the loop passes on: a precise message instead of NaN later on.
+  function finiteNumber(value, what) {
+    if (typeof value !== 'number' || !numberIsFinite(value)) {
+      throw new HarnessError(what + ' is ' + describe(value) + ', not a finite number');
+    }
+    return value;
+  }
+
+  function list(n) {
+    return (value, what) => {
+      if (!isArray(value) || value.length !== n) {
+        throw new HarnessError(what + ' should be an array of ' + n + ' elements, but is ' +
+          describe(value));
+      }
+      return value;
+    };
+  }
+
+  function vector(n) {
+    return (value, what) => {
+      list(n)(value, what);
+      for (let i = 0; i < n; i++) finiteNumber(value[i], what + '[' + i + ']');
+      return value;
+    };
+  }
+
+  function matrix(rows, cols) {
+    return (value, what) => {
+      list(rows)(value, what);
+      for (let i = 0; i < rows; i++) vector(cols)(value[i], what + '[' + i + ']');
+      return value;
+    };
+  }
+
+  function threshold(value, what) {
+    if (value === 'Infinity') return Infinity;
+    if (typeof value !== 'number' || !(value >= 0)) {
+      throw new HarnessError(what + ' is ' + describe(value) + ', not a number >= 0');
+    }
+    return value;
+  }
+
+  function describe(value) {
+    if (isArray(value)) return 'an array of ' + value.length + ' elements';
+    if (value !== null && typeof value === 'object') {
+      const names = keysOf(value);
+      let text = 'an object with the fields';
+      for (let i = 0; i < names.length; i++) text += (i > 0 ? ', ' : ' ') + names[i];
+      return text;
+    }
+    return clip(safeText(value));
+  }
+
+  global.estlabHarness = freeze({ callFunction: callFunction, runFilter: runFilter });
+})(globalThis);
