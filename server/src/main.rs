@@ -3,6 +3,7 @@
 mod commands;
 mod error;
 mod sandbox;
+mod submissions;
 mod web;
 
 use clap::{Parser, Subcommand};

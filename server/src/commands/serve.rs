@@ -1,6 +1,8 @@
 //! `estlab serve`: the web application.
 
 use crate::error::Error;
+use crate::sandbox::Sandbox;
+use crate::submissions::{Grader, Store};
 use crate::web::{self, AppState, Assets};
 use std::net::SocketAddr;
 use std::path::PathBuf;
@@ -15,6 +17,17 @@ pub struct Args {
     /// The built browser assets (scripts/build-web writes them to target/web/dist).
     #[arg(long = "static", value_name = "DIR", default_value = DEFAULT_STATIC_DIR)]
     static_dir: PathBuf,
+    /// Where the submissions database lives; created at start if missing.
+    #[arg(long = "data", value_name = "DIR", default_value = "data")]
+    data_dir: PathBuf,
+    /// How many submissions are graded at once (each in a worker process of its own).
+    #[arg(long, default_value_t = default_parallel())]
+    parallel: usize,
+}
+
+/// One grading per core.
+fn default_parallel() -> usize {
+    std::thread::available_parallelism().map_or(1, usize::from)
 }
 
 /// Where `scripts/build-web` puts the assets, in the tree this binary was built from.
@@ -27,14 +40,24 @@ pub fn run(args: &Args) -> Result<(), Error> {
 
 async fn serve(args: &Args) -> Result<(), Error> {
     let assets = Assets::load(&args.static_dir)?;
-    let app = web::router(Arc::new(AppState { assets }));
+    let store = Store::open(&args.data_dir).map_err(web::Error::from)?;
+    let sandbox = Sandbox::current().map_err(Error::io("the estlab executable"))?;
+    let grader = Grader::new(store, sandbox, args.parallel);
+    let resumed = grader.resume().map_err(web::Error::from)?;
+    if resumed > 0 {
+        println!("estlab: resuming the grading of {resumed} submission(s) cut off by the last stop");
+    }
+    let app = web::router(Arc::new(AppState { assets, grader }));
     let listener = tokio::net::TcpListener::bind(args.addr)
         .await
         .map_err(Error::io(args.addr.to_string()))?;
     let addr = listener
         .local_addr()
         .map_err(Error::io(args.addr.to_string()))?;
-    println!("estlab is serving on http://{addr}/");
+    println!(
+        "estlab is serving on http://{addr}/ (submissions in {})",
+        args.data_dir.display()
+    );
     axum::serve(listener, app)
         .with_graceful_shutdown(async {
             let _ = tokio::signal::ctrl_c().await;

@@ -1,5 +1,6 @@
 //! The web application: the pages, rendered with askama, and the built browser assets.
 
+mod api;
 mod assets;
 mod error;
 mod pages;
@@ -7,9 +8,11 @@ mod pages;
 pub use assets::Assets;
 pub use error::Error;
 
+use crate::submissions::Grader;
 use axum::Router;
+use axum::extract::DefaultBodyLimit;
 use axum::http::{HeaderValue, header};
-use axum::routing::get;
+use axum::routing::{get, post};
 use std::sync::Arc;
 use tower_http::compression::CompressionLayer;
 use tower_http::set_header::SetResponseHeaderLayer;
@@ -17,7 +20,11 @@ use tower_http::set_header::SetResponseHeaderLayer;
 /// What every request handler can reach.
 pub struct AppState {
     pub assets: Assets,
+    pub grader: Arc<Grader>,
 }
+
+/// The largest request body: a submission of the largest source, JSON-escaped.
+const MAX_BODY: usize = 4 << 20;
 
 /// Scripts from this origin only (and the wasm module they compile); styles may be
 /// inline, as the plotting and formula libraries set them on elements.
@@ -31,11 +38,14 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/", get(pages::home))
         .route("/car", get(pages::car))
         .route("/ekf", get(pages::ekf))
+        .route("/api/submissions", post(api::submit))
+        .route("/api/submissions/{id}", get(api::submission))
         .route("/healthz", get(|| async { "ok" }))
         .route("/favicon.svg", get(pages::icon))
         .route("/favicon.ico", get(pages::icon))
         .nest_service("/static", static_files)
         .fallback(pages::not_found)
+        .layer(DefaultBodyLimit::max(MAX_BODY))
         .layer(CompressionLayer::new())
         .layer(SetResponseHeaderLayer::if_not_present(
             header::CONTENT_SECURITY_POLICY,

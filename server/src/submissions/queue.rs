@@ -1,0 +1,66 @@
+//! Grading of stored submissions in the background: each in a blocking task that waits
+//! for its sandbox worker process, at most `parallel` at once, so that the server's
+//! other requests are answered meanwhile.
+
+use super::{Error, NewSubmission, Store};
+use crate::sandbox::Sandbox;
+use std::sync::Arc;
+use tokio::sync::Semaphore;
+
+/// Stores submissions and grades them.
+pub struct Grader {
+    store: Store,
+    sandbox: Sandbox,
+    permits: Semaphore,
+}
+
+impl Grader {
+    /// A grader over `store` running at most `parallel` sandboxes at once.
+    pub fn new(store: Store, sandbox: Sandbox, parallel: usize) -> Arc<Grader> {
+        Arc::new(Grader {
+            store,
+            sandbox,
+            permits: Semaphore::new(parallel.max(1)),
+        })
+    }
+
+    pub fn store(&self) -> &Store {
+        &self.store
+    }
+
+    /// Stores a submission, then queues its grading; returns its id once it is stored.
+    pub fn submit(self: &Arc<Self>, new: &NewSubmission) -> Result<i64, Error> {
+        let id = self.store.insert(new)?;
+        self.queue(id);
+        Ok(id)
+    }
+
+    /// Queues every submission whose grading a stop cut off; returns how many.
+    pub fn resume(self: &Arc<Self>) -> Result<usize, Error> {
+        let ids = self.store.unfinished()?;
+        for &id in &ids {
+            self.queue(id);
+        }
+        Ok(ids.len())
+    }
+
+    fn queue(self: &Arc<Self>, id: i64) {
+        let grader = Arc::clone(self);
+        tokio::spawn(async move {
+            let _permit = grader.permits.acquire().await.expect("the semaphore stays open");
+            let worker = Arc::clone(&grader);
+            let graded = tokio::task::spawn_blocking(move || worker.grade(id)).await;
+            match graded {
+                Ok(Ok(())) => {}
+                Ok(Err(err)) => eprintln!("estlab: grading submission {id}: {err}"),
+                Err(err) => eprintln!("estlab: grading submission {id} stopped: {err}"),
+            }
+        });
+    }
+
+    fn grade(&self, id: i64) -> Result<(), Error> {
+        let (source, seed) = self.store.start_grading(id)?;
+        let result = self.sandbox.grade(&source, seed);
+        self.store.finish_grading(id, &result)
+    }
+}
