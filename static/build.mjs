@@ -1,5 +1,6 @@
-// Bundles the page scripts and the styles with esbuild into content-hashed files, writes
-// manifest.json (the style, and each page's script) for the server, and precompresses every text
+// Bundles the page scripts and the styles with esbuild into content-hashed files, and the
+// Web Worker that runs students' code as a classic script of its own; writes manifest.json
+// (the style, each page's script, the worker) for the server, and precompresses every text
 // asset with brotli and gzip so that the server can send the smaller one.
 //
 //   node build.mjs PKG_DIR OUT_DIR
@@ -9,7 +10,7 @@ import { join, relative } from 'node:path';
 import { brotliCompressSync, constants, gzipSync } from 'node:zlib';
 
 const [pkg, out] = process.argv.slice(2);
-const pages = ['home', 'car', 'ekf'];
+const pages = ['home', 'car', 'ekf', 'code'];
 
 rmSync(out, { recursive: true, force: true });
 const result = await esbuild.build({
@@ -32,7 +33,22 @@ const result = await esbuild.build({
   logLevel: 'warning',
 });
 
-const manifest = { style: null, scripts: {} };
+// A classic script, so that it starts in every browser and the harness in it is the very
+// file the server's sandbox runs.
+const worker = await esbuild.build({
+  entryPoints: { 'student-worker': 'src/student/worker.js' },
+  bundle: true,
+  format: 'iife',
+  target: 'es2022',
+  minify: process.env.ESTLAB_MINIFY !== '0',
+  outdir: out,
+  entryNames: '[name]-[hash]',
+  metafile: true,
+  logLevel: 'warning',
+});
+
+const manifest = { style: null, worker: null, scripts: {} };
+manifest.worker = relative(out, Object.keys(worker.metafile.outputs).find((file) => file.endsWith('.js')));
 for (const [file, output] of Object.entries(result.metafile.outputs)) {
   const page = pages.find((p) => output.entryPoint === `src/pages/${p}.js`);
   if (page) manifest.scripts[page] = relative(out, file);

@@ -22,10 +22,13 @@ export function tempDir() {
   return mkdtempSync(join(tmpdir(), 'estlab-e2e-'));
 }
 
-/** Starts `estlab serve` on a free port; resolves to { url, stop() }. */
-export function startServer(extraArgs = []) {
+/**
+ * Starts `estlab serve` on a free port, its submissions in `dataDir` (a fresh directory
+ * unless given); resolves to { url, dataDir, stop() }.
+ */
+export function startServer({ dataDir = tempDir(), args = [] } = {}) {
   if (!existsSync(estlabBinary)) throw new Error(`${estlabBinary} is not built (cargo build -p estlab)`);
-  const child = spawn(estlabBinary, ['serve', '--addr', '127.0.0.1:0', '--static', staticDir, ...extraArgs], {
+  const child = spawn(estlabBinary, ['serve', '--addr', '127.0.0.1:0', '--static', staticDir, '--data', dataDir, ...args], {
     stdio: ['ignore', 'pipe', 'pipe'],
   });
   let stderr = '';
@@ -38,6 +41,7 @@ export function startServer(extraArgs = []) {
       if (match) {
         resolve({
           url: match[1],
+          dataDir,
           process: child,
           stop: () => new Promise((done) => { child.once('exit', done); child.kill('SIGINT'); }),
         });

@@ -33,15 +33,24 @@ pub struct Dataset {
     kind: Option<Kind>,
 }
 
+impl Dataset {
+    pub(crate) fn of_kind(inner: dataset::Dataset, kind: Kind) -> Dataset {
+        Dataset {
+            inner,
+            kind: Some(kind),
+        }
+    }
+}
+
 #[wasm_bindgen]
 impl Dataset {
     /// A simulated data set: `kind` is o3, outliers or no-odometry.
     pub fn simulate(kind: &str, seed_value: f64) -> Result<Dataset, JsError> {
         let kind = Kind::from_name(kind).map_err(to_js)?;
-        Ok(Dataset {
-            inner: dataset::simulate(kind, seed(seed_value)?),
-            kind: Some(kind),
-        })
+        Ok(Dataset::of_kind(
+            dataset::simulate(kind, seed(seed_value)?),
+            kind,
+        ))
     }
 
     /// The user's own EL2320 files; an error carries the parser's message, which names
@@ -134,6 +143,12 @@ impl Dataset {
 #[wasm_bindgen]
 pub struct EkfRun {
     inner: ekf::Run,
+}
+
+impl From<ekf::Run> for EkfRun {
+    fn from(inner: ekf::Run) -> EkfRun {
+        EkfRun { inner }
+    }
 }
 
 impl EkfRun {

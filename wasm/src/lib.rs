@@ -6,10 +6,12 @@
 mod car;
 mod cases;
 mod ekf;
+mod grading;
 
 pub use car::{CarMonteCarlo, CarRun, car_defaults, car_monte_carlo, run_car};
 pub use cases::{check_case, generate_cases};
 pub use ekf::{Dataset, EkfRun, lambda_m};
+pub use grading::{Grader, student_seed};
 
 use wasm_bindgen::JsError;
 

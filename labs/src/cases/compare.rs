@@ -200,7 +200,9 @@ fn walk(
         Shape::Symmetric(n) => {
             let before = out.len();
             walk(&matrix(*n, *n), path.clone(), expected, got, tolerance, out);
-            let shaped = out[before..].iter().all(|m| m.problem != Problem::WrongShape);
+            let shaped = out[before..]
+                .iter()
+                .all(|m| m.problem != Problem::WrongShape);
             if shaped {
                 for i in 0..*n {
                     for j in 0..i {

@@ -7,8 +7,8 @@ mod el2320;
 mod generate;
 
 pub use compare::{Kind, Mismatch, Problem, Shape, Tolerance, compare, output_shape};
-pub use contract::{Call, FUNCTIONS, reference};
 pub(crate) use contract::rows;
+pub use contract::{Call, FUNCTIONS, reference};
 pub use el2320::{FIXTURE_FILES, load_fixtures};
 pub use generate::generate;
 

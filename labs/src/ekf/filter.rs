@@ -298,7 +298,14 @@ pub fn run(data: &Dataset, settings: &Settings) -> Result<Run, Error> {
             mahalanobis: m.candidate.mahalanobis,
         }));
     }
-    Ok(assemble(data, &settings.robot, settings.mu0, lambda, &beliefs, &outcomes))
+    Ok(assemble(
+        data,
+        &settings.robot,
+        settings.mu0,
+        lambda,
+        &beliefs,
+        &outcomes,
+    ))
 }
 
 /// What became of one reading: the landmark it was associated with, whether it was
@@ -314,14 +321,17 @@ pub struct Decision {
 /// the first (so that its control is zero).
 pub fn increments(steps: &[Step]) -> impl Iterator<Item = (f64, f64, f64)> + '_ {
     let previous = std::iter::once(None).chain(steps.iter().map(Some));
-    steps.iter().zip(previous).map(|(step, previous)| match previous {
-        Some(p) => (
-            step.encoders.right - p.encoders.right,
-            step.encoders.left - p.encoders.left,
-            step.t - p.t,
-        ),
-        None => (0.0, 0.0, 0.0),
-    })
+    steps
+        .iter()
+        .zip(previous)
+        .map(|(step, previous)| match previous {
+            Some(p) => (
+                step.encoders.right - p.encoders.right,
+                step.encoders.left - p.encoders.left,
+                step.t - p.t,
+            ),
+            None => (0.0, 0.0, 0.0),
+        })
 }
 
 /// A whole run from the belief after every step and the association of every reading

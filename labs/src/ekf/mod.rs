@@ -15,8 +15,8 @@ pub use association::{
     Association, Candidate, Match, associate, batch_associate, lambda_m, most_likely,
 };
 pub use filter::{
-    Decision, ReadingOutcome, Run, Settings, StepEstimate, Summary, UpdateMode, assemble, increments,
-    run,
+    Decision, ReadingOutcome, Run, Settings, StepEstimate, Summary, UpdateMode, assemble,
+    increments, run,
 };
 pub use geometry::{covariance_ellipse, reading_position};
 pub use map::{Landmark, Map};

@@ -60,16 +60,22 @@ fn function_test(plan: &Plan, function: &str, output: Option<&FunctionOutput>) -
     let mut passed = 0;
     for case in &cases {
         let result = output.results.iter().find(|r| r.id == case.id);
-        match check(case, result.and_then(|r| r.output.as_ref()), result.and_then(|r| r.error.clone())) {
+        match check(
+            case,
+            result.and_then(|r| r.output.as_ref()),
+            result.and_then(|r| r.error.clone()),
+        ) {
             None => passed += 1,
             Some(failure) => failures.push(failure),
         }
     }
     let mut lines = vec![format!("{passed} of {} cases pass.", cases.len())];
-    let error = output
-        .error
-        .clone()
-        .or_else(|| output.stopped.as_ref().map(|s| s.message(FUNCTION_LIMIT_MS)));
+    let error = output.error.clone().or_else(|| {
+        output
+            .stopped
+            .as_ref()
+            .map(|s| s.message(FUNCTION_LIMIT_MS))
+    });
     if let Some(error) = &error {
         lines.push(error.clone());
     }
@@ -88,12 +94,19 @@ fn function_test(plan: &Plan, function: &str, output: Option<&FunctionOutput>) -
         lines.push(failure_line(failure));
     }
     if failures.len() > SHOWN_FAILURES {
-        lines.push(format!("... and {} more failing cases.", failures.len() - SHOWN_FAILURES));
+        lines.push(format!(
+            "... and {} more failing cases.",
+            failures.len() - SHOWN_FAILURES
+        ));
     }
     let all = failures.is_empty() && error.is_none() && !impure;
     Test {
         name,
-        points: if all { POINTS } else { POINTS * passed as f64 / cases.len().max(1) as f64 },
+        points: if all {
+            POINTS
+        } else {
+            POINTS * passed as f64 / cases.len().max(1) as f64
+        },
         max_points: POINTS,
         status: if all { Status::Passed } else { Status::Failed },
         visibility: Visibility::Visible,
@@ -108,7 +121,9 @@ fn check(case: &Case, got: Option<&Value>, error: Option<String>) -> Option<Fail
     let mut failure = Failure {
         case: case.id.clone(),
         note: case.note.clone(),
-        args: serde_json::to_value(&case.call).map(|v| v["args"].clone()).unwrap_or_default(),
+        args: serde_json::to_value(&case.call)
+            .map(|v| v["args"].clone())
+            .unwrap_or_default(),
         expected: case.expected.clone(),
         got: got.cloned(),
         error,
@@ -156,7 +171,11 @@ fn failure_line(failure: &Failure) -> String {
 /// A value for a message: numbers and short arrays as they are, anything larger in words.
 fn short(value: &Value) -> String {
     let text = value.to_string();
-    if text.len() <= 60 { text } else { describe(value) }
+    if text.len() <= 60 {
+        text
+    } else {
+        describe(value)
+    }
 }
 
 fn failed(name: String, message: String) -> Test {
@@ -192,7 +211,10 @@ fn dataset_test(plan: &Plan, outputs: &Outputs, kind: Kind, failing: &str) -> Te
             .runs
             .iter()
             .find(|r| r.name == spec.name)
-            .map_or_else(|| Err("not run".to_owned()), |output| student_run(spec, output))
+            .map_or_else(
+                || Err("not run".to_owned()),
+                |output| student_run(spec, output),
+            )
     };
     let mae = |run: &ekf::Run| run.summary.mean_absolute_error;
     let describe_run = |spec: &RunSpec, run: &ekf::Run| {
@@ -200,7 +222,11 @@ fn dataset_test(plan: &Plan, outputs: &Outputs, kind: Kind, failing: &str) -> Te
         format!(
             "{} update over the first {} s ({} readings): mean absolute error (x, y, theta) = ({:.5}, {:.5}, {:.5}); {} readings rejected.",
             mode_name(spec.mode),
-            spec.data.log.steps.last().map_or(0.0, |step| step.t.round()),
+            spec.data
+                .log
+                .steps
+                .last()
+                .map_or(0.0, |step| step.t.round()),
             run.summary.readings,
             e.x,
             e.y,
@@ -244,7 +270,11 @@ fn dataset_test(plan: &Plan, outputs: &Outputs, kind: Kind, failing: &str) -> Te
         name,
         points: if passed { POINTS } else { 0.0 },
         max_points: POINTS,
-        status: if passed { Status::Passed } else { Status::Failed },
+        status: if passed {
+            Status::Passed
+        } else {
+            Status::Failed
+        },
         visibility: Visibility::Visible,
         message: lines.join("\n"),
         failures: Vec::new(),
@@ -263,11 +293,17 @@ fn tuning(dataset: &str, init: &Value) -> Result<Tuning, String> {
         let rows = init.get(field)?.as_array()?;
         let cols = rows.first()?.as_array()?.len();
         rows.iter()
-            .all(|r| r.as_array().is_some_and(|r| r.len() == cols && r.iter().all(Value::is_number)))
+            .all(|r| {
+                r.as_array()
+                    .is_some_and(|r| r.len() == cols && r.iter().all(Value::is_number))
+            })
             .then_some((rows.len(), cols))
     };
     if dims("R") == Some((2, 2)) && dims("Q") == Some((3, 3)) {
-        return Err(format!("init('{dataset}'): {}", HintKind::RQSwapped.hint().text));
+        return Err(format!(
+            "init('{dataset}'): {}",
+            HintKind::RQSwapped.hint().text
+        ));
     }
     for (field, shape) in [("sigma", (3, 3)), ("R", (3, 3)), ("Q", (2, 2))] {
         if dims(field) != Some(shape) {
@@ -347,5 +383,12 @@ pub fn student_run(spec: &RunSpec, output: &RunOutput) -> Result<ekf::Run, Strin
         })
         .collect();
     let robot = spec.kind.lab_settings().robot;
-    Ok(ekf::assemble(&spec.data, &robot, tuning.mu, tuning.lambda_m, &beliefs, &decisions))
+    Ok(ekf::assemble(
+        &spec.data,
+        &robot,
+        tuning.mu,
+        tuning.lambda_m,
+        &beliefs,
+        &decisions,
+    ))
 }

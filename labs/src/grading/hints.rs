@@ -111,7 +111,12 @@ impl HintKind {
 }
 
 /// The classic mistake that explains a failing output, if one does.
-pub fn diagnose(call: &Call, expected: &Value, got: &Value, mismatches: &[Mismatch]) -> Option<Hint> {
+pub fn diagnose(
+    call: &Call,
+    expected: &Value,
+    got: &Value,
+    mismatches: &[Mismatch],
+) -> Option<Hint> {
     let gives = |alternative: Option<Value>| {
         alternative.is_some_and(|alt| {
             compare(&output_shape(call), &alt, got, Tolerance::default()).is_empty()
@@ -120,14 +125,15 @@ pub fn diagnose(call: &Call, expected: &Value, got: &Value, mismatches: &[Mismat
     let any = |problem| mismatches.iter().any(|m| m.problem == problem);
 
     if holds_non_finite(got) {
-        return Some(match call {
-            Call::CalculateOdometry { delta_t, .. } if *delta_t == 0.0 => HintKind::FirstStep,
-            Call::ObservationModel { j: 0, .. } | Call::JacobianObservationModel { j: 0, .. } => {
-                HintKind::OneBasedIndex
+        return Some(
+            match call {
+                Call::CalculateOdometry { delta_t, .. } if *delta_t == 0.0 => HintKind::FirstStep,
+                Call::ObservationModel { j: 0, .. }
+                | Call::JacobianObservationModel { j: 0, .. } => HintKind::OneBasedIndex,
+                _ => HintKind::NotFinite,
             }
-            _ => HintKind::NotFinite,
-        }
-        .hint());
+            .hint(),
+        );
     }
     if any(Problem::WrongShape) {
         let transposed_right = transpose(got).is_some_and(|t| {
@@ -152,15 +158,14 @@ pub fn diagnose(call: &Call, expected: &Value, got: &Value, mismatches: &[Mismat
         Call::CalculateOdometry { .. } => {
             gives(reference(&swap_wheels(call)).ok()).then_some(HintKind::WheelsSwapped)
         }
-        Call::ObservationModel { j, .. } | Call::JacobianObservationModel { j, .. } => {
-            (*j > 0 && gives(reference(&with_landmark(call, j - 1)).ok()))
-                .then_some(HintKind::OneBasedIndex)
-                .or_else(|| {
-                    (matches!(call, Call::JacobianObservationModel { .. })
-                        && mismatches.iter().all(|m| negated(&m.expected, &m.got)))
-                    .then_some(HintKind::JacobianSign)
-                })
-        }
+        Call::ObservationModel { j, .. } | Call::JacobianObservationModel { j, .. } => (*j > 0
+            && gives(reference(&with_landmark(call, j - 1)).ok()))
+        .then_some(HintKind::OneBasedIndex)
+        .or_else(|| {
+            (matches!(call, Call::JacobianObservationModel { .. })
+                && mismatches.iter().all(|m| negated(&m.expected, &m.got)))
+            .then_some(HintKind::JacobianSign)
+        }),
         Call::Associate { lambda_m, .. } => {
             if index_plus_one(mismatches) {
                 Some(HintKind::OneBasedIndex)
@@ -172,7 +177,9 @@ pub fn diagnose(call: &Call, expected: &Value, got: &Value, mismatches: &[Mismat
                 None
             }
         }
-        Call::BatchAssociate { .. } => index_plus_one(mismatches).then_some(HintKind::OneBasedIndex),
+        Call::BatchAssociate { .. } => {
+            index_plus_one(mismatches).then_some(HintKind::OneBasedIndex)
+        }
         Call::Predict { .. } => {
             gives(transposed_prediction(call)).then_some(HintKind::PredictTransposed)
         }
@@ -224,7 +231,9 @@ pub fn describe(value: &Value) -> String {
         Value::Null => "missing".to_owned(),
         Value::Bool(_) => "true or false".to_owned(),
         Value::Number(_) => "a number".to_owned(),
-        Value::String(s) if matches!(s.as_str(), "NaN" | "Infinity" | "-Infinity" | "undefined") => {
+        Value::String(s)
+            if matches!(s.as_str(), "NaN" | "Infinity" | "-Infinity" | "undefined") =>
+        {
             s.clone()
         }
         Value::String(_) => "a string".to_owned(),
@@ -233,7 +242,10 @@ pub fn describe(value: &Value) -> String {
             if n > 0 && items.iter().all(Value::is_number) {
                 format!("an array of {n} numbers")
             } else if let Some(cols) = items.first().and_then(Value::as_array).map(Vec::len) {
-                if items.iter().all(|row| row.as_array().is_some_and(|r| r.len() == cols)) {
+                if items
+                    .iter()
+                    .all(|row| row.as_array().is_some_and(|r| r.len() == cols))
+                {
                     format!("a {n} x {cols} array of rows")
                 } else {
                     format!("an array of {n} rows of different lengths")
@@ -250,7 +262,11 @@ pub fn describe(value: &Value) -> String {
 }
 
 fn transpose(value: &Value) -> Option<Value> {
-    let rows: Vec<&Vec<Value>> = value.as_array()?.iter().map(Value::as_array).collect::<Option<_>>()?;
+    let rows: Vec<&Vec<Value>> = value
+        .as_array()?
+        .iter()
+        .map(Value::as_array)
+        .collect::<Option<_>>()?;
     let cols = rows.first()?.len();
     if rows.iter().any(|r| r.len() != cols) {
         return None;
@@ -264,7 +280,10 @@ fn transpose(value: &Value) -> Option<Value> {
 
 fn swap_wheels(call: &Call) -> Call {
     let mut swapped = call.clone();
-    if let Call::CalculateOdometry { e_r, e_l, r_r, r_l, .. } = &mut swapped {
+    if let Call::CalculateOdometry {
+        e_r, e_l, r_r, r_l, ..
+    } = &mut swapped
+    {
         std::mem::swap(e_r, e_l);
         std::mem::swap(r_r, r_l);
     }
@@ -273,7 +292,8 @@ fn swap_wheels(call: &Call) -> Call {
 
 fn with_landmark(call: &Call, index: usize) -> Call {
     let mut other = call.clone();
-    if let Call::ObservationModel { j, .. } | Call::JacobianObservationModel { j, .. } = &mut other {
+    if let Call::ObservationModel { j, .. } | Call::JacobianObservationModel { j, .. } = &mut other
+    {
         *j = index;
     }
     other
@@ -293,10 +313,12 @@ fn index_plus_one(mismatches: &[Mismatch]) -> bool {
         .filter(|m| m.path == "c" || m.path.starts_with("c["))
         .collect();
     !indices.is_empty()
-        && indices.iter().all(|m| match (m.expected.as_u64(), m.got.as_u64()) {
-            (Some(e), Some(g)) => g == e + 1,
-            _ => false,
-        })
+        && indices
+            .iter()
+            .all(|m| match (m.expected.as_u64(), m.got.as_u64()) {
+                (Some(e), Some(g)) => g == e + 1,
+                _ => false,
+            })
 }
 
 /// D_M of the landmark the reference chose: nu^T S^-1 nu from the expected output.
@@ -327,7 +349,11 @@ fn transposed_prediction(call: &Call) -> Option<Value> {
 fn range_variance_only(call: &Call) -> Call {
     let mut other = call.clone();
     if let Call::BatchUpdate { q_bar, .. } = &mut other {
-        let q = q_bar.first().and_then(|row| row.first()).copied().unwrap_or(0.0);
+        let q = q_bar
+            .first()
+            .and_then(|row| row.first())
+            .copied()
+            .unwrap_or(0.0);
         for (i, row) in q_bar.iter_mut().enumerate() {
             for (j, value) in row.iter_mut().enumerate() {
                 *value = if i == j { q } else { 0.0 };

@@ -136,7 +136,10 @@ fn qualified_data(kind: Kind, seed: u64) -> (u64, Dataset) {
     let mut draws = Rng::substream(seed, 0x6461_7461 + kind as u64);
     let mut draw = || {
         let data_seed = (draws.uniform() * (1u64 << 53) as f64) as u64;
-        (data_seed, first_readings(simulate(kind, data_seed), graded_readings(kind)))
+        (
+            data_seed,
+            first_readings(simulate(kind, data_seed), graded_readings(kind)),
+        )
     };
     let mut candidate = draw();
     for _ in 1..100 {
@@ -263,7 +266,13 @@ pub fn arguments(call: &Call) -> Vec<Value> {
             h,
             s,
             nu,
-        } => vec![json!(mu_bar), json!(sigma_bar), json!(h), json!(s), json!(nu)],
+        } => vec![
+            json!(mu_bar),
+            json!(sigma_bar),
+            json!(h),
+            json!(s),
+            json!(nu),
+        ],
         Call::BatchUpdate {
             mu_bar,
             sigma_bar,

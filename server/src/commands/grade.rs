@@ -63,7 +63,12 @@ pub fn run(args: &Args) -> Result<(), Error> {
         Format::Text => Ok(result
             .tests
             .iter()
-            .map(|t| format!("\n{} [{}/{}]\n{}", t.name, t.points, t.max_points, t.message))
+            .map(|t| {
+                format!(
+                    "\n{} [{}/{}]\n{}",
+                    t.name, t.points, t.max_points, t.message
+                )
+            })
             .fold(result.summary(), |text, test| text + "\n" + &test)),
     }
     .expect("results serialise");

@@ -45,7 +45,9 @@ async fn serve(args: &Args) -> Result<(), Error> {
     let grader = Grader::new(store, sandbox, args.parallel);
     let resumed = grader.resume().map_err(web::Error::from)?;
     if resumed > 0 {
-        println!("estlab: resuming the grading of {resumed} submission(s) cut off by the last stop");
+        println!(
+            "estlab: resuming the grading of {resumed} submission(s) cut off by the last stop"
+        );
     }
     let app = web::router(Arc::new(AppState { assets, grader }));
     let listener = tokio::net::TcpListener::bind(args.addr)

@@ -64,10 +64,20 @@ impl Engine {
     }
 
     /// One phase: the harness's answer (JSON text), or what stopped it.
-    fn phase(&self, run: bool, source: &str, phase: &str, limit: Duration) -> Result<String, Stopped> {
+    fn phase(
+        &self,
+        run: bool,
+        source: &str,
+        phase: &str,
+        limit: Duration,
+    ) -> Result<String, Stopped> {
         let during = Rc::new(RefCell::new(String::from("your file")));
         *self.deadline.lock().expect("deadline lock") = Instant::now() + limit;
-        let harness = if run { &self.run_filter } else { &self.call_function };
+        let harness = if run {
+            &self.run_filter
+        } else {
+            &self.call_function
+        };
         let outcome = self.context.with(|ctx| {
             let f = harness.clone().restore(&ctx).map_err(|e| e.to_string())?;
             let label = Rc::clone(&during);
@@ -115,11 +125,16 @@ pub fn carry_out(source: &str, job: &Value) -> Result<Value, String> {
             let limit = Duration::from_millis(phase["limit_ms"].as_u64().unwrap_or(1000));
             let text = phase.to_string();
             let output = match engine.phase(run, source, &text, limit) {
-                Ok(json) => serde_json::from_str(&json).map_err(|e| format!("the harness wrote bad JSON: {e}"))?,
+                Ok(json) => serde_json::from_str(&json)
+                    .map_err(|e| format!("the harness wrote bad JSON: {e}"))?,
                 Err(stopped) => {
                     engine = Engine::new()?;
                     let key = if run { "name" } else { "function" };
-                    let name = if run { &phase["name"] } else { &phase["function"] };
+                    let name = if run {
+                        &phase["name"]
+                    } else {
+                        &phase["function"]
+                    };
                     serde_json::json!({ key: name, "stopped": stopped })
                 }
             };

@@ -64,7 +64,10 @@ impl Sandbox {
         let stdout = child.stdout.take().expect("piped stdout");
         let reader = thread::spawn(move || {
             let mut text = String::new();
-            stdout.take(MAX_OUTPUT).read_to_string(&mut text).map(|_| text)
+            stdout
+                .take(MAX_OUTPUT)
+                .read_to_string(&mut text)
+                .map(|_| text)
         });
         let stderr = child.stderr.take().expect("piped stderr");
         let complaints = thread::spawn(move || {
@@ -102,7 +105,8 @@ impl Sandbox {
                 }
             ));
         }
-        serde_json::from_str(&output).map_err(|e| format!("the sandbox wrote unreadable outputs: {e}"))
+        serde_json::from_str(&output)
+            .map_err(|e| format!("the sandbox wrote unreadable outputs: {e}"))
     }
 }
 

@@ -47,7 +47,11 @@ impl Grader {
     fn queue(self: &Arc<Self>, id: i64) {
         let grader = Arc::clone(self);
         tokio::spawn(async move {
-            let _permit = grader.permits.acquire().await.expect("the semaphore stays open");
+            let _permit = grader
+                .permits
+                .acquire()
+                .await
+                .expect("the semaphore stays open");
             let worker = Arc::clone(&grader);
             let graded = tokio::task::spawn_blocking(move || worker.grade(id)).await;
             match graded {

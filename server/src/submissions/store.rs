@@ -112,7 +112,13 @@ impl Store {
             .execute(
                 "INSERT INTO submissions (course, student, lab, seed, source, status)
                  VALUES (?1, ?2, ?3, ?4, ?5, 'queued')",
-                params![new.course, new.student, new.lab, new.seed as i64, new.source],
+                params![
+                    new.course,
+                    new.student,
+                    new.lab,
+                    new.seed as i64,
+                    new.source
+                ],
             )
             .map_err(Error::Sql)?;
         Ok(connection.last_insert_rowid())

@@ -3,7 +3,10 @@
 //! page's script and style.
 
 use super::Error;
-use axum::http::{HeaderValue, Response, StatusCode, header};
+use axum::extract::Request;
+use axum::http::{HeaderValue, StatusCode, header};
+use axum::middleware::Next;
+use axum::response::Response;
 use serde::Deserialize;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -16,6 +19,8 @@ struct Manifest {
     style: String,
     /// The script of each page.
     scripts: HashMap<String, String>,
+    /// The Web Worker that runs students' code.
+    worker: String,
 }
 
 /// What a page links to.
@@ -26,7 +31,14 @@ pub struct PageAssets<'a> {
 }
 
 /// The pages that have a script of their own.
-pub const PAGES: [&str; 3] = ["home", "car", "ekf"];
+pub const PAGES: [&str; 4] = ["home", "car", "ekf", "code"];
+
+/// The name of the Web Worker that runs students' code starts so.
+const WORKER_PREFIX: &str = "student-worker-";
+
+/// The worker compiles the student's file (`new Function`), and nothing else: no network,
+/// no further scripts.
+const WORKER_POLICY: &str = "default-src 'none'; script-src 'unsafe-eval'";
 
 #[derive(Debug)]
 pub struct Assets {
@@ -63,6 +75,11 @@ impl Assets {
         &self.dir
     }
 
+    /// The path of the Web Worker that runs students' code, below `/static/`.
+    pub fn worker(&self) -> &str {
+        &self.manifest.worker
+    }
+
     /// The assets of one of [`PAGES`].
     pub fn page(&self, name: &str) -> PageAssets<'_> {
         PageAssets {
@@ -73,18 +90,27 @@ impl Assets {
 }
 
 /// Every file name carries a hash of its content, so a file never changes under its
-/// name and may be cached for a year.
+/// name and may be cached for a year. The student worker gets a policy of its own.
 pub fn service(dir: &Path) -> axum::routing::MethodRouter {
     let files = ServeDir::new(dir).precompressed_br().precompressed_gzip();
-    axum::routing::get_service(files).layer(axum::middleware::map_response(immutable))
+    axum::routing::get_service(files).layer(axum::middleware::from_fn(headers))
 }
 
-async fn immutable<B>(mut response: Response<B>) -> Response<B> {
+async fn headers(request: Request, next: Next) -> Response {
+    let worker = request.uri().path().contains(WORKER_PREFIX);
+    let mut response = next.run(request).await;
     if response.status() == StatusCode::OK {
-        response.headers_mut().insert(
+        let headers = response.headers_mut();
+        headers.insert(
             header::CACHE_CONTROL,
             HeaderValue::from_static("public, max-age=31536000, immutable"),
         );
+        if worker {
+            headers.insert(
+                header::CONTENT_SECURITY_POLICY,
+                HeaderValue::from_static(WORKER_POLICY),
+            );
+        }
     }
     response
 }

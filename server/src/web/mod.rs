@@ -38,6 +38,8 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/", get(pages::home))
         .route("/car", get(pages::car))
         .route("/ekf", get(pages::ekf))
+        .route("/ekf/code", get(pages::code))
+        .route("/ekf/starter.js", get(pages::starter))
         .route("/api/submissions", post(api::submit))
         .route("/api/submissions/{id}", get(api::submission))
         .route("/healthz", get(|| async { "ok" }))

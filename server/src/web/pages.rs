@@ -30,6 +30,19 @@ struct Ekf<'a> {
 }
 
 #[derive(Template)]
+#[template(path = "code.html")]
+struct Code<'a> {
+    page: &'a str,
+    assets: PageAssets<'a>,
+    worker: &'a str,
+    starter: &'a str,
+}
+
+/// The file a student starts from: every function of the contract, documented, throwing
+/// "not implemented".
+const STARTER: &str = include_str!("../../../static/src/ekf/starter.js");
+
+#[derive(Template)]
 #[template(path = "not_found.html")]
 struct NotFound<'a> {
     page: &'a str,
@@ -65,6 +78,27 @@ pub async fn ekf(State(state): State<Arc<AppState>>) -> Result<Response, Error> 
         page: "ekf",
         assets: state.assets.page("ekf"),
     })
+}
+
+pub async fn code(State(state): State<Arc<AppState>>) -> Result<Response, Error> {
+    html(&Code {
+        page: "code",
+        assets: state.assets.page("code"),
+        worker: state.assets.worker(),
+        starter: STARTER,
+    })
+}
+
+/// The starter file on its own, to download.
+pub async fn starter() -> Response {
+    (
+        [
+            (header::CONTENT_TYPE, "text/javascript; charset=utf-8"),
+            (header::CACHE_CONTROL, "no-cache"),
+        ],
+        STARTER,
+    )
+        .into_response()
 }
 
 pub async fn not_found(State(state): State<Arc<AppState>>, uri: Uri) -> Result<Response, Error> {

@@ -1,0 +1,789 @@
+//! `estlab grade`, run as an instructor runs it, on student files that are right, wrong
+//! in a classic way, or hostile.
+//!
+//! - `tests/student/correct.js` scores 1 in every output format;
+//! - every variant in `tests/student/mistakes.json` (correct.js with a classic mistake
+//!   put in) loses points on the test of the function it breaks, and that test explains
+//!   the mistake with the expected hint and no other;
+//! - hostile and careless code (endless loops, allocation bombs, runaway recursion,
+//!   throwing, NaN, wrong shapes, modules, network, tampered built-ins) is graded with a
+//!   message that tells the student what happened, and never makes the result "not
+//!   gradable" (that is for failures of the sandbox itself);
+//! - a file over the size limit is refused.
+//!
+//! Most sources are correct.js with a function declared again after it: the last
+//! declaration wins, so exactly that function is replaced. Gradings run in parallel, and
+//! the table-driven tests collect every problem before failing, so one run shows them
+//! all.
+
+use serde::Deserialize;
+use serde_json::Value;
+use std::collections::BTreeSet;
+use std::path::Path;
+use std::process::{Command, Output};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::thread;
+
+const CORRECT: &str = include_str!("../../tests/student/correct.js");
+const MISTAKES: &str = include_str!("../../tests/student/mistakes.json");
+
+/// The functions of the contract that have a test of their own, in the grader's order.
+const FUNCTIONS: [&str; 8] = [
+    "calculate_odometry",
+    "predict",
+    "observation_model",
+    "jacobian_observation_model",
+    "associate",
+    "batch_associate",
+    "update",
+    "batch_update",
+];
+/// The data sets, each with a test of its own ("o3 data set, sequential update: ...").
+const DATASETS: [&str; 3] = ["o3", "outliers", "no-odometry"];
+
+// ---- running the binary ----
+
+fn estlab_grade(file: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_estlab"))
+        .arg("grade")
+        .arg(file)
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+/// Grades `source` as a file of its own: stdout parsed as JSON when the command
+/// succeeded, or what it said instead.
+fn try_grade(source: &str, args: &[&str]) -> Result<Value, String> {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("student.js");
+    std::fs::write(&file, source).unwrap();
+    let out = estlab_grade(&file, args);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    if !out.status.success() {
+        return Err(format!(
+            "estlab grade exited with {}: {}{stdout}",
+            out.status,
+            String::from_utf8_lossy(&out.stderr)
+        ));
+    }
+    serde_json::from_str(&stdout).map_err(|e| format!("stdout is not JSON ({e}):\n{stdout}"))
+}
+
+fn grade(source: &str, args: &[&str]) -> Value {
+    try_grade(source, args).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// `work` on every item, on as many threads as there are cores; results in order.
+fn parallel<T: Sync, R: Send>(items: &[T], work: impl Fn(&T) -> R + Sync) -> Vec<R> {
+    let threads = thread::available_parallelism().map_or(2, |n| n.get());
+    let next = AtomicUsize::new(0);
+    let mut results: Vec<Option<R>> = items.iter().map(|_| None).collect();
+    thread::scope(|scope| {
+        let workers: Vec<_> = (0..threads.min(items.len()))
+            .map(|_| {
+                scope.spawn(|| {
+                    let mut done = Vec::new();
+                    loop {
+                        let i = next.fetch_add(1, Ordering::Relaxed);
+                        let Some(item) = items.get(i) else { break done };
+                        done.push((i, work(item)));
+                    }
+                })
+            })
+            .collect();
+        for worker in workers {
+            for (i, result) in worker.join().unwrap() {
+                results[i] = Some(result);
+            }
+        }
+    });
+    results.into_iter().map(Option::unwrap).collect()
+}
+
+// ---- reading a result ----
+
+fn tests(result: &Value) -> &[Value] {
+    result["tests"].as_array().map_or(&[], Vec::as_slice)
+}
+
+/// The test of a function ("predict: 12 cases") or of a data set ("o3 data set, ...").
+fn test<'a>(result: &'a Value, name: &str) -> &'a Value {
+    let prefix = if DATASETS.contains(&name) {
+        format!("{name} data set")
+    } else {
+        format!("{name}:")
+    };
+    tests(result)
+        .iter()
+        .find(|t| t["name"].as_str().is_some_and(|n| n.starts_with(&prefix)))
+        .unwrap_or(&Value::Null)
+}
+
+fn passed(test: &Value) -> bool {
+    test["status"] == "passed"
+}
+
+fn message(test: &Value) -> &str {
+    test["message"].as_str().unwrap_or_default()
+}
+
+/// The hint kinds of a test's failing cases.
+fn hint_kinds(test: &Value) -> BTreeSet<&str> {
+    test["failures"]
+        .as_array()
+        .into_iter()
+        .flatten()
+        .filter_map(|f| f["hint"]["kind"].as_str())
+        .collect()
+}
+
+// ---- checking a result, problem by problem ----
+
+/// What is wrong with one grading, collected rather than stopping at the first.
+#[derive(Default)]
+struct Problems(Vec<String>);
+
+impl Problems {
+    fn expect(&mut self, ok: bool, what: impl FnOnce() -> String) {
+        if !ok {
+            self.0.push(what());
+        }
+    }
+
+    /// The test's message contains every part.
+    fn says(&mut self, result: &Value, name: &str, parts: &[&str]) {
+        let text = message(test(result, name));
+        for part in parts {
+            self.expect(text.contains(part), || {
+                format!("the {name} test should say {part:?}; it says:\n{text}")
+            });
+        }
+    }
+
+    /// The test's message contains at least one of the parts.
+    fn says_any(&mut self, result: &Value, name: &str, parts: &[&str]) {
+        let text = message(test(result, name));
+        self.expect(parts.iter().any(|p| text.contains(p)), || {
+            format!("the {name} test should say one of {parts:?}; it says:\n{text}")
+        });
+    }
+
+    fn does_not_say(&mut self, result: &Value, name: &str, part: &str) {
+        let text = message(test(result, name));
+        self.expect(!text.contains(part), || {
+            format!("the {name} test should not say {part:?}; it says:\n{text}")
+        });
+    }
+
+    fn status(&mut self, result: &Value, names: &[&str], pass: bool) {
+        for &name in names {
+            let t = test(result, name);
+            self.expect(passed(t) == pass, || {
+                let status = if pass { "pass" } else { "fail" };
+                format!("the {name} test should {status}; it says:\n{}", message(t))
+            });
+        }
+    }
+
+    /// Exactly the function tests in `broken` fail, and the score shows it.
+    fn only_these_fail(&mut self, result: &Value, broken: &[&str]) {
+        let (fail, pass): (Vec<&str>, Vec<&str>) =
+            FUNCTIONS.iter().partition(|f| broken.contains(f));
+        self.status(result, &fail, false);
+        self.status(result, &pass, true);
+        self.score_below_one(result);
+    }
+
+    fn score_below_one(&mut self, result: &Value) {
+        let score = result["score"].as_f64();
+        self.expect(score.is_some_and(|s| s < 1.0), || {
+            format!("broken code should not score {score:?}")
+        });
+    }
+
+    /// Every test fails and says the same about the whole file.
+    fn whole_file_fails(&mut self, result: &Value, parts: &[&str]) {
+        let all: Vec<&str> = FUNCTIONS.iter().chain(&DATASETS).copied().collect();
+        self.status(result, &all, false);
+        for name in all {
+            self.says(result, name, parts);
+        }
+    }
+}
+
+// ---- sources ----
+
+/// correct.js with `extra` after it: a function declared again there replaces the
+/// correct one.
+fn with(extra: &str) -> String {
+    format!("{CORRECT}\n{extra}\n")
+}
+
+/// The line of the first line of `extra` in `with(extra)`, as the student's editor
+/// numbers it.
+fn extra_line() -> usize {
+    CORRECT.matches('\n').count() + 2
+}
+
+#[derive(Deserialize)]
+struct Mistake {
+    name: String,
+    breaks: String,
+    hint: String,
+    replace: Vec<Replacement>,
+}
+
+#[derive(Deserialize)]
+struct Replacement {
+    from: String,
+    to: String,
+}
+
+/// correct.js with the mistake made.
+fn variant(mistake: &Mistake) -> Result<String, String> {
+    mistake
+        .replace
+        .iter()
+        .try_fold(CORRECT.to_owned(), |source, r| {
+            if source.contains(&r.from) {
+                Ok(source.replace(&r.from, &r.to))
+            } else {
+                Err(format!("{:?} does not occur in correct.js", r.from))
+            }
+        })
+}
+
+// ---- the correct file ----
+
+#[test]
+fn the_correct_file_scores_one_in_every_format() {
+    let formats = ["json", "gradescope", "prairielearn"];
+    let results = parallel(&formats, |format| grade(CORRECT, &["--format", format]));
+    let (json, gradescope, prairielearn) = (&results[0], &results[1], &results[2]);
+
+    assert_eq!(json["lab"], "ekf-localization");
+    assert_eq!(json["seed"], 1, "the default seed");
+    assert_eq!(json["gradable"], true);
+    assert_eq!(json["score"], 1.0);
+    assert_eq!(json["points"], json["max_points"]);
+    let n = tests(json).len();
+    assert_eq!(n, FUNCTIONS.len() + DATASETS.len(), "{json:#}");
+    for t in tests(json) {
+        assert!(passed(t), "{t:#}");
+        assert_eq!(t["points"], t["max_points"], "{t:#}");
+        assert!(t.get("failures").is_none(), "{t:#}");
+    }
+
+    assert_eq!(gradescope["score"], json["points"]);
+    assert_eq!(tests(gradescope).len(), n);
+    for (g, t) in tests(gradescope).iter().zip(tests(json)) {
+        assert_eq!(g["name"], t["name"]);
+        assert_eq!(g["score"], g["max_score"]);
+        assert_eq!(g["status"], "passed");
+        assert_eq!(g["visibility"], "visible");
+        assert_eq!(g["output"], t["message"]);
+    }
+
+    assert_eq!(prairielearn["gradable"], true);
+    assert_eq!(prairielearn["score"], 1.0);
+    assert_eq!(tests(prairielearn).len(), n);
+    for (p, t) in tests(prairielearn).iter().zip(tests(json)) {
+        assert_eq!(p["name"], t["name"]);
+        assert_eq!(p["points"], p["max_points"]);
+        assert_eq!(p["message"], t["message"]);
+    }
+
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("correct.js");
+    std::fs::write(&file, CORRECT).unwrap();
+    let out = estlab_grade(&file, &["--format", "text"]);
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    let max = json["max_points"].as_f64().unwrap();
+    let summary = format!("{max} of {max} points (100%), {n} of {n} tests passed");
+    assert_eq!(text.lines().next(), Some(summary.as_str()), "{text}");
+    for t in tests(json) {
+        let line = format!("{} [10/10]", t["name"].as_str().unwrap());
+        assert!(text.contains(&line), "no {line:?} in:\n{text}");
+    }
+}
+
+#[test]
+fn each_student_gets_a_variant_of_their_own() {
+    let students = ["alice", "bob"];
+    let results = parallel(&students, |student| {
+        grade(CORRECT, &["--student", student, "--course", "el2320"])
+    });
+    let (alice, bob) = (&results[0], &results[1]);
+    for result in &results {
+        assert_eq!(result["score"], 1.0, "{result:#}");
+    }
+    assert_ne!(alice["seed"], bob["seed"]);
+    assert_ne!(alice["seed"], 1, "not the default seed");
+
+    // The seed stands for the variant: graded by seed, alice's file gets the same result.
+    let seed = alice["seed"].to_string();
+    assert_eq!(&grade(CORRECT, &["--seed", &seed]), alice);
+}
+
+// ---- classic mistakes ----
+
+/// What is wrong with how the grader handled one mistake.
+fn mistake_problems(mistake: &Mistake) -> Vec<String> {
+    let result = match variant(mistake).and_then(|source| try_grade(&source, &[])) {
+        Ok(result) => result,
+        Err(e) => return vec![e],
+    };
+    let mut p = Problems::default();
+    p.expect(result["gradable"] == true, || {
+        format!("not gradable: {}", result["reason"])
+    });
+    p.score_below_one(&result);
+    if mistake.breaks == "init" {
+        // init has no test of its own: every run starts with it, and says what is wrong.
+        let Some(phrase) = init_hint_phrase(&mistake.hint) else {
+            return vec![format!(
+                "no phrase known for the init hint {:?}: add one to init_hint_phrase",
+                mistake.hint
+            )];
+        };
+        for dataset in DATASETS {
+            p.status(&result, &[dataset], false);
+            p.says(&result, dataset, &[&format!("init('{dataset}')"), phrase]);
+        }
+    } else {
+        let t = test(&result, &mistake.breaks);
+        p.status(&result, &[&mistake.breaks], false);
+        let kinds = hint_kinds(t);
+        p.expect(kinds.contains(mistake.hint.as_str()), || {
+            format!(
+                "the {} test should hint {:?}; its hints are {kinds:?}; it says:\n{}",
+                mistake.breaks,
+                mistake.hint,
+                message(t)
+            )
+        });
+        p.expect(kinds.len() <= 1, || {
+            format!(
+                "the {} test should hint nothing but {:?}, which explains every failure; its hints are {kinds:?}",
+                mistake.breaks, mistake.hint
+            )
+        });
+    }
+    p.0
+}
+
+/// What a data-set test says for a classic mistake in `init`.
+fn init_hint_phrase(kind: &str) -> Option<&'static str> {
+    match kind {
+        "r_q_swapped" => Some("init returned R as a 2 x 2 and Q as a 3 x 3 matrix"),
+        _ => None,
+    }
+}
+
+#[test]
+fn every_classic_mistake_is_caught_and_explained() {
+    let mistakes: Vec<Mistake> = serde_json::from_str(MISTAKES).unwrap();
+    assert!(!mistakes.is_empty());
+    let problems = parallel(&mistakes, mistake_problems);
+    let report: Vec<String> = mistakes
+        .iter()
+        .zip(problems)
+        .filter(|(_, problems)| !problems.is_empty())
+        .map(|(m, problems)| {
+            format!(
+                "{} (breaks {}):\n  {}",
+                m.name,
+                m.breaks,
+                problems.join("\n  ")
+            )
+        })
+        .collect();
+    assert!(
+        report.is_empty(),
+        "{} of {} mistakes are not graded as they should be:\n\n{}",
+        report.len(),
+        mistakes.len(),
+        report.join("\n\n")
+    );
+}
+
+// ---- hostile and careless code ----
+
+type Check = Box<dyn Fn(&Value, &mut Problems) + Sync>;
+
+struct Hostile {
+    name: &'static str,
+    source: String,
+    check: Check,
+}
+
+fn hostile(
+    name: &'static str,
+    source: String,
+    check: impl Fn(&Value, &mut Problems) + Sync + 'static,
+) -> Hostile {
+    Hostile {
+        name,
+        source,
+        check: Box::new(check),
+    }
+}
+
+/// Every hostile file, with what its grading must say.
+fn hostile_suite() -> Vec<Hostile> {
+    let line = extra_line();
+    let at_line = move || format!("(line {line})");
+    let syntax_error = "return { mu_bar, sigma_bar ;";
+    let syntax_line = CORRECT
+        .lines()
+        .position(|l| l.contains("return { mu_bar, sigma_bar };"))
+        .expect("predict's return in correct.js")
+        + 1;
+    // Every message a student sees about `function`: its test and every data set's.
+    let about = |function: &'static str| -> Vec<&'static str> {
+        std::iter::once(function).chain(DATASETS).collect()
+    };
+    vec![
+        hostile(
+            "an endless loop",
+            with(
+                "function batch_update(mu_bar, sigma_bar, H_bar, Q_bar, nu_bar) { while (true) {} }",
+            ),
+            |r, p| {
+                p.only_these_fail(r, &["batch_update"]);
+                p.says(
+                    r,
+                    "batch_update",
+                    &["the time limit", "batch_update/p1", "endless loop"],
+                );
+                p.status(r, &["o3", "outliers"], true);
+                p.status(r, &["no-odometry"], false);
+                p.says(r, "no-odometry", &["the time limit", "no-odometry/batch"]);
+            },
+        ),
+        hostile(
+            "an allocation bomb of typed arrays",
+            with(
+                "function predict(mu, sigma, u, R) { const blocks = []; for (;;) blocks.push(new Float64Array(1 << 20)); }",
+            ),
+            move |r, p| {
+                p.only_these_fail(r, &["predict"]);
+                for name in about("predict") {
+                    p.says(r, name, &["out of memory"]);
+                }
+            },
+        ),
+        hostile(
+            "an allocation bomb of plain arrays",
+            with(
+                "function predict(mu, sigma, u, R) { const rows = []; for (;;) rows.push(new Array(1000).fill(1.5)); }",
+            ),
+            move |r, p| {
+                p.only_these_fail(r, &["predict"]);
+                for name in about("predict") {
+                    p.says_any(r, name, &["memory", "time limit"]);
+                    p.does_not_say(r, name, "not an Error: null");
+                }
+            },
+        ),
+        hostile(
+            "unbounded recursion",
+            with(
+                "function update(mu_bar, sigma_bar, H, S, nu) { return update(mu_bar, sigma_bar, H, S, nu); }",
+            ),
+            move |r, p| {
+                p.only_these_fail(r, &["update"]);
+                p.says(
+                    r,
+                    "update",
+                    &["Maximum call stack size exceeded", &at_line()],
+                );
+                p.says(
+                    r,
+                    "o3",
+                    &["update: threw RangeError: Maximum call stack size exceeded"],
+                );
+            },
+        ),
+        hostile(
+            "a function that throws",
+            with(
+                "function batch_update(mu_bar, sigma_bar, H_bar, Q_bar, nu_bar) { throw new Error('my matrix is singular, sorry'); }",
+            ),
+            move |r, p| {
+                p.only_these_fail(r, &["batch_update"]);
+                p.says(
+                    r,
+                    "batch_update",
+                    &[&format!(
+                        "threw Error: my matrix is singular, sorry {}",
+                        at_line()
+                    )],
+                );
+                p.says(
+                    r,
+                    "no-odometry",
+                    &["batch_update: threw Error: my matrix is singular, sorry"],
+                );
+            },
+        ),
+        hostile(
+            "a function that returns NaN",
+            with(
+                "function update(mu_bar, sigma_bar, H, S, nu) { return { mu: [NaN, mu_bar[1], mu_bar[2]], sigma: sigma_bar }; }",
+            ),
+            |r, p| {
+                p.only_these_fail(r, &["update"]);
+                p.says(
+                    r,
+                    "update",
+                    &["got \"NaN\"", "The output holds NaN or Infinity"],
+                );
+                p.expect(hint_kinds(test(r, "update")).contains("not_finite"), || {
+                    "no not_finite hint".to_owned()
+                });
+                p.says(r, "o3", &["update: mu[0] is \"NaN\", not a finite number"]);
+            },
+        ),
+        hostile(
+            "a flat array instead of a matrix",
+            with(
+                "function predict(mu, sigma, u, R) { return { mu_bar: mu, sigma_bar: sigma.flat() }; }",
+            ),
+            |r, p| {
+                p.only_these_fail(r, &["predict"]);
+                p.says(
+                    r,
+                    "predict",
+                    &["`sigma_bar` should be a 3 x 3 array of rows, but is an array of 9 numbers"],
+                );
+                p.says(r, "o3", &["predict: sigma_bar should be an array of 3 elements, but is an array of 9 elements"]);
+            },
+        ),
+        hostile(
+            "a missing field",
+            with("function update(mu_bar, sigma_bar, H, S, nu) { return { mu: mu_bar }; }"),
+            |r, p| {
+                p.only_these_fail(r, &["update"]);
+                p.says(
+                    r,
+                    "update",
+                    &["`sigma` should be a 3 x 3 array of rows, but is missing"],
+                );
+                p.says(
+                    r,
+                    "o3",
+                    &["update: returned an object with the fields mu without the field sigma"],
+                );
+            },
+        ),
+        hostile(
+            "require at top level",
+            with("const math = require('mathjs');"),
+            move |r, p| {
+                p.whole_file_fails(
+                    r,
+                    &[
+                        "Your file throws while it loads",
+                        "require is not available here",
+                        &at_line(),
+                    ],
+                );
+            },
+        ),
+        hostile(
+            "require in a function",
+            with("function predict(mu, sigma, u, R) { return require('mathjs').multiply(mu, 2); }"),
+            move |r, p| {
+                p.only_these_fail(r, &["predict"]);
+                p.says(r, "predict", &["require is not available here", &at_line()]);
+            },
+        ),
+        hostile(
+            "process",
+            with("function predict(mu, sigma, u, R) { return process.env.HOME; }"),
+            move |r, p| {
+                p.only_these_fail(r, &["predict"]);
+                p.says(r, "predict", &["process is not available here", &at_line()]);
+            },
+        ),
+        hostile(
+            "fetch",
+            with(
+                "function predict(mu, sigma, u, R) { fetch('https://example.com/answers.json'); return null; }",
+            ),
+            move |r, p| {
+                p.only_these_fail(r, &["predict"]);
+                p.says(r, "predict", &["fetch is not available here", &at_line()]);
+            },
+        ),
+        hostile(
+            "a dynamic import",
+            with(
+                "function predict(mu, sigma, u, R) { const math = import('mathjs'); return math.multiply(mu, 2); }",
+            ),
+            |r, p| {
+                p.only_these_fail(r, &["predict"]);
+                p.says(r, "predict", &["import", "no modules"]);
+            },
+        ),
+        hostile(
+            "a static import",
+            format!("import {{ inv }} from 'mathjs';\n{CORRECT}"),
+            |r, p| {
+                p.whole_file_fails(
+                    r,
+                    &[
+                        "Your file does not compile",
+                        "(line 1)",
+                        "import",
+                        "no modules",
+                    ],
+                )
+            },
+        ),
+        hostile(
+            "eval of a 10 MB string",
+            with(
+                "function predict(mu, sigma, u, R) { const text = eval('\"' + 'a'.repeat(10000000) + '\"'); return text.length; }",
+            ),
+            |r, p| p.only_these_fail(r, &["predict"]),
+        ),
+        hostile(
+            "a syntax error",
+            CORRECT.replace("return { mu_bar, sigma_bar };", syntax_error),
+            move |r, p| {
+                p.whole_file_fails(
+                    r,
+                    &[
+                        "Your file does not compile: SyntaxError",
+                        &format!("(line {syntax_line})"),
+                    ],
+                );
+            },
+        ),
+        hostile(
+            "Math.sqrt replaced",
+            with("Math.sqrt = () => 0;"),
+            |r, p| {
+                p.only_these_fail(r, &["observation_model", "associate", "batch_associate"]);
+            },
+        ),
+        hostile(
+            "Array.prototype.map replaced",
+            with("Array.prototype.map = function () { return []; };"),
+            |r, p| {
+                p.status(
+                    r,
+                    &[
+                        "calculate_odometry",
+                        "observation_model",
+                        "jacobian_observation_model",
+                    ],
+                    true,
+                );
+                p.status(r, &["predict", "update", "batch_update"], false);
+                p.says(r, "predict", &["threw TypeError"]);
+                p.score_below_one(r);
+            },
+        ),
+        hostile(
+            "JSON replaced, predict broken",
+            with(
+                "JSON.stringify = () => '{\"score\": 1}';\nJSON.parse = () => ({});\nfunction predict(mu, sigma, u, R) { return { mu_bar: mu, sigma_bar: sigma }; }",
+            ),
+            |r, p| p.only_these_fail(r, &["predict"]),
+        ),
+        hostile(
+            "Object.prototype polluted, predict broken",
+            with(
+                "Object.prototype.mu_bar = [0, 0, 0];\nObject.prototype.sigma_bar = [[1, 0, 0], [0, 1, 0], [0, 0, 1]];\nfunction predict(mu, sigma, u, R) { return {}; }",
+            ),
+            |r, p| p.only_these_fail(r, &["predict"]),
+        ),
+        hostile(
+            "the harness's global replaced, update broken",
+            with(
+                "globalThis.estlabHarness = null;\nfunction update(mu_bar, sigma_bar, H, S, nu) { return { mu: mu_bar, sigma: sigma_bar }; }",
+            ),
+            |r, p| p.only_these_fail(r, &["update"]),
+        ),
+        hostile(
+            "Object.prototype.toJSON that throws",
+            with("Object.prototype.toJSON = function () { throw new Error('gotcha'); };"),
+            |r, p| {
+                // No function depends on toJSON: they pass, or their tests say what threw,
+                // and the student's own code is not called a failure of the sandbox.
+                for name in FUNCTIONS.iter().chain(&DATASETS) {
+                    if !passed(test(r, name)) {
+                        p.says(r, name, &["gotcha"]);
+                        p.does_not_say(r, name, "the sandbox failed");
+                    }
+                }
+            },
+        ),
+    ]
+}
+
+/// Whatever a student's file does, grading ends with a result: exit code 0, gradable
+/// (the sandbox's wall-clock kill did not strike), and the messages `check` expects.
+#[test]
+fn hostile_and_careless_code_is_graded_with_clear_messages() {
+    let suite = hostile_suite();
+    let problems = parallel(&suite, |case| match try_grade(&case.source, &[]) {
+        Err(e) => vec![e],
+        Ok(result) if result["gradable"] != true => {
+            vec![format!("not gradable: {}", result["reason"])]
+        }
+        Ok(result) => {
+            let mut p = Problems::default();
+            (case.check)(&result, &mut p);
+            p.0
+        }
+    });
+    let report: Vec<String> = suite
+        .iter()
+        .zip(problems)
+        .filter(|(_, problems)| !problems.is_empty())
+        .map(|(case, problems)| format!("{}:\n  {}", case.name, problems.join("\n  ")))
+        .collect();
+    assert!(
+        report.is_empty(),
+        "{} of {} hostile files are not graded as they should be:\n\n{}",
+        report.len(),
+        suite.len(),
+        report.join("\n\n")
+    );
+}
+
+#[test]
+fn a_file_over_the_size_limit_is_refused() {
+    const LIMIT: usize = 256 << 10;
+    let dir = tempfile::tempdir().unwrap();
+    let padded = |bytes: usize| {
+        let mut source = format!("{CORRECT}\n// ");
+        source.push_str(&"x".repeat(bytes - source.len()));
+        source
+    };
+
+    let huge = dir.path().join("huge.js");
+    std::fs::write(&huge, padded(LIMIT + 1)).unwrap();
+    let out = estlab_grade(&huge, &[]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(out.stdout.is_empty());
+    assert!(
+        stderr.contains("huge.js")
+            && stderr.contains("262145 bytes")
+            && stderr.contains("at most 256 KB"),
+        "{stderr}"
+    );
+
+    let result = grade(&padded(LIMIT), &[]);
+    assert_eq!(
+        result["score"], 1.0,
+        "a file of exactly the limit is graded"
+    );
+}

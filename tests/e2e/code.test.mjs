@@ -1,0 +1,192 @@
+// The student's workbench in headless Chromium against the real server: a fix typed into
+// the editor turns a failing test green, the file survives a reload, the browser's verdict
+// is the command line's, a submission gets the server's score, and an endless loop is
+// stopped in the browser while the server keeps answering.
+import assert from 'node:assert/strict';
+import { readFileSync, writeFileSync } from 'node:fs';
+import { join } from 'node:path';
+import { after, before, test } from 'node:test';
+import { estlab, launchBrowser, openPage, root, startServer, tempDir } from './harness.mjs';
+
+const correct = readFileSync(join(root, 'tests', 'student', 'correct.js'), 'utf8');
+const mistakes = JSON.parse(readFileSync(join(root, 'tests', 'student', 'mistakes.json'), 'utf8'));
+
+/** correct.js with the mistake called `name` made. */
+function withMistake(name) {
+  const mistake = mistakes.find((m) => m.name === name);
+  return mistake.replace.reduce((text, { from, to }) => {
+    assert.ok(text.includes(from), `${name}: ${from}`);
+    return text.replace(from, to);
+  }, correct);
+}
+
+let server;
+let browser;
+before(async () => {
+  server = await startServer();
+  browser = await launchBrowser();
+});
+after(async () => {
+  await browser.close();
+  await server.stop();
+});
+
+/** Replaces the editor's whole text by typing it, as a paste would. */
+async function type(page, text) {
+  await page.locator('.cm-content').click();
+  await page.keyboard.press('Control+A');
+  await page.keyboard.press('Delete');
+  await page.keyboard.insertText(text);
+}
+
+/** The file as the page saved it. */
+function saved(page) {
+  return page.evaluate(() => localStorage.getItem('estlab:ekf-localization:source'));
+}
+
+/** Clicks `button` and waits until the run it starts has finished. */
+async function runAndWait(page, button, timeout = 60000) {
+  await page.locator(button).click();
+  await page.waitForFunction(() => document.getElementById('stop').disabled, null, { timeout });
+}
+
+function testStatus(page, key) {
+  return page.locator(`#test-${key}`).getAttribute('data-status');
+}
+
+/** The points the page shows for the browser's verdict. */
+async function browserPoints(page) {
+  const text = await page.locator('#score').textContent();
+  return Number(text.match(/In your browser: ([\d.]+) of/)[1]);
+}
+
+test('the starter file: every test fails with "not implemented", and reset asks first', async () => {
+  const page = await openPage(browser, `${server.url}/ekf/code`);
+  assert.deepEqual(page.problems, []);
+  await runAndWait(page, '#run-tests');
+  for (const key of ['calculate_odometry', 'predict', 'batch_update']) {
+    assert.equal(await testStatus(page, key), 'failed', key);
+    assert.match(await page.locator(`#test-${key} .message`).textContent(), /not implemented/, key);
+  }
+  assert.equal(await testStatus(page, 'o3'), 'not-run');
+  await type(page, '// my start\n');
+  let asked = null;
+  page.once('dialog', (dialog) => { asked = dialog.message(); dialog.dismiss(); });
+  await page.locator('#reset').click();
+  assert.match(asked, /Replace your code with the starter file/);
+  assert.equal(await saved(page), '// my start\n', 'dismissing keeps the code');
+  page.once('dialog', (dialog) => dialog.accept());
+  await page.locator('#reset').click();
+  assert.match(await saved(page), /not implemented/);
+  assert.deepEqual(page.problems, []);
+  await page.close();
+});
+
+test('a fix typed into the editor turns a failing test green, and the file survives a reload', async () => {
+  const page = await openPage(browser, `${server.url}/ekf/code`);
+  await type(page, withMistake('bearing-not-wrapped'));
+  await runAndWait(page, '#run-tests');
+  assert.equal(await testStatus(page, 'observation_model'), 'failed');
+  assert.equal(await testStatus(page, 'predict'), 'passed');
+  const failure = page.locator('#test-observation_model .failure').first();
+  assert.match(await failure.locator('.hint').textContent(), /wrap/i);
+  assert.match(await failure.locator('table.mismatches').textContent(), /expected.*got/s);
+
+  await type(page, correct);
+  assert.equal(await page.locator('#tests').getAttribute('class'), 'tests stale', 'old results are marked stale');
+  await runAndWait(page, '#test-observation_model button.run');
+  assert.equal(await testStatus(page, 'observation_model'), 'passed');
+
+  await page.reload();
+  await page.waitForSelector('body[data-ready=true]');
+  assert.equal(await saved(page), correct);
+  const [download] = await Promise.all([page.waitForEvent('download'), page.locator('#download').click()]);
+  assert.equal(readFileSync(await download.path(), 'utf8'), correct, 'the downloaded file is the edited one');
+  assert.deepEqual(page.problems, []);
+  await page.close();
+});
+
+test('the correct file scores 1 in the browser and through the server, and the verdicts agree', async () => {
+  const page = await openPage(browser, `${server.url}/ekf/code`);
+  await page.locator('#student').fill('e2e-student');
+  await page.locator('#student').dispatchEvent('change');
+  await type(page, correct);
+  await runAndWait(page, '#run-tests');
+  await runAndWait(page, '#run-datasets');
+  assert.match(await page.locator('#score').textContent(), /110 of 110 points \(100%\), 11 of 11 tests pass\./);
+  assert.equal(await page.locator('#runs').isVisible(), true, 'the runs are plotted');
+  assert.match(await page.locator('#summary').textContent(), /mean absolute error/);
+
+  await page.locator('#submit').click();
+  await page.waitForSelector('#submission[data-status=graded]', { timeout: 60000 });
+  const text = await page.locator('#submission').textContent();
+  assert.match(text, /The server's grade for submission \d+: 110 of 110 points \(100%\)\. The same as in your browser\./);
+  assert.deepEqual(page.problems, []);
+  await page.close();
+});
+
+test('for broken files the browser gives the command line\'s points, test by test', async () => {
+  const page = await openPage(browser, `${server.url}/ekf/code`);
+  const dir = tempDir();
+  for (const name of ['odometry-wheels-swapped', 'jacobian-transposed', 'threshold-strict', 'batch-q-bar-range-variance']) {
+    const text = withMistake(name);
+    await type(page, text);
+    await runAndWait(page, '#run-tests');
+    await runAndWait(page, '#run-datasets');
+    const file = join(dir, `${name}.js`);
+    writeFileSync(file, text);
+    const cli = JSON.parse(estlab('grade', file, '--seed', '1'));
+    assert.ok(cli.score < 1, name);
+    assert.equal(await browserPoints(page), Number(cli.points.toPrecision(4)), name);
+    for (const t of cli.tests) {
+      const key = t.name.split(/[:\s]/)[0];
+      assert.equal(await testStatus(page, key), t.status, `${name}: ${t.name}`);
+    }
+  }
+  await page.close();
+});
+
+test('an endless loop is stopped at the time limit in the browser, and the server keeps serving meanwhile', async () => {
+  const page = await openPage(browser, `${server.url}/ekf/code`);
+  const looping = correct.replace(/function predict\(([^)]*)\) \{/, 'function predict($1) { while (true) {}');
+  assert.notEqual(looping, correct);
+  await type(page, looping);
+  await runAndWait(page, '#run-tests');
+  assert.equal(await testStatus(page, 'predict'), 'failed');
+  assert.match(await page.locator('#test-predict .message').textContent(), /Stopped after 2 s, the time limit, while running predict\/p1/);
+  assert.equal(await testStatus(page, 'update'), 'passed', 'the tests after it run in a fresh worker');
+
+  const response = await fetch(`${server.url}/api/submissions`, {
+    method: 'POST',
+    headers: { 'content-type': 'application/json' },
+    body: JSON.stringify({ student: 'loop', source: looping }),
+  });
+  assert.equal(response.status, 202);
+  const { url } = await response.json();
+  const health = await fetch(`${server.url}/healthz`);
+  assert.equal(await health.text(), 'ok');
+  const during = await (await fetch(server.url + url)).json();
+  assert.notEqual(during.status, 'graded', 'the health check was answered while the loop was being graded');
+  let submission;
+  do {
+    await new Promise((resolve) => setTimeout(resolve, 300));
+    submission = await (await fetch(server.url + url)).json();
+  } while (submission.status !== 'graded');
+  assert.equal(submission.result.gradable, true);
+  const predict = submission.result.tests.find((t) => t.name.startsWith('predict'));
+  assert.match(predict.message, /Stopped after 2 s, the time limit/);
+  await page.close();
+});
+
+test('student code in the browser reaches no network, even through globalThis', async () => {
+  const page = await openPage(browser, `${server.url}/ekf/code`);
+  const snooping = correct.replace(/function predict\(([^)]*)\) \{/, `function predict($1) {
+  const request = new globalThis.XMLHttpRequest();
+  request.open('GET', '/healthz', false);
+  request.send();`);
+  await type(page, snooping);
+  await runAndWait(page, '#test-predict button.run');
+  assert.equal(await testStatus(page, 'predict'), 'failed');
+  assert.match(await page.locator('#test-predict .failure .thrown').first().textContent(), /NetworkError|Failed to execute 'send'/);
+  await page.close();
+});

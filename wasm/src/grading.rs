@@ -1,0 +1,68 @@
+//! Grading in the browser: the same plan, the same comparison and the same result as on
+//! the server, from the same seed. The student's code runs in a Web Worker, driven by
+//! the harness with the job written here; its outputs come back to `grade`.
+
+use super::ekf::{Dataset, EkfRun};
+use super::{from_json, seed};
+use labs::grading::{self, Outputs, Plan, RunOutput};
+use wasm_bindgen::prelude::*;
+
+/// The seed of a student's own variant within a course, as the server computes it.
+#[wasm_bindgen(js_name = studentSeed)]
+pub fn student_seed(course: &str, student: &str) -> f64 {
+    grading::student_seed(course, student) as f64
+}
+
+/// Everything one grading checks, made from a seed.
+#[wasm_bindgen]
+pub struct Grader {
+    plan: Plan,
+}
+
+#[wasm_bindgen]
+impl Grader {
+    #[wasm_bindgen(constructor)]
+    pub fn new(seed_value: f64) -> Result<Grader, JsError> {
+        Ok(Grader {
+            plan: Plan::new(seed(seed_value)?),
+        })
+    }
+
+    /// What the harness needs (JSON): every call's arguments and every run's data.
+    pub fn job(&self) -> String {
+        self.plan.job().to_string()
+    }
+
+    /// The result (JSON) for the harness's outputs (JSON); functions and runs missing
+    /// from the outputs fail as not run.
+    pub fn grade(&self, outputs: &str) -> Result<String, JsError> {
+        let outputs: Outputs = from_json("outputs", outputs)?;
+        let result = grading::grade(&self.plan, &outputs);
+        Ok(serde_json::to_string(&result).expect("results serialise"))
+    }
+
+    /// The data set of a run (by its name, `o3/sequential`), for the map.
+    pub fn dataset(&self, name: &str) -> Result<Dataset, JsError> {
+        let spec = self.spec(name)?;
+        Ok(Dataset::of_kind(spec.data.clone(), spec.kind))
+    }
+
+    /// The student's run (the harness's output of one run, JSON) as a whole run with its
+    /// errors against the ground truth, for the plots.
+    #[wasm_bindgen(js_name = studentRun)]
+    pub fn student_run(&self, output: &str) -> Result<EkfRun, JsError> {
+        let output: RunOutput = from_json("run output", output)?;
+        let spec = self.spec(&output.name)?;
+        grading::student_run(spec, &output)
+            .map(EkfRun::from)
+            .map_err(|e| JsError::new(&e))
+    }
+}
+
+impl Grader {
+    fn spec(&self, name: &str) -> Result<&grading::RunSpec, JsError> {
+        self.plan
+            .run(name)
+            .ok_or_else(|| JsError::new(&format!("no data-set run is called {name:?}")))
+    }
+}
