@@ -27,6 +27,7 @@
   const numberIsFinite = Number.isFinite;
   const toText = String;
   const stringSlice = String.prototype.slice;
+  const stringReplace = String.prototype.replace;
   const regExpExec = RegExp.prototype.exec;
 
   const CONTRACT = [
@@ -41,6 +42,8 @@
   // shadowed by a stand-in that says so when used.
   const UNAVAILABLE = ['require', 'process', 'fetch', 'XMLHttpRequest', 'WebSocket',
     'importScripts', 'postMessage', 'close', 'Deno', 'Bun'];
+  // What `import(...)` calls become (see load).
+  const IMPORT_STAND_IN = 'estlabImportIsNotAvailable';
   const WHY = ' is not available here: your file runs on its own, with no modules, ' +
     'files or network. Write everything it needs in the file itself.';
 
@@ -52,10 +55,13 @@
   }
   const standIns = [];
   for (let i = 0; i < UNAVAILABLE.length; i++) standIns[i] = unavailable(UNAVAILABLE[i]);
+  standIns[standIns.length] = unavailable('import(...)');
 
-  // The line of the student's file that an error's stack names: calibrated once, since
-  // every engine wraps a Function body in a header of its own length.
-  const LINE = /(?:<anonymous>|<input>|eval|Function)[^\n]*?:(\d+)(?::\d+)?\)?/;
+  // The line of the student's file that an error's stack names: the first frame in code
+  // made by the Function constructor (V8 "<anonymous>:5:15", QuickJS "<input>:5:15",
+  // Firefox "> Function:5:15"), calibrated once, since every engine wraps a Function body
+  // in a header of its own length.
+  const LINE = /(?:<anonymous>|<input>|> Function):(\d+)/;
   function stackLine(error) {
     const stack = error && typeof error.stack === 'string' ? error.stack : '';
     const found = apply(regExpExec, LINE, [stack]);
@@ -70,6 +76,10 @@
   }
 
   function describeError(error) {
+    if (error === null) {
+      // What QuickJS throws when it has no memory left even for the error.
+      return 'null was thrown: your code most likely ran out of memory (far too much data allocated)';
+    }
     if (error instanceof ErrorConstructor || (error && typeof error.message === 'string')) {
       const name = typeof error.name === 'string' ? error.name : 'Error';
       const line = stackLine(error);
@@ -81,16 +91,63 @@
   }
 
   function safeText(value) {
-    try { return stringify(plain(value)); } catch (e) { return typeof value; }
+    try { return toJson(plain(value)); } catch (e) { return typeof value; }
   }
 
   function clip(text) {
     return text.length > 300 ? apply(stringSlice, text, [0, 300]) + '...' : text;
   }
 
+  /// JSON text of plain data, written here rather than by JSON.stringify, which a file
+  /// could redirect with a toJSON method on Object.prototype.
+  function toJson(value) {
+    if (value === null) return 'null';
+    switch (typeof value) {
+      case 'number':
+      case 'boolean':
+        return toText(value);
+      case 'string':
+        return stringify(value);
+    }
+    let text;
+    if (isArray(value)) {
+      text = '[';
+      for (let i = 0; i < value.length; i++) text += (i ? ',' : '') + toJson(value[i]);
+      return text + ']';
+    }
+    const names = keysOf(value);
+    text = '{';
+    for (let i = 0; i < names.length; i++) {
+      text += (i ? ',' : '') + stringify(names[i]) + ':' + toJson(value[names[i]]);
+    }
+    return text + '}';
+  }
+
+  // There are no modules here, and the engines' own messages for `import` and `export`
+  // lines do not say so: such a line stops the file with a message that does. An
+  // `import(...)` call becomes a call of a stand-in that says so when it runs.
+  const MODULE_LINE = /^[ \t]*(?:import|export)\b/m;
+  const DYNAMIC_IMPORT = /(^|[^\w$.])import(\s*\()/g;
+  const NO_MODULES = 'There are no modules here: declare the functions at top level, ' +
+    'without import or export, and write everything the file needs in the file itself.';
+
+  function moduleLine(source) {
+    const found = apply(regExpExec, MODULE_LINE, [source]);
+    if (!found) return null;
+    let line = 1;
+    for (let i = 0; i < found.index; i++) if (source[i] === '\n') line++;
+    return line;
+  }
+
   /// The student's file evaluated afresh: its top-level functions of the contract.
   function load(source) {
-    let body = source + '\n;return {';
+    const line = moduleLine(source);
+    if (line !== null) {
+      throw new HarnessError('Your file does not compile: an import or export (line ' + line +
+        '). ' + NO_MODULES);
+    }
+    let body = apply(stringReplace, source, [DYNAMIC_IMPORT, '$1' + IMPORT_STAND_IN + '$2']) +
+      '\n;return {';
     for (let i = 0; i < CONTRACT.length; i++) {
       const name = CONTRACT[i];
       body += name + ': typeof ' + name + " === 'function' ? " + name + ' : undefined,';
@@ -98,15 +155,13 @@
     body += '};';
     const params = [];
     for (let i = 0; i < UNAVAILABLE.length; i++) params[i] = UNAVAILABLE[i];
+    params[params.length] = IMPORT_STAND_IN;
     params[params.length] = body;
     let make;
     try {
       make = apply(FunctionConstructor, undefined, params);
     } catch (error) {
-      throw new HarnessError('Your file does not compile: ' + describeError(error) +
-        (apply(regExpExec, /import|export/, [toText(error && error.message)])
-          ? '. There are no modules here: declare the functions at top level, without import or export.'
-          : ''));
+      throw new HarnessError('Your file does not compile: ' + describeError(error));
     }
     try {
       return apply(make, undefined, standIns);
@@ -176,33 +231,35 @@
 
   function callFunction(source, phaseJson, progress) {
     const phase = parse(phaseJson);
-    const out = { function: phase.function, results: [], repeat: null };
+    const out = { function: phase.function, results: [], repeats: [] };
     let functions;
     try {
       functions = load(source);
     } catch (error) {
       out.error = error.message;
-      return stringify(out);
+      return toJson(out);
     }
     const f = functions[phase.function];
     if (typeof f !== 'function') {
       out.error = phase.function + ' is not defined: declare it at top level, as function ' +
         phase.function + '(...) { ... }';
-      return stringify(out);
+      return toJson(out);
     }
     const calls = phase.calls;
     for (let i = 0; i < calls.length; i++) {
       progress(calls[i].id);
       out.results[i] = call(f, calls[i]);
     }
-    // The last call once more, in a fresh copy of the file: another answer means the
-    // function keeps state between calls.
+    // Every call once more, in reverse order, in a fresh copy of the file: a function
+    // that keeps state between calls then answers some call differently.
     if (calls.length > 0) {
-      const last = calls[calls.length - 1];
-      progress(last.id + ' (again, in a fresh copy of your file)');
-      out.repeat = call(load(source)[phase.function], last);
+      const again = load(source)[phase.function];
+      for (let i = calls.length - 1; i >= 0; i--) {
+        progress(calls[i].id + ' (again, in a fresh copy of your file, in reverse order)');
+        out.repeats[out.repeats.length] = call(again, calls[i]);
+      }
     }
-    return stringify(out);
+    return toJson(out);
   }
 
   function call(f, testCall) {
@@ -211,7 +268,7 @@
     } catch (error) {
       return {
         id: testCall.id,
-        error: error instanceof HarnessError ? error.message : describeError(error),
+        error: error instanceof HarnessError ? error.message : 'threw ' + describeError(error),
       };
     }
   }
@@ -335,7 +392,7 @@
       out.error = (doing ? doing + ': ' : '') +
         (error instanceof HarnessError ? error.message : 'threw ' + describeError(error));
     }
-    return stringify(out);
+    return toJson(out);
   }
 
   function blockDiagonal(Q, n) {

@@ -84,7 +84,7 @@ const server = await startServer();
 say();
 say('| page | requests | transferred on first load |');
 say('| --- | ---: | ---: |');
-for (const path of ['/', '/car', '/ekf']) {
+for (const path of ['/', '/car', '/ekf', '/ekf/code']) {
   const context = await browser.newContext();
   const fresh = await context.newPage();
   const cdp = await context.newCDPSession(fresh);
@@ -137,6 +137,32 @@ for (const kind of ['o3', 'outliers', 'no-odometry']) {
   say(`| EKF ${kind}: Q range | ${await redraw('/ekf', (p) => p.locator('#dataset-kind').selectOption(kind), '#q-range', ['0.02', '0.05', '0.3', '0.1'])} |`);
 }
 say(`| EKF o3: time slider | ${await redraw('/ekf', null, '#time', ['10', '200', '400', '50'])} |`);
+
+// --- grading in the browser: the correct student file, every test and every run ---
+say();
+say('Grading the correct student file in the browser (Web Worker and wasm), median of 5:');
+say();
+say('| what | time |');
+say('| --- | ---: |');
+{
+  const p = await openPage(browser, `${server.url}/ekf/code`);
+  await p.locator('.cm-content').click();
+  await p.keyboard.press('Control+A');
+  await p.keyboard.insertText(readFileSync(join(root, 'tests', 'student', 'correct.js'), 'utf8'));
+  const timed = async (button) => {
+    const samples = [];
+    for (let i = 0; i < 5; i++) {
+      const start = Date.now();
+      await p.locator(button).click();
+      await p.waitForFunction(() => document.getElementById('stop').disabled);
+      samples.push(Date.now() - start);
+    }
+    return `${samples.sort((a, b) => a - b)[2]} ms`;
+  };
+  say(`| Run tests: 8 functions, 96 cases, judged after each function | ${await timed('#run-tests')} |`);
+  say(`| Run data sets: 4 runs, plotted | ${await timed('#run-datasets')} |`);
+  await p.close();
+}
 await server.stop();
 await browser.close();
 console.log(lines.join('\n'));

@@ -64,9 +64,12 @@ test('the starter file: every test fails with "not implemented", and reset asks 
   const page = await openPage(browser, `${server.url}/ekf/code`);
   assert.deepEqual(page.problems, []);
   await runAndWait(page, '#run-tests');
+  const starter = readFileSync(join(root, 'static', 'src', 'ekf', 'starter.js'), 'utf8').split('\n');
   for (const key of ['calculate_odometry', 'predict', 'batch_update']) {
     assert.equal(await testStatus(page, key), 'failed', key);
-    assert.match(await page.locator(`#test-${key} .message`).textContent(), /not implemented/, key);
+    const line = starter.findIndex((text) => text.includes(`${key}: not implemented`)) + 1;
+    assert.match(await page.locator(`#test-${key} .message`).textContent(),
+      new RegExp(`threw Error: ${key}: not implemented \\(line ${line}\\)`), key);
   }
   assert.equal(await testStatus(page, 'o3'), 'not-run');
   await type(page, '// my start\n');

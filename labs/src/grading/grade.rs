@@ -69,6 +69,11 @@ fn function_test(plan: &Plan, function: &str, output: Option<&FunctionOutput>) -
             Some(failure) => failures.push(failure),
         }
     }
+    if output.results.is_empty() {
+        // Nothing ran (the file does not load, or the phase was stopped): the error says
+        // why, and a list of cases not run would say nothing more.
+        failures.clear();
+    }
     let mut lines = vec![format!("{passed} of {} cases pass.", cases.len())];
     let error = output.error.clone().or_else(|| {
         output
@@ -79,7 +84,7 @@ fn function_test(plan: &Plan, function: &str, output: Option<&FunctionOutput>) -
     if let Some(error) = &error {
         lines.push(error.clone());
     }
-    let impure = output.repeat.as_ref().is_some_and(|repeat| {
+    let impure = output.repeats.iter().any(|repeat| {
         let first = output.results.iter().find(|r| r.id == repeat.id);
         first.is_some_and(|first| first.output != repeat.output || first.error != repeat.error)
     });
@@ -146,7 +151,7 @@ fn check(case: &Case, got: Option<&Value>, error: Option<String>) -> Option<Fail
 fn failure_line(failure: &Failure) -> String {
     let mut line = format!("{} ({}): ", failure.case, failure.note);
     if let Some(error) = &failure.error {
-        line.push_str(&format!("threw {error}"));
+        line.push_str(error);
     } else {
         let shown: Vec<String> = failure
             .mismatches

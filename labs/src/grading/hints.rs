@@ -214,10 +214,14 @@ fn shape_hint(mismatch: &Mismatch, got: &Value) -> Hint {
     );
     if let (Value::Null, Some(fields)) = (&mismatch.got, got.as_object()) {
         let names: Vec<&str> = fields.keys().map(String::as_str).collect();
-        text.push_str(&format!(
-            " The returned object has the fields {}; field names are those of the contract.",
-            names.join(", ")
-        ));
+        text.push_str(&if names.is_empty() {
+            " The returned object has no fields; field names are those of the contract.".to_owned()
+        } else {
+            format!(
+                " The returned object has the fields {}; field names are those of the contract.",
+                names.join(", ")
+            )
+        });
     }
     Hint {
         kind: HintKind::WrongShape,

@@ -27,10 +27,10 @@ pub struct FunctionOutput {
     /// Set by the host when it stopped the code.
     #[serde(default)]
     pub stopped: Option<Stopped>,
-    /// The last call made once more, in a fresh copy of the file: a different answer means
-    /// the function keeps state between calls.
+    /// Every call made once more, in reverse order, in a fresh copy of the file: a
+    /// different answer means the function keeps state between calls.
     #[serde(default)]
-    pub repeat: Option<CallResult>,
+    pub repeats: Vec<CallResult>,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -1,6 +1,6 @@
 //! `estlab cases`: test cases of the student functions, as JSON.
 
-use super::read;
+use super::{print, read};
 use crate::error::Error;
 use labs::cases::{Case, FIXTURE_FILES, generate, load_fixtures};
 use std::path::PathBuf;
@@ -30,9 +30,5 @@ pub fn run(args: &Args) -> Result<(), Error> {
         }
         None => generate(args.seed, args.per_function),
     };
-    println!(
-        "{}",
-        serde_json::to_string(&cases).expect("cases serialise")
-    );
-    Ok(())
+    print(&serde_json::to_string(&cases).expect("cases serialise"))
 }

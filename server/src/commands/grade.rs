@@ -1,6 +1,6 @@
 //! `estlab grade`: grade one student file, as the server would.
 
-use super::read;
+use super::{print, read};
 use crate::error::Error;
 use crate::sandbox::{MAX_SOURCE, Sandbox};
 use labs::grading::{LAB, student_seed};
@@ -72,6 +72,5 @@ pub fn run(args: &Args) -> Result<(), Error> {
             .fold(result.summary(), |text, test| text + "\n" + &test)),
     }
     .expect("results serialise");
-    println!("{text}");
-    Ok(())
+    print(&text)
 }

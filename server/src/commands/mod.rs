@@ -31,6 +31,18 @@ pub fn read(path: &Path) -> Result<String, Error> {
     std::fs::read_to_string(path).map_err(Error::io(path))
 }
 
+/// Prints `text` and a newline on standard output; a reader that has stopped reading (as
+/// `| head` does) is not an error.
+pub fn print(text: &str) -> Result<(), Error> {
+    use std::io::Write;
+    match writeln!(std::io::stdout().lock(), "{text}") {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            Err(Error::io("standard output")(e))
+        }
+        _ => Ok(()),
+    }
+}
+
 /// The file name of a path, for messages.
 pub fn file_name(path: &Path) -> String {
     path.file_name().map_or_else(

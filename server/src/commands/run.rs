@@ -1,7 +1,7 @@
 //! `estlab run SENSOR MAP`: the EKF over a data set, printing what the lab's script
 //! printed.
 
-use super::{file_name, numbers, read, short};
+use super::{file_name, numbers, print, read, short};
 use crate::error::Error;
 use labs::dataset::{Dataset, parse_map, parse_sensor_log};
 use labs::ekf::{Run, Settings, UpdateMode, run as run_filter};
@@ -46,7 +46,7 @@ pub fn run(args: &Args) -> Result<(), Error> {
     let elapsed = start.elapsed();
     if args.json {
         let json = serde_json::json!({ "settings": settings, "summary": result.summary, "steps": result.steps, "readings": result.readings });
-        println!("{json}");
+        print(&json.to_string())?;
     } else {
         print_summary(args, &settings, &result, elapsed.as_secs_f64());
     }

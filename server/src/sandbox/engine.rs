@@ -2,14 +2,14 @@
 //! the browser's Web Worker runs (`static/src/harness.js`). The engine has no file system,
 //! network, module loader or host functions beyond the harness's progress callback; each
 //! phase of the job runs under a deadline (the interrupt handler) within a memory limit
-//! and a stack limit. A phase that is stopped loses its outputs, and the next phase gets
-//! a fresh engine, as the browser starts a fresh Web Worker.
+//! and a stack limit. A phase that is stopped loses its outputs.
 
 use labs::grading::Stopped;
 use rquickjs::{CatchResultExt, Context, Function, Object, Persistent, Runtime};
 use serde_json::Value;
 use std::cell::RefCell;
 use std::rc::Rc;
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
@@ -115,31 +115,81 @@ fn cause(message: &str) -> String {
     }
 }
 
+/// The most engines that run phases at once (each a thread with a QuickJS runtime).
+const MAX_THREADS: usize = 4;
+/// The stack of each engine's thread: room for QuickJS's own limit and its C frames.
+const THREAD_STACK: usize = 8 << 20;
+
 /// Carries out a whole job (from `Plan::job`) with the student's source: the outputs the
-/// grader reads, as `labs::grading::Outputs` JSON.
+/// grader reads, as `labs::grading::Outputs` JSON. Every phase gets a fresh engine, so
+/// that nothing one phase leaves behind reaches another, and phases run side by side on
+/// the machine's cores, the longest (the data-set runs) first.
 pub fn carry_out(source: &str, job: &Value) -> Result<Value, String> {
-    let mut engine = Engine::new()?;
-    let mut outputs = serde_json::json!({ "functions": [], "runs": [] });
-    for (list, run) in [("functions", false), ("runs", true)] {
-        for phase in job[list].as_array().into_iter().flatten() {
-            let limit = Duration::from_millis(phase["limit_ms"].as_u64().unwrap_or(1000));
-            let text = phase.to_string();
-            let output = match engine.phase(run, source, &text, limit) {
-                Ok(json) => serde_json::from_str(&json)
-                    .map_err(|e| format!("the harness wrote bad JSON: {e}"))?,
-                Err(stopped) => {
-                    engine = Engine::new()?;
-                    let key = if run { "name" } else { "function" };
-                    let name = if run {
-                        &phase["name"]
-                    } else {
-                        &phase["function"]
-                    };
-                    serde_json::json!({ key: name, "stopped": stopped })
-                }
-            };
-            outputs[list].as_array_mut().expect("a list").push(output);
+    let mut phases: Vec<(bool, &Value)> = Vec::new();
+    for (list, run) in [("runs", true), ("functions", false)] {
+        phases.extend(
+            job[list]
+                .as_array()
+                .into_iter()
+                .flatten()
+                .map(|phase| (run, phase)),
+        );
+    }
+    let outputs: Vec<Mutex<Option<Value>>> = phases.iter().map(|_| Mutex::new(None)).collect();
+    let next = AtomicUsize::new(0);
+    let threads = std::thread::available_parallelism()
+        .map_or(1, usize::from)
+        .clamp(1, MAX_THREADS)
+        .min(phases.len().max(1));
+    std::thread::scope(|scope| {
+        let workers: Vec<_> = (0..threads)
+            .map(|_| {
+                std::thread::Builder::new()
+                    .stack_size(THREAD_STACK)
+                    .spawn_scoped(scope, || {
+                        loop {
+                            let i = next.fetch_add(1, Ordering::Relaxed);
+                            let Some(&(run, phase)) = phases.get(i) else {
+                                return Ok(());
+                            };
+                            let output = run_phase(source, run, phase)?;
+                            *outputs[i].lock().expect("an output slot") = Some(output);
+                        }
+                    })
+                    .map_err(|e| format!("the sandbox could not start a thread: {e}"))
+            })
+            .collect::<Result<_, String>>()?;
+        workers.into_iter().try_for_each(
+            |worker: std::thread::ScopedJoinHandle<'_, Result<(), String>>| {
+                worker
+                    .join()
+                    .map_err(|_| "a sandbox thread panicked".to_owned())?
+            },
+        )
+    })?;
+    let mut result = serde_json::json!({ "functions": [], "runs": [] });
+    for (&(run, _), output) in phases.iter().zip(outputs) {
+        let output = output
+            .into_inner()
+            .expect("an output slot")
+            .expect("every phase ran");
+        let list = if run { "runs" } else { "functions" };
+        result[list].as_array_mut().expect("a list").push(output);
+    }
+    Ok(result)
+}
+
+/// One phase in an engine of its own: the harness's output, or where it was stopped.
+fn run_phase(source: &str, run: bool, phase: &Value) -> Result<Value, String> {
+    let engine = Engine::new()?;
+    let limit = Duration::from_millis(phase["limit_ms"].as_u64().unwrap_or(1000));
+    match engine.phase(run, source, &phase.to_string(), limit) {
+        Ok(json) => {
+            serde_json::from_str(&json).map_err(|e| format!("the harness wrote bad JSON: {e}"))
+        }
+        Err(stopped) => {
+            let key = if run { "name" } else { "function" };
+            Ok(serde_json::json!({ key: phase[key], "stopped": stopped }))
         }
     }
-    Ok(outputs)
 }
