@@ -16,6 +16,7 @@
 //! the table-driven tests collect every problem before failing, so one run shows them
 //! all.
 
+use labs::cases::FUNCTIONS;
 use serde::Deserialize;
 use serde_json::Value;
 use std::collections::BTreeSet;
@@ -27,17 +28,6 @@ use std::thread;
 const CORRECT: &str = include_str!("../../tests/student/correct.js");
 const MISTAKES: &str = include_str!("../../tests/student/mistakes.json");
 
-/// The functions of the contract that have a test of their own, in the grader's order.
-const FUNCTIONS: [&str; 8] = [
-    "calculate_odometry",
-    "predict",
-    "observation_model",
-    "jacobian_observation_model",
-    "associate",
-    "batch_associate",
-    "update",
-    "batch_update",
-];
 /// The data sets, each with a test of its own ("o3 data set, sequential update: ...").
 const DATASETS: [&str; 3] = ["o3", "outliers", "no-odometry"];
 

@@ -280,10 +280,22 @@ function testItem(test) {
   const details = element('details');
   details.open = test.status === 'failed';
   details.append(element('summary', null, test.status === 'passed' ? 'passed' : 'why it fails'));
-  details.append(element('pre', 'message', test.message));
-  for (const failure of (test.failures ?? []).slice(0, SHOWN.failures)) details.append(failureView(failure));
+  const failures = test.failures ?? [];
+  details.append(element('pre', 'message', failures.length ? summaryOf(test.message, key) : test.message));
+  for (const failure of failures.slice(0, SHOWN.failures)) details.append(failureView(failure));
+  if (failures.length > SHOWN.failures) details.append(element('p', 'more', `… and ${failures.length - SHOWN.failures} more failing cases.`));
   item.append(details);
   return item;
+}
+
+/**
+ * The lines of a function test's message before its first case (`predict/p1 (...)`): the
+ * count, and what stopped the code; the cases themselves are shown in detail below it.
+ */
+function summaryOf(message, key) {
+  const lines = message.split('\n');
+  const first = lines.findIndex((line) => line.startsWith(`${key}/`));
+  return (first < 0 ? lines : lines.slice(0, first)).join('\n');
 }
 
 const json = (value) => JSON.stringify(value, null, 1);
