@@ -68,7 +68,7 @@ test('the starter file: every test fails with "not implemented", and reset asks 
   for (const key of ['calculate_odometry', 'predict', 'batch_update']) {
     assert.equal(await testStatus(page, key), 'failed', key);
     const line = starter.findIndex((text) => text.includes(`${key}: not implemented`)) + 1;
-    assert.match(await page.locator(`#test-${key} .message`).textContent(),
+    assert.match(await page.locator(`#test-${key} .failure .thrown`).first().textContent(),
       new RegExp(`threw Error: ${key}: not implemented \\(line ${line}\\)`), key);
   }
   assert.equal(await testStatus(page, 'o3'), 'not-run');

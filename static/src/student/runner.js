@@ -1,6 +1,7 @@
-// Runs a student's code phase by phase in a Web Worker (worker.js), each phase under its
-// time limit: a worker that outlives it is terminated, the phase reports where it was
-// stopped, and the next phase gets a fresh worker.
+// Runs a student's code phase by phase, each phase in a Web Worker of its own (worker.js)
+// under its time limit, as the server runs each phase in a fresh engine: nothing one phase
+// leaves behind reaches another, and a worker that outlives its limit is terminated and
+// the phase reports where it was stopped. The next worker starts while a phase runs.
 
 /** A worker that has said it is ready. */
 function startWorker(url) {
@@ -20,13 +21,16 @@ export class Runner {
   /** `url`: the worker's script. */
   constructor(url) {
     this.url = url;
-    this.worker = null;
+    this.spare = null;
     this.abort = null;
   }
 
-  async ready() {
-    this.worker ??= startWorker(this.url);
-    return this.worker;
+  /** A fresh worker, and the next one starting. */
+  take() {
+    const worker = this.spare ?? startWorker(this.url);
+    this.spare = startWorker(this.url);
+    this.spare.catch(() => { this.spare = null; });
+    return worker;
   }
 
   /** Stops the phase that is running, which then reports that it was stopped. */
@@ -34,44 +38,36 @@ export class Runner {
     this.abort?.('you stopped it');
   }
 
-  /** Drops the current worker (stopping whatever it runs). */
-  async stop() {
-    const worker = this.worker;
-    this.worker = null;
-    if (worker) (await worker.catch(() => null))?.terminate();
-  }
-
   /**
    * Runs one phase of the job: `kind` 'function' (phase = { function, calls, limit_ms })
    * or 'run' (phase = one data-set run). Resolves to the harness's output as an object:
-   * a FunctionOutput or a RunOutput, with `stopped` set when the time limit ran out or
-   * the worker died.
+   * a FunctionOutput or a RunOutput, with `stopped` set when the time limit ran out, the
+   * worker died, or `cancel` was called.
    */
   async phase(kind, source, phase, onProgress = () => {}) {
-    const worker = await this.ready();
+    const worker = await this.take();
     const id = kind === 'function' ? { function: phase.function } : { name: phase.name };
     let during = 'your file';
     return new Promise((resolve) => {
-      const stopped = (cause) => {
+      let timer = null;
+      const finish = (output) => {
         clearTimeout(timer);
         this.abort = null;
-        this.stop();
-        resolve({ ...id, stopped: { during, cause } });
+        worker.terminate();
+        resolve(output);
       };
+      const stopped = (cause) => finish({ ...id, stopped: { during, cause } });
       this.abort = stopped;
-      const timer = setTimeout(() => stopped('time'), phase.limit_ms);
+      timer = setTimeout(() => stopped('time'), phase.limit_ms);
       worker.onmessage = ({ data }) => {
         if (data.progress !== undefined) {
           during = data.progress;
           onProgress(during);
-          return;
+        } else if (data.failure !== undefined) {
+          finish({ ...id, error: `the test harness failed: ${data.failure}` });
+        } else {
+          finish(JSON.parse(data.output));
         }
-        clearTimeout(timer);
-        this.abort = null;
-        worker.onmessage = null;
-        worker.onerror = null;
-        if (data.failure !== undefined) resolve({ ...id, error: `the test harness failed: ${data.failure}` });
-        else resolve(JSON.parse(data.output));
       };
       worker.onerror = (event) => {
         event.preventDefault();

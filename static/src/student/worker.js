@@ -1,6 +1,6 @@
 // The Web Worker that runs a student's code: the harness (the same file the server's
-// sandbox runs) on one phase of a grading job at a time. The page terminates this worker
-// when a phase outlives its time limit, and starts a fresh one.
+// sandbox runs) on one phase of a grading job. The page gives each phase a worker of its
+// own and terminates it when the phase ends or outlives its time limit.
 //
 //   in:  { kind: 'function' | 'run', source, phase }   (phase: one entry of the job)
 //   out: { progress: label } while it works, then { output } (JSON text) or { failure }
