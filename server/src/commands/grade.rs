@@ -2,8 +2,8 @@
 
 use super::{print, read};
 use crate::error::Error;
-use crate::sandbox::{MAX_SOURCE, Sandbox};
-use labs::grading::{LAB, student_seed};
+use crate::sandbox::{Sandbox, check_size};
+use labs::grading::{DEFAULT_COURSE, LAB, student_seed};
 use std::path::PathBuf;
 
 /// Grade a student's JavaScript file and print the result. The exit code is 0 whenever a
@@ -21,7 +21,7 @@ pub struct Args {
     /// Or the student's id, whose variant within --course is graded.
     #[arg(long)]
     student: Option<String>,
-    #[arg(long, default_value = "el2320")]
+    #[arg(long, default_value = DEFAULT_COURSE)]
     course: String,
     #[arg(long, value_enum, default_value_t = Format::Json)]
     format: Format,
@@ -41,14 +41,8 @@ enum Format {
 
 pub fn run(args: &Args) -> Result<(), Error> {
     let source = read(&args.file)?;
-    if source.len() > MAX_SOURCE {
-        return Err(Error::Invalid(format!(
-            "{}: {} bytes; a submission may have at most {} KB",
-            args.file.display(),
-            source.len(),
-            MAX_SOURCE >> 10
-        )));
-    }
+    check_size(&source)
+        .map_err(|problem| Error::Invalid(format!("{}: {problem}", args.file.display())))?;
     let seed = match (&args.seed, &args.student) {
         (Some(seed), _) => *seed,
         (None, Some(student)) => student_seed(&args.course, student),

@@ -4,4 +4,4 @@ mod engine;
 mod worker;
 
 pub use engine::carry_out;
-pub use worker::{MAX_SOURCE, Sandbox};
+pub use worker::{MAX_SOURCE, Sandbox, check_size};

@@ -16,6 +16,18 @@ use std::time::{Duration, Instant};
 const WORKER_COMMAND: &str = "sandbox-worker";
 /// The largest source file accepted, in bytes.
 pub const MAX_SOURCE: usize = 256 << 10;
+/// Whether a source file is small enough to be graded; if not, why not.
+pub fn check_size(source: &str) -> Result<(), String> {
+    if source.len() > MAX_SOURCE {
+        return Err(format!(
+            "{} bytes; a submission may have at most {} KB",
+            source.len(),
+            MAX_SOURCE >> 10
+        ));
+    }
+    Ok(())
+}
+
 /// The most a worker may write (its outputs are a few hundred kilobytes).
 const MAX_OUTPUT: u64 = 64 << 20;
 /// Time for the worker to start, generate nothing and write, beyond the phases' limits.

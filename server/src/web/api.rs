@@ -1,14 +1,14 @@
 //! The JSON API: submitting code for grading and reading the result.
 
 use super::{AppState, Error};
-use crate::sandbox::MAX_SOURCE;
+use crate::sandbox::check_size;
 use crate::submissions::NewSubmission;
 use axum::Json;
 use axum::body::Bytes;
 use axum::extract::{Path, State};
 use axum::http::StatusCode;
 use axum::response::{IntoResponse, Response};
-use labs::grading::{LAB, student_seed};
+use labs::grading::{DEFAULT_COURSE, LAB, student_seed};
 use serde::Deserialize;
 use serde_json::json;
 use std::sync::Arc;
@@ -29,7 +29,7 @@ struct Submit {
 }
 
 fn default_course() -> String {
-    "el2320".into()
+    DEFAULT_COURSE.into()
 }
 
 fn default_lab() -> String {
@@ -49,13 +49,8 @@ pub async fn submit(State(state): State<Arc<AppState>>, body: Bytes) -> Result<R
             submit.lab
         )));
     }
-    if submit.source.len() > MAX_SOURCE {
-        return Err(Error::TooLarge(format!(
-            "field `source`: {} bytes; a submission may have at most {} KB",
-            submit.source.len(),
-            MAX_SOURCE >> 10
-        )));
-    }
+    check_size(&submit.source)
+        .map_err(|problem| Error::TooLarge(format!("field `source`: {problem}")))?;
     let seed = student_seed(course, student);
     let new = NewSubmission {
         course,
