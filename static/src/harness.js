@@ -9,6 +9,15 @@
 // `progress(label)` is told what is about to run, so that the host can say where its time
 // limit stopped the code. Numbers JSON cannot hold are written "NaN", "Infinity" and
 // "-Infinity", undefined as "undefined".
+//
+// The student's code runs in this realm, so the harness's bookkeeping is built to be out
+// of its reach (DESIGN.md, "Grading that cannot be gamed"): every built-in the harness
+// uses is captured before the file is evaluated; every record is an own data property
+// defined with `put` (never an assignment, which a setter on Object.prototype or
+// Array.prototype could swallow) on an object the harness made; the harness reads only
+// own properties of its own objects; and the report is JSON text written here. What the
+// harness cannot stop, the grader catches: it fails closed (a case without a result has
+// failed, an unreadable report fails its phase).
 (function (global) {
   'use strict';
 
@@ -21,7 +30,10 @@
   const isArray = Array.isArray;
   const keysOf = Object.keys;
   const freeze = Object.freeze;
+  const defineProperty = Object.defineProperty;
+  const createObject = Object.create;
   const isView = ArrayBuffer.isView;
+  const hasOwn = Object.hasOwn;
   const stringify = JSON.stringify;
   const parse = JSON.parse;
   const numberIsFinite = Number.isFinite;
@@ -53,9 +65,23 @@
       get: fail, set: fail, apply: fail, construct: fail, has: fail,
     });
   }
+  /// Records `value` as the own data property `key` of `target`, whatever accessors the
+  /// student's code put on the prototypes.
+  function put(target, key, value) {
+    defineProperty(target, key, { value, writable: true, enumerable: true, configurable: true });
+    return value;
+  }
+  function push(list, value) {
+    put(list, list.length, value);
+  }
+  /// An object of the harness's own, with no prototype to tamper with.
+  function record() {
+    return createObject(null);
+  }
+
   const standIns = [];
-  for (let i = 0; i < UNAVAILABLE.length; i++) standIns[i] = unavailable(UNAVAILABLE[i]);
-  standIns[standIns.length] = unavailable('import(...)');
+  for (let i = 0; i < UNAVAILABLE.length; i++) push(standIns, unavailable(UNAVAILABLE[i]));
+  push(standIns, unavailable('import(...)'));
 
   // The line of the student's file that an error's stack names: the first frame in code
   // made by the Function constructor (V8 "<anonymous>:5:15", QuickJS "<input>:5:15",
@@ -104,8 +130,11 @@
     if (value === null) return 'null';
     switch (typeof value) {
       case 'number':
+        return numberIsFinite(value) ? toText(value) : stringify(toText(value));
       case 'boolean':
         return toText(value);
+      case 'undefined':
+        return '"undefined"';
       case 'string':
         return stringify(value);
     }
@@ -139,8 +168,9 @@
     return line;
   }
 
-  /// The student's file evaluated afresh: its top-level functions of the contract.
-  function load(source) {
+  /// The parameters and body of the function that evaluates the student's file, made
+  /// before any of the student's code runs (see load).
+  function prepare(source) {
     const line = moduleLine(source);
     if (line !== null) {
       throw new HarnessError('Your file does not compile: an import or export (line ' + line +
@@ -154,9 +184,15 @@
     }
     body += '};';
     const params = [];
-    for (let i = 0; i < UNAVAILABLE.length; i++) params[i] = UNAVAILABLE[i];
-    params[params.length] = IMPORT_STAND_IN;
-    params[params.length] = body;
+    for (let i = 0; i < UNAVAILABLE.length; i++) push(params, UNAVAILABLE[i]);
+    push(params, IMPORT_STAND_IN);
+    push(params, body);
+    return params;
+  }
+
+  /// The student's file (prepared) evaluated afresh: its top-level functions of the
+  /// contract.
+  function load(params) {
     let make;
     try {
       make = apply(FunctionConstructor, undefined, params);
@@ -171,7 +207,7 @@
   }
 
   function HarnessError(message) {
-    this.message = message;
+    put(this, 'message', message);
   }
 
   /// A deep copy of JSON data from the job, with "Infinity" back as a number: every call
@@ -180,7 +216,7 @@
     if (value === 'Infinity') return Infinity;
     if (!isArray(value)) return value;
     const out = [];
-    for (let i = 0; i < value.length; i++) out[i] = copy(value[i]);
+    for (let i = 0; i < value.length; i++) put(out, i, copy(value[i]));
     return out;
   }
 
@@ -218,69 +254,87 @@
     }
     const out = [];
     if (isArray(value) || isView(value)) {
-      for (let i = 0; i < value.length; i++) out[i] = walk(value[i], depth + 1, budget);
+      for (let i = 0; i < value.length; i++) put(out, i, walk(value[i], depth + 1, budget));
       return out;
     }
-    const object = {};
+    const object = record();
     const names = keysOf(value);
     for (let i = 0; i < names.length; i++) {
-      object[names[i]] = walk(value[names[i]], depth + 1, budget);
+      put(object, names[i], walk(value[names[i]], depth + 1, budget));
     }
     return object;
   }
 
   function callFunction(source, phaseJson, progress) {
     const phase = parse(phaseJson);
-    const out = { function: phase.function, results: [], repeats: [] };
+    const out = record();
+    put(out, 'function', phase.function);
+    put(out, 'results', []);
+    put(out, 'repeats', []);
     let functions;
+    let prepared;
     try {
-      functions = load(source);
+      prepared = prepare(source);
+      functions = load(prepared);
     } catch (error) {
-      out.error = error.message;
+      put(out, 'error', error instanceof HarnessError ? error.message : describeError(error));
       return toJson(out);
     }
     const f = functions[phase.function];
     if (typeof f !== 'function') {
-      out.error = phase.function + ' is not defined: declare it at top level, as function ' +
-        phase.function + '(...) { ... }';
+      put(out, 'error', phase.function + ' is not defined: declare it at top level, as ' +
+        'function ' + phase.function + '(...) { ... }');
       return toJson(out);
     }
     const calls = phase.calls;
     for (let i = 0; i < calls.length; i++) {
       progress(calls[i].id);
-      out.results[i] = call(f, calls[i]);
+      push(out.results, call(f, calls[i]));
     }
     // Every call once more, in reverse order, in a fresh copy of the file: a function
     // that keeps state between calls then answers some call differently.
     if (calls.length > 0) {
-      const again = load(source)[phase.function];
+      let again;
+      try {
+        again = load(prepared)[phase.function];
+      } catch (error) {
+        put(out, 'error', error instanceof HarnessError ? error.message : describeError(error));
+        return toJson(out);
+      }
       for (let i = calls.length - 1; i >= 0; i--) {
         progress(calls[i].id + ' (again, in a fresh copy of your file, in reverse order)');
-        out.repeats[out.repeats.length] = call(again, calls[i]);
+        push(out.repeats, call(again, calls[i]));
       }
     }
     return toJson(out);
   }
 
   function call(f, testCall) {
+    const result = record();
+    put(result, 'id', testCall.id);
     try {
-      return { id: testCall.id, output: plain(apply(f, undefined, copy(testCall.args))) };
+      put(result, 'output', plain(apply(f, undefined, copy(testCall.args))));
     } catch (error) {
-      return {
-        id: testCall.id,
-        error: error instanceof HarnessError ? error.message : 'threw ' + describeError(error),
-      };
+      put(result, 'error',
+        error instanceof HarnessError ? error.message : 'threw ' + describeError(error));
     }
+    return result;
   }
 
   // ---- the filter loop of the lab, with the student's functions ----
 
   function runFilter(source, runJson, progress) {
     const run = parse(runJson);
-    const out = { name: run.name, init: null, mu: [], sigma: [], c: [], outlier: [] };
+    const out = record();
+    put(out, 'name', run.name);
+    put(out, 'init', null);
+    put(out, 'mu', []);
+    put(out, 'sigma', []);
+    put(out, 'c', []);
+    put(out, 'outlier', []);
     let doing = 'loading your file';
     try {
-      const functions = load(source);
+      const functions = load(prepare(source));
       const needed = run.mode === 'batch'
         ? ['init', 'calculate_odometry', 'predict', 'batch_associate', 'batch_update']
         : ['init', 'calculate_odometry', 'predict', 'associate', 'update'];
@@ -291,10 +345,9 @@
       }
       doing = "init('" + run.dataset + "')";
       progress(run.name + ': ' + doing);
-      const tuning = plain(apply(functions.init, undefined, [run.dataset]));
-      out.init = tuning;
+      const tuning = put(out, 'init', plain(apply(functions.init, undefined, [run.dataset])));
       const field = (object, name, check) => {
-        if (object === null || typeof object !== 'object' || !(name in object)) {
+        if (object === null || typeof object !== 'object' || !hasOwn(object, name)) {
           throw new HarnessError('returned ' + describe(object) + ' without the field ' + name);
         }
         return check(object[name], name);
@@ -347,14 +400,14 @@
           const H = [];
           const nu = [];
           for (let i = 0; i < n; i++) {
-            out.c[out.c.length] = index(c[i], 'c[' + i + ']');
+            push(out.c, index(c[i], 'c[' + i + ']'));
             if (!flag(outlier[i], 'outlier[' + i + ']')) {
-              H[H.length] = hBar[2 * i];
-              H[H.length] = hBar[2 * i + 1];
-              nu[nu.length] = nuBar[2 * i];
-              nu[nu.length] = nuBar[2 * i + 1];
+              push(H, hBar[2 * i]);
+              push(H, hBar[2 * i + 1]);
+              push(nu, nuBar[2 * i]);
+              push(nu, nuBar[2 * i + 1]);
             }
-            out.outlier[out.outlier.length] = outlier[i];
+            push(out.outlier, outlier[i]);
           }
           if (nu.length > 0) {
             const post = invoke('batch_update', [copy(muBar), copy(sigmaBar), H,
@@ -368,8 +421,8 @@
               copy(M), lambda, copy(Q)]);
             const c = index(field(a, 'c', (v) => v), 'c');
             const isOutlier = flag(field(a, 'outlier', (v) => v), 'outlier');
-            out.c[out.c.length] = c;
-            out.outlier[out.outlier.length] = isOutlier;
+            push(out.c, c);
+            push(out.outlier, isOutlier);
             if (!isOutlier) {
               const H = field(a, 'H', list(landmarks))[c];
               const S = field(a, 'S', list(landmarks))[c];
@@ -384,13 +437,13 @@
         }
         mu = muBar;
         sigma = sigmaBar;
-        out.mu[k] = mu;
-        out.sigma[k] = [sigma[0][0], sigma[0][1], sigma[0][2], sigma[1][0], sigma[1][1],
-          sigma[1][2], sigma[2][0], sigma[2][1], sigma[2][2]];
+        push(out.mu, mu);
+        push(out.sigma, [sigma[0][0], sigma[0][1], sigma[0][2], sigma[1][0], sigma[1][1],
+          sigma[1][2], sigma[2][0], sigma[2][1], sigma[2][2]]);
       }
     } catch (error) {
-      out.error = (doing ? doing + ': ' : '') +
-        (error instanceof HarnessError ? error.message : 'threw ' + describeError(error));
+      put(out, 'error', (doing ? doing + ': ' : '') +
+        (error instanceof HarnessError ? error.message : 'threw ' + describeError(error)));
     }
     return toJson(out);
   }
@@ -398,9 +451,9 @@
   function blockDiagonal(Q, n) {
     const out = [];
     for (let i = 0; i < 2 * n; i++) {
-      out[i] = [];
+      const row = put(out, i, []);
       for (let j = 0; j < 2 * n; j++) {
-        out[i][j] = (i >> 1) === (j >> 1) ? Q[i & 1][j & 1] : 0;
+        put(row, j, (i >> 1) === (j >> 1) ? Q[i & 1][j & 1] : 0);
       }
     }
     return out;

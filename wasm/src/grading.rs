@@ -4,7 +4,7 @@
 
 use super::ekf::{Dataset, EkfRun};
 use super::{from_json, seed};
-use labs::grading::{self, Outputs, Plan, RunOutput};
+use labs::grading::{self, Plan, Reports, RunOutput};
 use wasm_bindgen::prelude::*;
 
 /// The seed of a student's own variant within a course, as the server computes it.
@@ -30,14 +30,15 @@ impl Grader {
 
     /// What the harness needs (JSON): every call's arguments and every run's data.
     pub fn job(&self) -> String {
-        self.plan.job().to_string()
+        serde_json::to_string(&self.plan.job()).expect("jobs serialise")
     }
 
-    /// The result (JSON) for the harness's outputs (JSON); functions and runs missing
-    /// from the outputs fail as not run.
+    /// The result (JSON) for the harness's outputs (JSON: `{ functions, runs }`, each
+    /// phase's report as the worker gave it); functions and runs missing from the outputs
+    /// fail as not run, and a report that does not read fails its phase, as on the server.
     pub fn grade(&self, outputs: &str) -> Result<String, JsError> {
-        let outputs: Outputs = from_json("outputs", outputs)?;
-        let result = grading::grade(&self.plan, &outputs);
+        let reports: Reports = from_json("outputs", outputs)?;
+        let result = grading::grade(&self.plan, &reports.outputs());
         Ok(serde_json::to_string(&result).expect("results serialise"))
     }
 

@@ -1,18 +1,20 @@
 //! Comparison of a function's output with the reference output: numbers within an
-//! absolute and relative tolerance, indices and flags exactly, headings modulo 2 pi, and
-//! bearings that the contract says are wrapped checked to lie in [-pi, pi).
+//! absolute and relative tolerance, indices and flags exactly, headings modulo 2 pi (but
+//! only within a few turns of [-pi, pi), since far enough out the modulo hides any answer),
+//! and bearings that the contract says are wrapped checked to lie in [-pi, pi).
 
 use super::contract::Call;
 use crate::angle::difference;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
-use std::f64::consts::PI;
+use std::f64::consts::{PI, TAU};
 
 /// What one element of an output is, which decides how it is compared.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Kind {
     Number,
-    /// A heading in a returned state or control: compared modulo 2 pi.
+    /// A heading in a returned state or control: compared modulo 2 pi, and only when it is
+    /// within [`HEADING_TURNS`] turns of [-pi, pi).
     Heading,
     /// A bearing the contract says is wrapped: must lie in [-pi, pi).
     Bearing,
@@ -32,6 +34,11 @@ pub enum Shape {
     /// exactly symmetric, as (A + A^T) / 2 is in floating point.
     Symmetric(usize),
 }
+
+/// How far from [-pi, pi) a heading compared modulo 2 pi may be, in whole turns. The
+/// original fixtures do not wrap headings, and a heading may grow by a turn in a step;
+/// far out (1e300, say) the difference modulo 2 pi is exactly 0 for any answer.
+pub const HEADING_TURNS: f64 = 2.0;
 
 fn numbers(n: usize) -> Shape {
     Shape::Array(vec![Shape::Scalar(Kind::Number); n])
@@ -124,6 +131,22 @@ impl Default for Tolerance {
     }
 }
 
+impl Problem {
+    /// What is wrong, in words to follow the expected and the returned value ("" when
+    /// the two values say it).
+    pub fn explanation(self) -> &'static str {
+        match self {
+            Problem::Differs => "",
+            Problem::NotWrapped => " (not wrapped to [-pi, pi))",
+            Problem::TooManyTurns => {
+                " (more than two turns outside [-pi, pi), where a comparison modulo 2 pi means nothing: wrap it)"
+            }
+            Problem::WrongShape => " (not the contract's shape)",
+            Problem::NotSymmetric => " (its mirror image across the diagonal differs)",
+        }
+    }
+}
+
 /// One element of an output that is not what it should be.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Mismatch {
@@ -141,6 +164,9 @@ pub enum Problem {
     Differs,
     /// A bearing outside [-pi, pi).
     NotWrapped,
+    /// A heading more than [`HEADING_TURNS`] turns outside [-pi, pi): modulo 2 pi it
+    /// would match anything.
+    TooManyTurns,
     /// A value of the wrong type or an array of the wrong length, or a missing field.
     WrongShape,
     /// An element of a matrix that should be symmetric differs from its mirror image
@@ -257,6 +283,10 @@ fn compare_scalar(
             };
             if kind == Kind::Bearing && !(-PI..PI).contains(&g) {
                 return Some(Problem::NotWrapped);
+            }
+            let turns = HEADING_TURNS * TAU;
+            if kind == Kind::Heading && !(-PI - turns..PI + turns).contains(&g) {
+                return Some(Problem::TooManyTurns);
             }
             let gap = if kind == Kind::Number {
                 g - e

@@ -6,7 +6,9 @@ mod contract;
 mod el2320;
 mod generate;
 
-pub use compare::{Kind, Mismatch, Problem, Shape, Tolerance, compare, output_shape};
+pub use compare::{
+    HEADING_TURNS, Kind, Mismatch, Problem, Shape, Tolerance, compare, output_shape,
+};
 pub(crate) use contract::rows;
 pub use contract::{Call, FUNCTIONS, reference};
 pub use el2320::{FIXTURE_FILES, load_fixtures};

@@ -4,13 +4,16 @@
 
 use super::hints::{HintKind, describe, diagnose};
 use super::outputs::{FunctionOutput, Outputs, RunOutput};
-use super::plan::{FUNCTION_LIMIT_MS, Plan, RUN_LIMIT_MS, RunSpec, bound, mode_name};
+use super::plan::{
+    FUNCTION_LIMIT_MS, Plan, PlannedCase, RUN_LIMIT_MS, RunSpec, Suite, bound, mode_name,
+};
 use super::result::{Failure, GradeResult, RunFigures, Status, Test, Visibility};
-use crate::cases::{Case, FUNCTIONS, Tolerance};
+use crate::cases::{FUNCTIONS, HEADING_TURNS, Tolerance};
 use crate::dataset::Kind;
 use crate::ekf::{self, Belief, Decision, UpdateMode};
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::{Matrix2, Matrix3, Vector3};
 use serde_json::Value;
+use std::f64::consts::{PI, TAU};
 
 pub const LAB: &str = "ekf-localization";
 /// Points of each function's test and of each data-set test.
@@ -43,6 +46,7 @@ pub fn grade(plan: &Plan, outputs: &Outputs) -> GradeResult {
         seed: plan.seed,
         gradable: true,
         reason: None,
+        hidden_cases: plan.hidden.is_some(),
         score: points / max_points,
         points,
         max_points,
@@ -51,36 +55,36 @@ pub fn grade(plan: &Plan, outputs: &Outputs) -> GradeResult {
 }
 
 fn function_test(plan: &Plan, function: &str, output: Option<&FunctionOutput>) -> Test {
-    let cases: Vec<&Case> = plan.cases_of(function).collect();
+    let cases: Vec<&PlannedCase> = plan.cases_of(function).collect();
     let name = format!("{function}: {} cases", cases.len());
     let Some(output) = output else {
         return failed(name, "not run".to_owned());
     };
-    let mut failures = Vec::new();
-    let mut passed = 0;
-    for case in &cases {
-        let result = output.results.iter().find(|r| r.id == case.id);
-        match check(
-            case,
-            result.and_then(|r| r.output.as_ref()),
-            result.and_then(|r| r.error.clone()),
-        ) {
-            None => passed += 1,
-            Some(failure) => failures.push(failure),
-        }
-    }
-    if output.results.is_empty() {
-        // Nothing ran (the file does not load, or the phase was stopped): the error says
-        // why, and a list of cases not run would say nothing more.
-        failures.clear();
-    }
-    let mut lines = vec![format!("{passed} of {} cases pass.", cases.len())];
     let error = output.error.clone().or_else(|| {
         output
             .stopped
             .as_ref()
             .map(|s| s.message(FUNCTION_LIMIT_MS))
     });
+    // Fails closed: a case without a result has failed, whatever else was reported.
+    let mut failures = Vec::new();
+    let mut tally = Tally::default();
+    for planned in &cases {
+        let result = output.results.iter().find(|r| r.id == planned.case.id);
+        let failure = check(
+            planned,
+            result.and_then(|r| r.output.as_ref()),
+            result.and_then(|r| r.error.clone()),
+        );
+        tally.count(planned.suite, failure.is_none());
+        failures.extend(failure);
+    }
+    if output.results.is_empty() && error.is_some() {
+        // Nothing ran (the file does not load, or the phase was stopped): the error says
+        // why, and a list of cases not run would say nothing more.
+        failures.clear();
+    }
+    let mut lines = vec![tally.summary()];
     if let Some(error) = &error {
         lines.push(error.clone());
     }
@@ -88,6 +92,17 @@ fn function_test(plan: &Plan, function: &str, output: Option<&FunctionOutput>) -
         let first = output.results.iter().find(|r| r.id == repeat.id);
         first.is_some_and(|first| first.output != repeat.output || first.error != repeat.error)
     });
+    let unrepeated = error.is_none()
+        && output
+            .results
+            .iter()
+            .any(|first| !output.repeats.iter().any(|repeat| repeat.id == first.id));
+    if unrepeated {
+        lines.push(
+            "Some calls were not repeated in a fresh copy of your file, so the report is incomplete: does your file change built-in objects?"
+                .to_owned(),
+        );
+    }
     if impure {
         let hint = HintKind::StaleAssociation.hint();
         lines.push(format!("Hint: {}", hint.text));
@@ -104,14 +119,14 @@ fn function_test(plan: &Plan, function: &str, output: Option<&FunctionOutput>) -
             failures.len() - SHOWN_FAILURES
         ));
     }
-    let all = failures.is_empty() && error.is_none() && !impure;
+    let all = failures.is_empty() && error.is_none() && !impure && !unrepeated;
+    failures.truncate(SHOWN_FAILURES);
+    for failure in &mut failures {
+        failure.bound();
+    }
     Test {
         name,
-        points: if all {
-            POINTS
-        } else {
-            POINTS * passed as f64 / cases.len().max(1) as f64
-        },
+        points: if all { POINTS } else { POINTS * tally.share() },
         max_points: POINTS,
         status: if all { Status::Passed } else { Status::Failed },
         visibility: Visibility::Visible,
@@ -121,11 +136,56 @@ fn function_test(plan: &Plan, function: &str, output: Option<&FunctionOutput>) -
     }
 }
 
+/// The cases of a function that pass, of those shown to the student (public and their
+/// variant) and of the hidden ones.
+#[derive(Default)]
+struct Tally {
+    shown: (usize, usize),
+    hidden: (usize, usize),
+}
+
+impl Tally {
+    fn count(&mut self, suite: Suite, passed: bool) {
+        let (pass, all) = match suite {
+            Suite::Public | Suite::Variant => &mut self.shown,
+            Suite::Hidden => &mut self.hidden,
+        };
+        *pass += usize::from(passed);
+        *all += 1;
+    }
+
+    /// The share of the points earned: the share of the cases passed, and with hidden
+    /// cases the smaller share of the two kinds, so that answering the shown cases from a
+    /// table earns nothing.
+    fn share(&self) -> f64 {
+        let rate = |(pass, all): (usize, usize)| pass as f64 / all.max(1) as f64;
+        if self.hidden.1 == 0 {
+            rate(self.shown)
+        } else {
+            rate(self.shown).min(rate(self.hidden))
+        }
+    }
+
+    fn summary(&self) -> String {
+        let (pass, all) = self.shown;
+        if self.hidden.1 == 0 {
+            return format!("{pass} of {all} cases pass.");
+        }
+        format!(
+            "{pass} of {all} shown cases and {} of {} hidden cases pass (a function earns the smaller share of the two).",
+            self.hidden.0, self.hidden.1
+        )
+    }
+}
+
 /// The failure of one case, or None when it passes.
-fn check(case: &Case, got: Option<&Value>, error: Option<String>) -> Option<Failure> {
+fn check(planned: &PlannedCase, got: Option<&Value>, error: Option<String>) -> Option<Failure> {
+    let case = &planned.case;
     let mut failure = Failure {
         case: case.id.clone(),
         note: case.note.clone(),
+        hidden: planned.suite == Suite::Hidden,
+        differing: 0,
         args: serde_json::to_value(&case.call)
             .map(|v| v["args"].clone())
             .unwrap_or_default(),
@@ -137,7 +197,7 @@ fn check(case: &Case, got: Option<&Value>, error: Option<String>) -> Option<Fail
     };
     let Some(got) = got else {
         failure.error.get_or_insert_with(|| "not run".to_owned());
-        return Some(failure);
+        return Some(failure.concealed());
     };
     let mismatches = case.check(got, Tolerance::default());
     if mismatches.is_empty() {
@@ -145,13 +205,18 @@ fn check(case: &Case, got: Option<&Value>, error: Option<String>) -> Option<Fail
     }
     failure.hint = diagnose(&case.call, &case.expected, got, &mismatches);
     failure.mismatches = mismatches;
-    Some(failure)
+    Some(failure.concealed())
 }
 
 fn failure_line(failure: &Failure) -> String {
     let mut line = format!("{} ({}): ", failure.case, failure.note);
     if let Some(error) = &failure.error {
         line.push_str(error);
+    } else if failure.hidden {
+        line.push_str(&format!(
+            "a hidden case: {} of its outputs differ (its values are not shown)",
+            failure.differing
+        ));
     } else {
         let shown: Vec<String> = failure
             .mismatches
@@ -159,7 +224,12 @@ fn failure_line(failure: &Failure) -> String {
             .take(3)
             .map(|m| {
                 let place = if m.path.is_empty() { "output" } else { &m.path };
-                format!("{place}: expected {}, got {}", m.expected, short(&m.got))
+                format!(
+                    "{place}: expected {}, got {}{}",
+                    m.expected,
+                    short(&m.got),
+                    m.problem.explanation()
+                )
             })
             .collect();
         line.push_str(&shown.join("; "));
@@ -256,6 +326,17 @@ fn dataset_test(plan: &Plan, outputs: &Outputs, kind: Kind, failing: &str) -> Te
         Ok(run) => describe_run(graded, run),
         Err(error) => format!("{}: {error}", graded.name),
     });
+    if !passed {
+        let init = outputs
+            .runs
+            .iter()
+            .find(|r| r.name == graded.name)
+            .and_then(|output| output.init.as_ref());
+        lines.extend(
+            init.and_then(|init| tuning(kind.name(), init).ok())
+                .and_then(|tuning| settings_hint(kind, &tuning)),
+        );
+    }
     let mut errors = vec![graded_run.as_ref().map(mae).ok()];
     for spec in specs {
         let run = outcome(spec);
@@ -290,6 +371,9 @@ fn dataset_test(plan: &Plan, outputs: &Outputs, kind: Kind, failing: &str) -> Te
 /// The student's tuning from `init`.
 struct Tuning {
     mu: Vector3<f64>,
+    sigma: Matrix3<f64>,
+    r: Matrix3<f64>,
+    q: Matrix2<f64>,
     lambda_m: f64,
 }
 
@@ -320,6 +404,7 @@ fn tuning(dataset: &str, init: &Value) -> Result<Tuning, String> {
             ));
         }
     }
+    let number = |field: &str, i: usize, j: usize| init[field][i][j].as_f64().unwrap_or(f64::NAN);
     let mu: [f64; 3] = serde_json::from_value(init["mu"].clone()).map_err(|_| {
         format!(
             "init('{dataset}').mu should be an array of 3 numbers, but is {}.",
@@ -337,8 +422,80 @@ fn tuning(dataset: &str, init: &Value) -> Result<Tuning, String> {
     };
     Ok(Tuning {
         mu: Vector3::from(mu),
+        sigma: Matrix3::from_fn(|i, j| number("sigma", i, j)),
+        r: Matrix3::from_fn(|i, j| number("R", i, j)),
+        q: Matrix2::from_fn(|i, j| number("Q", i, j)),
         lambda_m,
     })
+}
+
+/// The settings `init` returned that are not the lab's for this kind of data set, each
+/// with its value and the lab's: what to look at first when a data-set run fails.
+fn settings_hint(kind: Kind, tuning: &Tuning) -> Option<String> {
+    let lab = kind.lab_settings();
+    let same = |a: f64, b: f64| a == b || (a - b).abs() <= 1e-6 * a.abs().max(b.abs());
+    let same_all = |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(&a, &b)| same(a, b));
+    let mut differ = Vec::new();
+    let mut note = |name: &str, yours: String, labs: String| {
+        differ.push(format!("{name} is {yours}, the lab's is {labs}"));
+    };
+    if !same_all(tuning.r.as_slice(), lab.r.as_slice()) {
+        note("R", matrix_text(&tuning.r), matrix_text(&lab.r));
+    }
+    if !same_all(tuning.q.as_slice(), lab.q.as_slice()) {
+        note("Q", matrix_text(&tuning.q), matrix_text(&lab.q));
+    }
+    let lab_lambda = ekf::lambda_m(lab.delta_m);
+    if !same(tuning.lambda_m, lab_lambda) {
+        note(
+            "Lambda_M",
+            format!("{}", tuning.lambda_m),
+            format!("{lab_lambda} (chi2inv({}, 2))", lab.delta_m),
+        );
+    }
+    if !same_all(tuning.mu.as_slice(), lab.mu0.as_slice()) {
+        note("mu", matrix_text(&tuning.mu), matrix_text(&lab.mu0));
+    }
+    if !same_all(tuning.sigma.as_slice(), lab.sigma0.as_slice()) {
+        note(
+            "sigma",
+            matrix_text(&tuning.sigma),
+            matrix_text(&lab.sigma0),
+        );
+    }
+    (!differ.is_empty()).then(|| {
+        format!(
+            "Hint: init('{}') does not return the lab's settings: {}.",
+            kind.name(),
+            differ.join("; ")
+        )
+    })
+}
+
+/// A matrix for a message: `diag(a, b)` when it is diagonal, rows otherwise.
+fn matrix_text<R: nalgebra::Dim, C: nalgebra::Dim, S: nalgebra::RawStorage<f64, R, C>>(
+    a: &nalgebra::Matrix<f64, R, C, S>,
+) -> String {
+    let (rows, cols) = a.shape();
+    let join = |values: Vec<f64>| {
+        values
+            .iter()
+            .map(|v| format!("{v}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    if cols == 1 {
+        return format!("[{}]", join(a.iter().copied().collect()));
+    }
+    let diagonal = (0..rows).all(|i| (0..cols).all(|j| i == j || a[(i, j)] == 0.0));
+    if diagonal && rows == cols {
+        format!("diag({})", join((0..rows).map(|i| a[(i, i)]).collect()))
+    } else {
+        let text: Vec<String> = (0..rows)
+            .map(|i| format!("[{}]", join((0..cols).map(|j| a[(i, j)]).collect())))
+            .collect();
+        format!("[{}]", text.join(", "))
+    }
 }
 
 /// The student's run as a whole `ekf::Run` (errors against the ground truth, summary,
@@ -371,6 +528,20 @@ pub fn student_run(spec: &RunSpec, output: &RunOutput) -> Result<ekf::Run, Strin
             output.c.len()
         ));
     }
+    // Far outside [-pi, pi) a heading's error wraps to anything (exactly 0 at 1e300).
+    let farthest = PI + HEADING_TURNS * TAU;
+    if let Some((k, mu)) = output
+        .mu
+        .iter()
+        .enumerate()
+        .find(|(_, mu)| mu[2].abs() > farthest)
+    {
+        return Err(format!(
+            "at time step {}, the heading mu[2] = {} is more than {HEADING_TURNS} turns outside [-pi, pi), where its error means nothing: wrap it",
+            k + 1,
+            mu[2]
+        ));
+    }
     let beliefs: Vec<Belief> = output
         .mu
         .iter()
@@ -396,4 +567,136 @@ pub fn student_run(spec: &RunSpec, output: &RunOutput) -> Result<ekf::Run, Strin
         &beliefs,
         &decisions,
     ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::grading::{CallResult, FunctionOutput};
+
+    /// What a function's phase reports when every case gets `answer(case)`, each call
+    /// repeated alike.
+    fn answered(
+        plan: &Plan,
+        function: &str,
+        answer: impl Fn(&PlannedCase) -> Option<Value>,
+    ) -> FunctionOutput {
+        let results: Vec<CallResult> = plan
+            .cases_of(function)
+            .filter_map(|planned| {
+                answer(planned).map(|output| CallResult {
+                    id: planned.case.id.clone(),
+                    output: Some(output),
+                    error: None,
+                })
+            })
+            .collect();
+        FunctionOutput {
+            function: function.to_owned(),
+            error: None,
+            stopped: None,
+            repeats: results.clone(),
+            results,
+        }
+    }
+
+    fn function_result(plan: &Plan, output: FunctionOutput) -> Test {
+        let function = output.function.clone();
+        let outputs = Outputs {
+            functions: vec![output],
+            runs: Vec::new(),
+        };
+        let result = grade(plan, &outputs);
+        assert!(result.gradable);
+        result.test(&format!("{function}:")).unwrap().clone()
+    }
+
+    #[test]
+    fn the_reference_answers_pass_and_a_phase_without_results_fails() {
+        let plan = Plan::new(1);
+        let right = function_result(
+            &plan,
+            answered(&plan, "predict", |p| Some(p.case.expected.clone())),
+        );
+        assert_eq!((right.status, right.points), (Status::Passed, POINTS));
+
+        // What a setter on Object.prototype made of the bookkeeping before: no results,
+        // no error. Every case has failed.
+        let silent = function_result(&plan, answered(&plan, "predict", |_| None));
+        assert_eq!((silent.status, silent.points), (Status::Failed, 0.0));
+        assert!(
+            silent.message.starts_with("0 of 12 cases pass."),
+            "{}",
+            silent.message
+        );
+        assert!(silent.message.contains("not run"), "{}", silent.message);
+    }
+
+    #[test]
+    fn an_unreadable_report_fails_its_phase_and_the_submission_stays_gradable() {
+        let plan = Plan::new(1);
+        for report in [
+            "{\"function\": \"predict\", \"results\": NaN}",
+            "[]",
+            "{\"function\": \"update\"}",
+        ] {
+            let test = function_result(&plan, FunctionOutput::from_report("predict", report));
+            assert_eq!(test.points, 0.0, "{report}");
+            assert!(
+                test.message.contains("unreadable"),
+                "{report}: {}",
+                test.message
+            );
+        }
+    }
+
+    #[test]
+    fn hidden_cases_reveal_nothing_and_a_table_of_the_shown_cases_earns_nothing() {
+        let plan = Plan::with_hidden(1, 77);
+        assert_eq!(plan.cases_of("update").count(), 18);
+        // A lookup table: the shown cases answered, the hidden ones with a guess.
+        let table = function_result(
+            &plan,
+            answered(&plan, "update", |p| match p.suite {
+                Suite::Hidden => Some(
+                    serde_json::json!({ "mu": [0, 0, 0], "sigma": [[1, 0, 0], [0, 1, 0], [0, 0, 1]] }),
+                ),
+                _ => Some(p.case.expected.clone()),
+            }),
+        );
+        assert_eq!(table.points, 0.0, "{}", table.message);
+        assert!(
+            table
+                .message
+                .starts_with("12 of 12 shown cases and 0 of 6 hidden cases pass"),
+            "{}",
+            table.message
+        );
+        let hidden: Vec<&Failure> = table.failures.iter().filter(|f| f.hidden).collect();
+        assert!(!hidden.is_empty());
+        for failure in hidden {
+            assert!(failure.case.starts_with("update/h"));
+            assert_eq!(
+                (&failure.args, &failure.expected),
+                (&Value::Null, &Value::Null)
+            );
+            assert!(failure.got.is_none() && failure.mismatches.is_empty());
+            assert!(failure.differing > 0);
+        }
+        assert!(table.message.contains("a hidden case"), "{}", table.message);
+    }
+
+    #[test]
+    fn a_huge_output_is_stored_in_words() {
+        let plan = Plan::new(1);
+        let huge = serde_json::json!(vec![1.5; 15_000]);
+        let test = function_result(
+            &plan,
+            answered(&plan, "observation_model", |_| Some(huge.clone())),
+        );
+        let stored = serde_json::to_string(&test).unwrap();
+        assert!(stored.len() < 8 << 10, "{} bytes", stored.len());
+        assert!(stored.contains("an array of 15000 numbers"), "{stored}");
+        assert_eq!(test.failures.len(), SHOWN_FAILURES);
+    }
 }

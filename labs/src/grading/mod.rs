@@ -9,14 +9,16 @@
 
 mod grade;
 mod hints;
+mod job;
 mod outputs;
 mod plan;
 mod result;
 
 pub use grade::{LAB, POINTS, grade, student_run};
 pub use hints::{Hint, HintKind};
-pub use outputs::{CallResult, FunctionOutput, Outputs, RunOutput, Stopped};
-pub use plan::{Plan, RunSpec, bound};
+pub use job::{CallJob, FunctionPhase, Job, Mode, Phase, PhaseKind, RobotJob, RunPhase, StepJob};
+pub use outputs::{CallResult, FunctionOutput, Outputs, Reports, RunOutput, Stopped};
+pub use plan::{Plan, PlannedCase, RunSpec, Suite, bound};
 pub use result::{Failure, GradeResult, RunFigures, Status, Test, Visibility};
 
 /// The course a student's variant belongs to unless another is named.

@@ -6,12 +6,57 @@
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
+/// Why a phase's report could not be read; the student's code can spoil what the harness
+/// writes (not what it records), so this fails the phase and leaves the rest gradable.
+const UNREADABLE: &str = "The test harness's report of this phase is unreadable, which happens when a file changes built-in objects";
+
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Outputs {
     #[serde(default)]
     pub functions: Vec<FunctionOutput>,
     #[serde(default)]
     pub runs: Vec<RunOutput>,
+}
+
+/// The harness's reports as the host received them, each phase read on its own.
+#[derive(Clone, Debug, Default, Deserialize)]
+pub struct Reports {
+    #[serde(default)]
+    pub functions: Vec<Value>,
+    #[serde(default)]
+    pub runs: Vec<Value>,
+}
+
+impl Reports {
+    /// Every report read as its phase's output; one that does not read is that phase
+    /// failed (it names its function or run, when that much can be read).
+    pub fn outputs(self) -> Outputs {
+        let name = |report: &Value, field: &str| {
+            report
+                .get(field)
+                .and_then(Value::as_str)
+                .unwrap_or("unknown")
+                .to_owned()
+        };
+        Outputs {
+            functions: self
+                .functions
+                .into_iter()
+                .map(|report| {
+                    let function = name(&report, "function");
+                    FunctionOutput::from_value(&function, report)
+                })
+                .collect(),
+            runs: self
+                .runs
+                .into_iter()
+                .map(|report| {
+                    let run = name(&report, "name");
+                    RunOutput::from_value(&run, report)
+                })
+                .collect(),
+        }
+    }
 }
 
 /// The calls of one function.
@@ -31,6 +76,47 @@ pub struct FunctionOutput {
     /// different answer means the function keeps state between calls.
     #[serde(default)]
     pub repeats: Vec<CallResult>,
+}
+
+impl FunctionOutput {
+    /// The harness's report (JSON text) of the phase of `function`, or that phase failed.
+    pub fn from_report(function: &str, report: &str) -> FunctionOutput {
+        match serde_json::from_str(report) {
+            Ok(value) => FunctionOutput::from_value(function, value),
+            Err(e) => FunctionOutput::failed(function, format!("{UNREADABLE} ({e}).")),
+        }
+    }
+
+    fn from_value(function: &str, report: Value) -> FunctionOutput {
+        match serde_json::from_value::<FunctionOutput>(report) {
+            Ok(output) if output.function == function => output,
+            Ok(output) => FunctionOutput::failed(
+                function,
+                format!("{UNREADABLE} (it names {:?}).", output.function),
+            ),
+            Err(e) => FunctionOutput::failed(function, format!("{UNREADABLE} ({e}).")),
+        }
+    }
+
+    /// A phase the host stopped.
+    pub fn stopped(function: &str, stopped: Stopped) -> FunctionOutput {
+        FunctionOutput {
+            error: None,
+            stopped: Some(stopped),
+            ..FunctionOutput::failed(function, String::new())
+        }
+    }
+
+    /// A phase in which no call was made, and why.
+    pub fn failed(function: &str, error: String) -> FunctionOutput {
+        FunctionOutput {
+            function: function.to_owned(),
+            error: Some(error),
+            results: Vec::new(),
+            stopped: None,
+            repeats: Vec::new(),
+        }
+    }
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -67,6 +153,49 @@ pub struct RunOutput {
     pub c: Vec<usize>,
     #[serde(default)]
     pub outlier: Vec<bool>,
+}
+
+impl RunOutput {
+    /// The harness's report (JSON text) of the run called `name`, or that run failed.
+    pub fn from_report(name: &str, report: &str) -> RunOutput {
+        match serde_json::from_str(report) {
+            Ok(value) => RunOutput::from_value(name, value),
+            Err(e) => RunOutput::failed(name, format!("{UNREADABLE} ({e}).")),
+        }
+    }
+
+    fn from_value(name: &str, report: Value) -> RunOutput {
+        match serde_json::from_value::<RunOutput>(report) {
+            Ok(output) if output.name == name => output,
+            Ok(output) => {
+                RunOutput::failed(name, format!("{UNREADABLE} (it names {:?}).", output.name))
+            }
+            Err(e) => RunOutput::failed(name, format!("{UNREADABLE} ({e}).")),
+        }
+    }
+
+    /// A run that did not take place, and why.
+    pub fn failed(name: &str, error: String) -> RunOutput {
+        RunOutput {
+            name: name.to_owned(),
+            error: Some(error),
+            stopped: None,
+            init: None,
+            mu: Vec::new(),
+            sigma: Vec::new(),
+            c: Vec::new(),
+            outlier: Vec::new(),
+        }
+    }
+
+    /// A run the host stopped.
+    pub fn stopped(name: &str, stopped: Stopped) -> RunOutput {
+        RunOutput {
+            error: None,
+            stopped: Some(stopped),
+            ..RunOutput::failed(name, String::new())
+        }
+    }
 }
 
 /// The host stopped the student's code: the time limit ran out, or the sandbox ran out of

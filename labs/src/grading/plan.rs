@@ -2,11 +2,12 @@
 //! public suite everyone shares and the student's own variant) and the data-set runs, and
 //! the job the JavaScript harness carries out with the student's code.
 
+use super::job::{CallJob, FunctionPhase, Job, Mode, RobotJob, RunPhase, StepJob};
 use crate::cases::{Call, Case, FUNCTIONS, generate};
 use crate::dataset::{Dataset, Kind, simulate};
 use crate::ekf::{self, UpdateMode, increments};
 use crate::rng::Rng;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use serde_json::{Value, json};
 
 /// The seed of the public suite, the same for every student.
@@ -18,12 +19,46 @@ pub const FUNCTION_LIMIT_MS: u32 = 2_000;
 /// How long the student's code may take over one whole data-set run.
 pub const RUN_LIMIT_MS: u32 = 5_000;
 
-/// Everything one grading checks, made from the student's seed.
+/// Everything one grading checks, made from the student's seed (and, on the server, a
+/// seed of hidden cases).
 #[derive(Clone, Debug)]
 pub struct Plan {
     pub seed: u64,
-    pub cases: Vec<Case>,
+    /// The seed of the hidden cases and data sets, known to the server only.
+    pub hidden: Option<u64>,
+    pub cases: Vec<PlannedCase>,
     pub runs: Vec<RunSpec>,
+}
+
+/// Where a case comes from, which decides what the student is shown of it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Suite {
+    /// The same for every student, shown in full.
+    Public,
+    /// The student's own variant (from their seed), shown in full.
+    Variant,
+    /// Drawn from the server's secret for this submission: a failure shows its hint, not
+    /// its arguments or expected outputs.
+    Hidden,
+}
+
+impl Suite {
+    /// The mark in a case's id: `predict/p3`, `predict/s3`, `predict/h3`.
+    fn mark(self) -> &'static str {
+        match self {
+            Suite::Public => "p",
+            Suite::Variant => "s",
+            Suite::Hidden => "h",
+        }
+    }
+}
+
+/// A case of the plan and the suite it belongs to.
+#[derive(Clone, Debug)]
+pub struct PlannedCase {
+    pub suite: Suite,
+    pub case: Case,
 }
 
 /// The readings of each data set that grading runs through: the first few hundred, so
@@ -53,14 +88,32 @@ pub struct RunSpec {
 
 impl Plan {
     /// The public suite, the variant of `seed`, and one data set of each kind from `seed`
-    /// (sequential updates on the first two, batch and sequential on the third).
+    /// (sequential updates on the first two, batch and sequential on the third): what
+    /// the browser and `estlab grade` check, since they know no secret.
     pub fn new(seed: u64) -> Plan {
-        let mut cases = suite(PUBLIC_SEED, "p");
-        cases.extend(suite(seed, "s"));
-        cases.sort_by_key(|case| FUNCTIONS.iter().position(|f| *f == case.call.function()));
+        Plan::make(seed, None)
+    }
+
+    /// The plan of `new`, with hidden cases of every function from `hidden` besides, and
+    /// the data sets drawn from `hidden` instead of `seed`: what the server checks.
+    pub fn with_hidden(seed: u64, hidden: u64) -> Plan {
+        Plan::make(seed, Some(hidden))
+    }
+
+    fn make(seed: u64, hidden: Option<u64>) -> Plan {
+        let mut cases = suite(PUBLIC_SEED, Suite::Public);
+        cases.extend(suite(seed, Suite::Variant));
+        if let Some(hidden) = hidden {
+            cases.extend(suite(hidden, Suite::Hidden));
+        }
+        cases.sort_by_key(|planned| {
+            FUNCTIONS
+                .iter()
+                .position(|f| *f == planned.case.call.function())
+        });
         let mut runs = Vec::new();
         for kind in Kind::ALL {
-            let (data_seed, data) = qualified_data(kind, seed);
+            let (data_seed, data) = qualified_data(kind, hidden.unwrap_or(seed));
             let modes: &[UpdateMode] = match kind {
                 Kind::NoOdometry => &[UpdateMode::Batch, UpdateMode::Sequential],
                 _ => &[UpdateMode::Sequential],
@@ -75,13 +128,18 @@ impl Plan {
                 });
             }
         }
-        Plan { seed, cases, runs }
+        Plan {
+            seed,
+            hidden,
+            cases,
+            runs,
+        }
     }
 
-    pub fn cases_of<'a>(&'a self, function: &'a str) -> impl Iterator<Item = &'a Case> + 'a {
+    pub fn cases_of<'a>(&'a self, function: &'a str) -> impl Iterator<Item = &'a PlannedCase> + 'a {
         self.cases
             .iter()
-            .filter(move |case| case.call.function() == function)
+            .filter(move |planned| planned.case.call.function() == function)
     }
 
     pub fn run(&self, name: &str) -> Option<&RunSpec> {
@@ -90,19 +148,25 @@ impl Plan {
 
     /// What the harness needs to call the student's code: the arguments of every case (not
     /// the expected outputs) and the data of every run (not the ground truth).
-    pub fn job(&self) -> Value {
-        let functions: Vec<Value> = FUNCTIONS
+    pub fn job(&self) -> Job {
+        let functions = FUNCTIONS
             .iter()
-            .map(|&function| {
-                let calls: Vec<Value> = self
+            .map(|&function| FunctionPhase {
+                function: function.to_owned(),
+                calls: self
                     .cases_of(function)
-                    .map(|case| json!({ "id": case.id, "args": arguments(&case.call) }))
-                    .collect();
-                json!({ "function": function, "calls": calls, "limit_ms": FUNCTION_LIMIT_MS })
+                    .map(|PlannedCase { case, .. }| CallJob {
+                        id: case.id.clone(),
+                        args: arguments(&case.call),
+                    })
+                    .collect(),
+                limit_ms: FUNCTION_LIMIT_MS,
             })
             .collect();
-        let runs: Vec<Value> = self.runs.iter().map(run_job).collect();
-        json!({ "functions": functions, "runs": runs })
+        Job {
+            functions,
+            runs: self.runs.iter().map(run_job).collect(),
+        }
     }
 }
 
@@ -117,15 +181,17 @@ pub fn mode_name(mode: UpdateMode) -> &'static str {
     }
 }
 
-/// The cases of one seed, their ids marked with the suite: `predict/p3` is public,
-/// `predict/s3` the student's own.
-fn suite(seed: u64, mark: &str) -> Vec<Case> {
-    let mut cases = generate(seed, CASES_PER_FUNCTION);
-    for case in &mut cases {
-        let (function, number) = case.id.split_once('/').expect("ids are function/number");
-        case.id = format!("{function}/{mark}{number}");
-    }
-    cases
+/// The cases of one seed, their ids marked with the suite (`predict/p3` is public,
+/// `predict/s3` the student's own, `predict/h3` hidden).
+fn suite(seed: u64, suite: Suite) -> Vec<PlannedCase> {
+    generate(seed, CASES_PER_FUNCTION)
+        .into_iter()
+        .map(|mut case| {
+            let (function, number) = case.id.split_once('/').expect("ids are function/number");
+            case.id = format!("{function}/{}{number}", suite.mark());
+            PlannedCase { suite, case }
+        })
+        .collect()
 }
 
 /// The first data set of this kind drawn from the student's seed (cut to the graded
@@ -289,19 +355,8 @@ pub fn arguments(call: &Call) -> Vec<Value> {
     }
 }
 
-#[derive(Serialize)]
-struct StepJob {
-    /// Seconds since the previous step (0 for the first).
-    delta_t: f64,
-    /// Encoder ticks of the right and the left wheel since the previous step.
-    e_r: f64,
-    e_l: f64,
-    /// The readings of the step, 2 x n: ranges, then bearings.
-    z: [Vec<f64>; 2],
-}
-
-fn run_job(run: &RunSpec) -> Value {
-    let steps: Vec<StepJob> = run
+fn run_job(run: &RunSpec) -> RunPhase {
+    let steps = run
         .data
         .log
         .steps
@@ -319,21 +374,24 @@ fn run_job(run: &RunSpec) -> Value {
         .collect();
     let robot = run.kind.lab_settings().robot;
     let landmarks = run.data.map.landmarks();
-    json!({
-        "name": run.name,
-        "dataset": run.kind.name(),
-        "mode": mode_name(run.mode),
-        "robot": {
-            "E_T": robot.ticks_per_revolution,
-            "B": robot.wheel_base,
-            "R_R": robot.right_radius,
-            "R_L": robot.left_radius,
+    RunPhase {
+        name: run.name.clone(),
+        dataset: run.kind.name().to_owned(),
+        mode: match run.mode {
+            UpdateMode::Sequential => Mode::Sequential,
+            UpdateMode::Batch => Mode::Batch,
         },
-        "M": [
-            landmarks.iter().map(|l| l.position.x).collect::<Vec<_>>(),
-            landmarks.iter().map(|l| l.position.y).collect::<Vec<_>>(),
+        robot: RobotJob {
+            e_t: robot.ticks_per_revolution,
+            b: robot.wheel_base,
+            r_r: robot.right_radius,
+            r_l: robot.left_radius,
+        },
+        m: [
+            landmarks.iter().map(|l| l.position.x).collect(),
+            landmarks.iter().map(|l| l.position.y).collect(),
         ],
-        "steps": steps,
-        "limit_ms": RUN_LIMIT_MS,
-    })
+        steps,
+        limit_ms: RUN_LIMIT_MS,
+    }
 }

@@ -1,7 +1,7 @@
 //! The result of a grading (format in `DESIGN.md`) and its exports to the Gradescope and
 //! PrairieLearn `results.json` formats.
 
-use super::hints::Hint;
+use super::hints::{Hint, describe};
 use crate::cases::Mismatch;
 use serde::{Deserialize, Serialize};
 use serde_json::{Value, json};
@@ -15,6 +15,10 @@ pub struct GradeResult {
     pub gradable: bool,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub reason: Option<String>,
+    /// Whether hidden cases were graded (on the server, which alone has the secret they
+    /// are drawn from); without them the result covers the shown cases only.
+    #[serde(default)]
+    pub hidden_cases: bool,
     /// Points over max points, in [0, 1].
     pub score: f64,
     pub points: f64,
@@ -55,11 +59,19 @@ pub enum Visibility {
     AfterDueDate,
 }
 
-/// One failing case: what was asked, what came back, how it differs, and why it may.
+/// One failing case: what was asked, what came back, how it differs, and why it may. A
+/// hidden case keeps only its id, its note, what it threw, how many outputs differ and the
+/// hint.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Failure {
     pub case: String,
     pub note: String,
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub hidden: bool,
+    /// How many elements of the output differ (for a hidden case, whose mismatches are
+    /// not shown).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub differing: usize,
     /// The arguments, named as in the contract.
     pub args: Value,
     pub expected: Value,
@@ -72,6 +84,64 @@ pub struct Failure {
     pub mismatches: Vec<Mismatch>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub hint: Option<Hint>,
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
+}
+
+/// A returned value kept in a failure when its JSON has at most this many bytes; a larger
+/// one is described in words ("an array of 15000 numbers").
+const KEPT_VALUE: usize = 1 << 10;
+/// Differing elements kept in a failure; the rest are counted in `differing`.
+const KEPT_MISMATCHES: usize = 12;
+/// Characters kept of a message the student's code wrote (what it threw).
+const KEPT_TEXT: usize = 500;
+
+impl Failure {
+    /// A hidden case's failure without what would reveal the case.
+    pub fn concealed(self) -> Failure {
+        if !self.hidden {
+            return self;
+        }
+        Failure {
+            args: Value::Null,
+            expected: Value::Null,
+            got: None,
+            differing: self.mismatches.len(),
+            mismatches: Vec::new(),
+            ..self
+        }
+    }
+
+    /// The failure within a few kilobytes, whatever the student's code returned: a large
+    /// value in words, the first differing elements and a count of the rest.
+    pub fn bound(&mut self) {
+        let small = |value: &Value| value.to_string().len() <= KEPT_VALUE;
+        if let Some(got) = self.got.as_mut().filter(|got| !small(got)) {
+            *got = Value::String(describe(got));
+        }
+        if self.mismatches.len() > KEPT_MISMATCHES {
+            self.differing = self.mismatches.len();
+            self.mismatches.truncate(KEPT_MISMATCHES);
+        }
+        for mismatch in &mut self.mismatches {
+            if !small(&mismatch.got) {
+                mismatch.got = Value::String(describe(&mismatch.got));
+            }
+        }
+        if let Some(error) = self.error.as_mut() {
+            *error = clip(error, KEPT_TEXT);
+        }
+    }
+}
+
+/// At most `n` characters of a text, marked when cut.
+pub fn clip(text: &str, n: usize) -> String {
+    match text.char_indices().nth(n) {
+        Some((end, _)) => format!("{}...", &text[..end]),
+        None => text.to_owned(),
+    }
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -91,6 +161,7 @@ impl GradeResult {
             seed,
             gradable: false,
             reason: Some(reason.into()),
+            hidden_cases: false,
             score: 0.0,
             points: 0.0,
             max_points: 0.0,
@@ -148,6 +219,9 @@ impl GradeResult {
             "tests": tests,
         })
     }
+
+    /// What a result graded without hidden cases leaves out, for a person reading it.
+    pub const SHOWN_ONLY: &str = "Graded on the shown cases only: the server also grades hidden cases drawn from its secret, and data sets you have not seen.";
 
     /// One line for the student: the score, or why there is none.
     pub fn summary(&self) -> String {

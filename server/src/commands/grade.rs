@@ -1,9 +1,10 @@
 //! `estlab grade`: grade one student file, as the server would.
 
+use super::serve::cores;
 use super::{print, read};
 use crate::error::Error;
 use crate::sandbox::{Sandbox, check_size};
-use labs::grading::{DEFAULT_COURSE, LAB, student_seed};
+use labs::grading::{DEFAULT_COURSE, GradeResult, LAB, student_seed};
 use std::path::PathBuf;
 
 /// Grade a student's JavaScript file and print the result. The exit code is 0 whenever a
@@ -48,8 +49,9 @@ pub fn run(args: &Args) -> Result<(), Error> {
         (None, Some(student)) => student_seed(&args.course, student),
         (None, None) => 1,
     };
-    let sandbox = Sandbox::current().map_err(Error::io("the estlab executable"))?;
-    let result = sandbox.grade(&source, seed);
+    let sandbox = Sandbox::current(cores()).map_err(Error::io("the estlab executable"))?;
+    // Without the server's secret there are no hidden cases: the result says so.
+    let result = sandbox.grade(&source, seed, None);
     let text = match args.format {
         Format::Json => serde_json::to_string_pretty(&result),
         Format::Gradescope => serde_json::to_string_pretty(&result.gradescope()),
@@ -63,7 +65,14 @@ pub fn run(args: &Args) -> Result<(), Error> {
                     t.name, t.points, t.max_points, t.message
                 )
             })
-            .fold(result.summary(), |text, test| text + "\n" + &test)),
+            .fold(
+                if result.hidden_cases {
+                    result.summary()
+                } else {
+                    format!("{}\n{}", result.summary(), GradeResult::SHOWN_ONLY)
+                },
+                |text, test| text + "\n" + &test,
+            )),
     }
     .expect("results serialise");
     print(&text)

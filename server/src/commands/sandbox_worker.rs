@@ -1,17 +1,10 @@
-//! `estlab sandbox-worker` (hidden): the worker process of the sandbox. Reads
-//! `{ "source": ..., "job": ... }` on stdin, runs the student's code in QuickJS, writes
-//! the outputs on stdout.
+//! `estlab sandbox-worker` (hidden): the worker process of the sandbox. Reads a
+//! `WorkerInput` (the source, the job, how many engines at once) on stdin, runs the
+//! student's code in QuickJS, writes the outputs on stdout.
 
 use crate::error::Error;
-use crate::sandbox::{MAX_SOURCE, carry_out};
-use serde::Deserialize;
+use crate::sandbox::{MAX_SOURCE, WorkerInput, carry_out};
 use std::io::Read;
-
-#[derive(Deserialize)]
-struct Input {
-    source: String,
-    job: serde_json::Value,
-}
 
 pub fn run() -> Result<(), Error> {
     let mut text = String::new();
@@ -19,9 +12,12 @@ pub fn run() -> Result<(), Error> {
         .take(4 * MAX_SOURCE as u64 + (16 << 20))
         .read_to_string(&mut text)
         .map_err(Error::io("stdin"))?;
-    let input: Input =
+    let input: WorkerInput =
         serde_json::from_str(&text).map_err(|e| Error::Invalid(format!("stdin: {e}")))?;
-    let outputs = carry_out(&input.source, &input.job).map_err(Error::Invalid)?;
-    println!("{outputs}");
+    let outputs = carry_out(&input.source, &input.job, input.threads).map_err(Error::Invalid)?;
+    println!(
+        "{}",
+        serde_json::to_string(&outputs).expect("outputs serialise")
+    );
     Ok(())
 }

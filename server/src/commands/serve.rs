@@ -2,7 +2,7 @@
 
 use crate::error::Error;
 use crate::sandbox::Sandbox;
-use crate::submissions::{Grader, Store};
+use crate::submissions::{Grader, Secret, Store};
 use crate::web::{self, AppState, Assets};
 use std::net::SocketAddr;
 use std::path::PathBuf;
@@ -20,14 +20,22 @@ pub struct Args {
     /// Where the submissions database lives; created at start if missing.
     #[arg(long = "data", value_name = "DIR", default_value = "data")]
     data_dir: PathBuf,
-    /// How many submissions are graded at once (each in a worker process of its own).
+    /// How many submissions are graded at once (each in a worker process of its own);
+    /// at most one per core. The cores are shared out between them, so that no more
+    /// engines run at once than there are cores.
     #[arg(long, default_value_t = default_parallel())]
     parallel: usize,
 }
 
-/// One grading per core.
-fn default_parallel() -> usize {
+/// The cores this process may use.
+pub fn cores() -> usize {
     std::thread::available_parallelism().map_or(1, usize::from)
+}
+
+/// Gradings at once: one per two cores, each with two engines side by side, which keeps
+/// a lone grading quick.
+fn default_parallel() -> usize {
+    (cores() / 2).max(1)
 }
 
 /// Where `scripts/build-web` puts the assets, in the tree this binary was built from.
@@ -41,8 +49,11 @@ pub fn run(args: &Args) -> Result<(), Error> {
 async fn serve(args: &Args) -> Result<(), Error> {
     let assets = Assets::load(&args.static_dir)?;
     let store = Store::open(&args.data_dir).map_err(web::Error::from)?;
-    let sandbox = Sandbox::current().map_err(Error::io("the estlab executable"))?;
-    let grader = Grader::new(store, sandbox, args.parallel);
+    let secret = Secret::load_or_create(&args.data_dir).map_err(web::Error::from)?;
+    let parallel = args.parallel.clamp(1, cores());
+    let sandbox =
+        Sandbox::current(cores() / parallel).map_err(Error::io("the estlab executable"))?;
+    let grader = Grader::new(store, sandbox, secret, parallel);
     let resumed = grader.resume().map_err(web::Error::from)?;
     if resumed > 0 {
         println!(

@@ -1,23 +1,58 @@
 //! Inside the worker process: the student's code in QuickJS, driven by the same harness
 //! the browser's Web Worker runs (`static/src/harness.js`). The engine has no file system,
 //! network, module loader or host functions beyond the harness's progress callback; each
-//! phase of the job runs under a deadline (the interrupt handler) within a memory limit
+//! phase of the job runs within a limit of its own CPU time (the interrupt handler reads
+//! the clock of the engine's thread, so a busy machine changes no verdict), a memory limit
 //! and a stack limit. A phase that is stopped loses its outputs.
 
-use labs::grading::Stopped;
+use super::cpu::ThreadClock;
+use labs::cases::FUNCTIONS;
+use labs::grading::{
+    FunctionOutput, FunctionPhase, Job, Outputs, Phase, PhaseKind, RunOutput, Stopped,
+};
 use rquickjs::{CatchResultExt, Context, Function, Object, Persistent, Runtime};
-use serde_json::Value;
-use std::cell::RefCell;
+use std::cell::{Cell, RefCell};
 use std::rc::Rc;
+use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::{Arc, Mutex};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 const HARNESS: &str = include_str!("../../../static/src/harness.js");
 /// Memory for the student's code and its data.
 pub const MEMORY_LIMIT: usize = 64 << 20;
 /// Stack for the student's code: deep recursion ends in "stack overflow".
 pub const STACK_LIMIT: usize = 512 << 10;
+/// CPU time for loading the harness into a fresh engine.
+const HARNESS_LIMIT: Duration = Duration::from_secs(5);
+/// CPU time for evaluating the student's file once before any phase: a file whose top
+/// level never ends is stopped once, not once per phase.
+pub const LOAD_LIMIT_MS: u32 = 1_000;
+
+/// The CPU time one phase may still use, shared between the engine and its interrupt
+/// handler (both on the engine's thread).
+struct Budget {
+    clock: ThreadClock,
+    limit: Cell<Duration>,
+    /// Set when the handler stopped the code: the phase ended for time, whatever the
+    /// error that unwound it says.
+    interrupted: Cell<bool>,
+}
+
+impl Budget {
+    fn exhausted(&self) -> bool {
+        let over = self.clock.elapsed() > self.limit.get();
+        if over {
+            self.interrupted.set(true);
+        }
+        over
+    }
+
+    fn start(&self, limit: Duration) {
+        self.clock.restart();
+        self.limit.set(limit);
+        self.interrupted.set(false);
+    }
+}
 
 struct Engine {
     // Dropped in this order: the harness's functions, then the context, then the runtime.
@@ -25,7 +60,7 @@ struct Engine {
     run_filter: Persistent<Function<'static>>,
     context: Context,
     _runtime: Runtime,
-    deadline: Arc<Mutex<Instant>>,
+    budget: Rc<Budget>,
 }
 
 impl Engine {
@@ -33,12 +68,14 @@ impl Engine {
         let runtime = Runtime::new().map_err(|e| format!("QuickJS: {e}"))?;
         runtime.set_memory_limit(MEMORY_LIMIT);
         runtime.set_max_stack_size(STACK_LIMIT);
-        // Loading the harness has a few seconds; every phase sets its own deadline.
-        let deadline = Arc::new(Mutex::new(Instant::now() + Duration::from_secs(5)));
-        let clock = Arc::clone(&deadline);
-        runtime.set_interrupt_handler(Some(Box::new(move || {
-            Instant::now() > *clock.lock().expect("deadline lock")
-        })));
+        let budget = Rc::new(Budget {
+            clock: ThreadClock::start(),
+            limit: Cell::new(HARNESS_LIMIT),
+            interrupted: Cell::new(false),
+        });
+        let handler = Rc::clone(&budget);
+        // The handler runs on this thread only: the engine never leaves it.
+        runtime.set_interrupt_handler(Some(Box::new(move || handler.exhausted())));
         let context = Context::full(&runtime).map_err(|e| format!("QuickJS: {e}"))?;
         let (call_function, run_filter) = context.with(|ctx| {
             ctx.eval::<(), _>(HARNESS)
@@ -59,25 +96,24 @@ impl Engine {
             run_filter,
             context,
             _runtime: runtime,
-            deadline,
+            budget,
         })
     }
 
-    /// One phase: the harness's answer (JSON text), or what stopped it.
+    /// One phase: the harness's report (JSON text), or what stopped it.
     fn phase(
         &self,
-        run: bool,
+        kind: PhaseKind,
         source: &str,
         phase: &str,
         limit: Duration,
     ) -> Result<String, Stopped> {
         let during = Rc::new(RefCell::new(String::from("your file")));
-        *self.deadline.lock().expect("deadline lock") = Instant::now() + limit;
-        let harness = if run {
-            &self.run_filter
-        } else {
-            &self.call_function
+        let harness = match kind {
+            PhaseKind::Run => &self.run_filter,
+            PhaseKind::Function => &self.call_function,
         };
+        self.budget.start(limit);
         let outcome = self.context.with(|ctx| {
             let f = harness.clone().restore(&ctx).map_err(|e| e.to_string())?;
             let label = Rc::clone(&during);
@@ -89,10 +125,9 @@ impl Engine {
                 .catch(&ctx)
                 .map_err(|e| e.to_string())
         });
-        let timed_out = Instant::now() > *self.deadline.lock().expect("deadline lock");
         outcome.map_err(|message| Stopped {
             during: during.borrow().clone(),
-            cause: if timed_out {
+            cause: if self.budget.interrupted.get() {
                 "time".to_owned()
             } else {
                 cause(&message)
@@ -115,32 +150,33 @@ fn cause(message: &str) -> String {
     }
 }
 
-/// The most engines that run phases at once (each a thread with a QuickJS runtime).
-const MAX_THREADS: usize = 4;
 /// The stack of each engine's thread: room for QuickJS's own limit and its C frames.
 const THREAD_STACK: usize = 8 << 20;
 
-/// Carries out a whole job (from `Plan::job`) with the student's source: the outputs the
-/// grader reads, as `labs::grading::Outputs` JSON. Every phase gets a fresh engine, so
-/// that nothing one phase leaves behind reaches another, and phases run side by side on
-/// the machine's cores, the longest (the data-set runs) first.
-pub fn carry_out(source: &str, job: &Value) -> Result<Value, String> {
-    let mut phases: Vec<(bool, &Value)> = Vec::new();
-    for (list, run) in [("runs", true), ("functions", false)] {
-        phases.extend(
-            job[list]
-                .as_array()
-                .into_iter()
-                .flatten()
-                .map(|phase| (run, phase)),
-        );
+/// Carries out a whole job with the student's source, with at most `threads` engines at
+/// once: the outputs the grader reads. The file is evaluated once first; if that is
+/// stopped, every phase reports it without running. Otherwise every phase gets a fresh
+/// engine, so that nothing one phase leaves behind reaches another, the longest (the
+/// data-set runs) first.
+pub fn carry_out(source: &str, job: &Job, threads: usize) -> Result<Outputs, String> {
+    if let Some(stopped) = load_check(source)? {
+        return Ok(Outputs {
+            functions: job
+                .functions
+                .iter()
+                .map(|phase| FunctionOutput::stopped(&phase.function, stopped.clone()))
+                .collect(),
+            runs: job
+                .runs
+                .iter()
+                .map(|phase| RunOutput::stopped(&phase.name, stopped.clone()))
+                .collect(),
+        });
     }
-    let outputs: Vec<Mutex<Option<Value>>> = phases.iter().map(|_| Mutex::new(None)).collect();
+    let phases: Vec<Phase> = job.phases().collect();
+    let reports: Vec<Mutex<Option<Report>>> = phases.iter().map(|_| Mutex::new(None)).collect();
     let next = AtomicUsize::new(0);
-    let threads = std::thread::available_parallelism()
-        .map_or(1, usize::from)
-        .clamp(1, MAX_THREADS)
-        .min(phases.len().max(1));
+    let threads = threads.clamp(1, phases.len().max(1));
     std::thread::scope(|scope| {
         let workers: Vec<_> = (0..threads)
             .map(|_| {
@@ -149,11 +185,11 @@ pub fn carry_out(source: &str, job: &Value) -> Result<Value, String> {
                     .spawn_scoped(scope, || {
                         loop {
                             let i = next.fetch_add(1, Ordering::Relaxed);
-                            let Some(&(run, phase)) = phases.get(i) else {
+                            let Some(phase) = phases.get(i) else {
                                 return Ok(());
                             };
-                            let output = run_phase(source, run, phase)?;
-                            *outputs[i].lock().expect("an output slot") = Some(output);
+                            let report = run_phase(source, *phase)?;
+                            *reports[i].lock().expect("a report slot") = Some(report);
                         }
                     })
                     .map_err(|e| format!("the sandbox could not start a thread: {e}"))
@@ -167,29 +203,57 @@ pub fn carry_out(source: &str, job: &Value) -> Result<Value, String> {
             },
         )
     })?;
-    let mut result = serde_json::json!({ "functions": [], "runs": [] });
-    for (&(run, _), output) in phases.iter().zip(outputs) {
-        let output = output
+    let mut outputs = Outputs::default();
+    for (phase, report) in phases.iter().zip(reports) {
+        let report = report
             .into_inner()
-            .expect("an output slot")
+            .expect("a report slot")
             .expect("every phase ran");
-        let list = if run { "runs" } else { "functions" };
-        result[list].as_array_mut().expect("a list").push(output);
+        match phase.kind() {
+            PhaseKind::Function => outputs.functions.push(match report {
+                Ok(text) => FunctionOutput::from_report(phase.name(), &text),
+                Err(stopped) => FunctionOutput::stopped(phase.name(), stopped),
+            }),
+            PhaseKind::Run => outputs.runs.push(match report {
+                Ok(text) => RunOutput::from_report(phase.name(), &text),
+                Err(stopped) => RunOutput::stopped(phase.name(), stopped),
+            }),
+        }
     }
-    Ok(result)
+    Ok(outputs)
 }
 
-/// One phase in an engine of its own: the harness's output, or where it was stopped.
-fn run_phase(source: &str, run: bool, phase: &Value) -> Result<Value, String> {
+/// A phase's report, or where the engine stopped it.
+type Report = Result<String, Stopped>;
+
+/// Evaluates the file once, calling nothing (a function phase without calls): what
+/// stopped it, if anything did.
+fn load_check(source: &str) -> Result<Option<Stopped>, String> {
+    let nothing = FunctionPhase {
+        function: FUNCTIONS[0].to_owned(),
+        calls: Vec::new(),
+        limit_ms: LOAD_LIMIT_MS,
+    };
+    let stopped = std::thread::scope(|scope| {
+        std::thread::Builder::new()
+            .stack_size(THREAD_STACK)
+            .spawn_scoped(scope, || run_phase(source, Phase::Function(&nothing)))
+            .map_err(|e| format!("the sandbox could not start a thread: {e}"))?
+            .join()
+            .map_err(|_| "a sandbox thread panicked".to_owned())?
+    })?
+    .err();
+    Ok(stopped)
+}
+
+/// One phase in an engine of its own: the harness's report, or where it was stopped.
+/// Only a failure of the sandbox itself is an error.
+fn run_phase(source: &str, phase: Phase) -> Result<Report, String> {
     let engine = Engine::new()?;
-    let limit = Duration::from_millis(phase["limit_ms"].as_u64().unwrap_or(1000));
-    match engine.phase(run, source, &phase.to_string(), limit) {
-        Ok(json) => {
-            serde_json::from_str(&json).map_err(|e| format!("the harness wrote bad JSON: {e}"))
-        }
-        Err(stopped) => {
-            let key = if run { "name" } else { "function" };
-            Ok(serde_json::json!({ key: phase[key], "stopped": stopped }))
-        }
-    }
+    Ok(engine.phase(
+        phase.kind(),
+        source,
+        &phase.to_json(),
+        Duration::from_millis(phase.limit_ms().into()),
+    ))
 }

@@ -1,7 +1,8 @@
 //! Student code on the server: QuickJS in a worker process per grading.
 
+mod cpu;
 mod engine;
 mod worker;
 
 pub use engine::carry_out;
-pub use worker::{MAX_SOURCE, Sandbox, check_size};
+pub use worker::{MAX_SOURCE, Sandbox, WorkerInput, check_size};

@@ -1,12 +1,16 @@
 //! The server's side of the sandbox: each grading runs the student's code in a worker
 //! process of its own (`estlab sandbox-worker`), so that a crash or a hang harms no other
 //! submission and not the server. The worker gets the job on stdin and writes the outputs
-//! on stdout; a worker that dies, or outlives every phase's time limit together, makes
-//! the result "not gradable", which costs the student nothing.
+//! on stdout. It dies with the process that started it, and the kernel ends it when it
+//! uses more CPU time than every phase's limit together; a worker that dies, or outlives
+//! a generous wall-clock allowance, makes the result "not gradable", which costs the
+//! student nothing.
 
-use labs::grading::{GradeResult, LAB, Outputs, Plan, grade};
-use serde_json::{Value, json};
+use super::engine::LOAD_LIMIT_MS;
+use labs::grading::{GradeResult, Job, LAB, Outputs, Plan, grade};
+use serde::{Deserialize, Serialize};
 use std::io::{Read, Write};
+use std::os::unix::process::CommandExt;
 use std::path::PathBuf;
 use std::process::{Command, Stdio};
 use std::thread;
@@ -30,47 +34,83 @@ pub fn check_size(source: &str) -> Result<(), String> {
 
 /// The most a worker may write (its outputs are a few hundred kilobytes).
 const MAX_OUTPUT: u64 = 64 << 20;
-/// Time for the worker to start, generate nothing and write, beyond the phases' limits.
+/// CPU time for the worker to start, plan nothing and write, beyond the phases' limits.
 const SPARE: Duration = Duration::from_secs(10);
+/// How much longer than its CPU limit a worker may take by the clock: the engines' own
+/// CPU clocks decide every verdict, and this allowance only catches a worker that hangs
+/// without using CPU, so it is generous enough for a machine that is very busy.
+const WALL_CLOCK_FACTOR: u32 = 4;
+
+/// What the worker reads on stdin.
+#[derive(Serialize, Deserialize)]
+pub struct WorkerInput {
+    pub source: String,
+    pub job: Job,
+    /// How many engines the worker may run at once.
+    pub threads: usize,
+}
 
 /// Starts workers from the `estlab` executable.
 #[derive(Clone, Debug)]
 pub struct Sandbox {
     executable: PathBuf,
+    threads: usize,
 }
 
 impl Sandbox {
-    pub fn new(executable: PathBuf) -> Sandbox {
-        Sandbox { executable }
+    /// Workers of `executable`, each running at most `threads` engines at once.
+    pub fn new(executable: PathBuf, threads: usize) -> Sandbox {
+        Sandbox {
+            executable,
+            threads: threads.max(1),
+        }
     }
 
     /// This very executable.
-    pub fn current() -> std::io::Result<Sandbox> {
-        Ok(Sandbox::new(std::env::current_exe()?))
+    pub fn current(threads: usize) -> std::io::Result<Sandbox> {
+        Ok(Sandbox::new(std::env::current_exe()?, threads))
     }
 
-    /// Grades a source file for a seed: the plan, the student's code in a worker, the
-    /// comparison. Blocks for as long as the worker runs.
-    pub fn grade(&self, source: &str, seed: u64) -> GradeResult {
-        let plan = Plan::new(seed);
-        let job = plan.job();
-        match self.carry_out(source, &job) {
+    /// Grades a source file for a seed (and, on the server, the seed of its hidden cases):
+    /// the plan, the student's code in a worker, the comparison. Blocks for as long as the
+    /// worker runs.
+    pub fn grade(&self, source: &str, seed: u64, hidden: Option<u64>) -> GradeResult {
+        let plan = match hidden {
+            Some(hidden) => Plan::with_hidden(seed, hidden),
+            None => Plan::new(seed),
+        };
+        match self.carry_out(source, plan.job()) {
             Ok(outputs) => grade(&plan, &outputs),
             Err(reason) => GradeResult::not_gradable(LAB, seed, reason),
         }
     }
 
-    fn carry_out(&self, source: &str, job: &Value) -> Result<Outputs, String> {
-        let limit = SPARE + phase_limits(job);
-        let mut child = Command::new(&self.executable)
+    fn carry_out(&self, source: &str, job: Job) -> Result<Outputs, String> {
+        let cpu_limit = SPARE + Duration::from_millis(job.limits_ms() + u64::from(LOAD_LIMIT_MS));
+        let limit = cpu_limit * WALL_CLOCK_FACTOR;
+        let parent = std::process::id();
+        let mut command = Command::new(&self.executable);
+        command
             .arg(WORKER_COMMAND)
             .env_clear()
             .stdin(Stdio::piped())
             .stdout(Stdio::piped())
-            .stderr(Stdio::piped())
+            .stderr(Stdio::piped());
+        let seconds = cpu_limit.as_secs() + 1;
+        // SAFETY: between fork and exec the closure calls only async-signal-safe functions
+        // (prctl, getppid, setrlimit) and allocates nothing.
+        unsafe {
+            command.pre_exec(move || die_with_parent(parent, seconds));
+        }
+        let mut child = command
             .spawn()
             .map_err(|e| format!("the sandbox did not start: {e}"))?;
-        let input = json!({ "source": source, "job": job }).to_string();
+        let input = serde_json::to_string(&WorkerInput {
+            source: source.to_owned(),
+            job,
+            threads: self.threads,
+        })
+        .expect("worker inputs serialise");
         let mut stdin = child.stdin.take().expect("piped stdin");
         let writer = thread::spawn(move || stdin.write_all(input.as_bytes()));
         let stdout = child.stdout.take().expect("piped stdout");
@@ -122,12 +162,25 @@ impl Sandbox {
     }
 }
 
-/// Every phase's time limit, together.
-fn phase_limits(job: &Value) -> Duration {
-    let ms: u64 = ["functions", "runs"]
-        .iter()
-        .flat_map(|list| job[list].as_array().into_iter().flatten())
-        .map(|phase| phase["limit_ms"].as_u64().unwrap_or(0))
-        .sum();
-    Duration::from_millis(ms)
+/// In the worker, before it runs: it gets SIGKILL when the process that started it dies
+/// (even by SIGKILL), and SIGKILL from the kernel after `cpu_seconds` of CPU time.
+fn die_with_parent(parent: u32, cpu_seconds: u64) -> std::io::Result<()> {
+    // SAFETY: plain system calls on this process, with no pointers but a valid rlimit.
+    unsafe {
+        if libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL) != 0 {
+            return Err(std::io::Error::last_os_error());
+        }
+        // The parent may have died before the signal was asked for.
+        if libc::getppid() as u32 != parent {
+            return Err(std::io::Error::other("the server stopped"));
+        }
+        let limit = libc::rlimit {
+            rlim_cur: cpu_seconds,
+            rlim_max: cpu_seconds,
+        };
+        if libc::setrlimit(libc::RLIMIT_CPU, &limit) != 0 {
+            return Err(std::io::Error::last_os_error());
+        }
+    }
+    Ok(())
 }

@@ -2,9 +2,11 @@
 //! bounded number at a time; the result is stored and shown to the student.
 
 mod queue;
+mod secret;
 mod store;
 
 pub use queue::Grader;
+pub use secret::Secret;
 pub use store::{NewSubmission, Store};
 
 use std::path::{Path, PathBuf};
@@ -26,6 +28,18 @@ pub enum Error {
     Sql(#[from] rusqlite::Error),
     #[error("a stored result is unreadable: {0}")]
     StoredResult(serde_json::Error),
+    #[error("the server's secret {}: {source}", path.display())]
+    Secret {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    /// The student already has a submission waiting or being graded.
+    #[error(
+        "your submission {0} is still waiting to be graded or being graded: submit again once it has its result"
+    )]
+    Busy(i64),
+    #[error("a grading task stopped: {0}")]
+    Task(String),
 }
 
 impl Error {

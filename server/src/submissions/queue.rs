@@ -2,7 +2,7 @@
 //! for its sandbox worker process, at most `parallel` at once, so that the server's
 //! other requests are answered meanwhile.
 
-use super::{Error, NewSubmission, Store};
+use super::{Error, NewSubmission, Secret, Store};
 use crate::sandbox::Sandbox;
 use std::sync::Arc;
 use tokio::sync::Semaphore;
@@ -11,15 +11,18 @@ use tokio::sync::Semaphore;
 pub struct Grader {
     store: Store,
     sandbox: Sandbox,
+    /// Draws every submission's hidden cases.
+    secret: Secret,
     permits: Semaphore,
 }
 
 impl Grader {
     /// A grader over `store` running at most `parallel` sandboxes at once.
-    pub fn new(store: Store, sandbox: Sandbox, parallel: usize) -> Arc<Grader> {
+    pub fn new(store: Store, sandbox: Sandbox, secret: Secret, parallel: usize) -> Arc<Grader> {
         Arc::new(Grader {
             store,
             sandbox,
+            secret,
             permits: Semaphore::new(parallel.max(1)),
         })
     }
@@ -64,7 +67,8 @@ impl Grader {
 
     fn grade(&self, id: i64) -> Result<(), Error> {
         let (source, seed) = self.store.start_grading(id)?;
-        let result = self.sandbox.grade(&source, seed);
+        let hidden = self.secret.hidden_seed(id);
+        let result = self.sandbox.grade(&source, seed, Some(hidden));
         self.store.finish_grading(id, &result)
     }
 }

@@ -105,9 +105,22 @@ impl Store {
         self.connection.lock().unwrap_or_else(|e| e.into_inner())
     }
 
-    /// Stores a new submission as queued and returns its id.
+    /// Stores a new submission as queued and returns its id; refuses it when the student
+    /// already has one waiting or being graded in the same course and exercise.
     pub fn insert(&self, new: &NewSubmission) -> Result<i64, Error> {
         let connection = self.connection();
+        let busy: Option<i64> = connection
+            .query_row(
+                "SELECT id FROM submissions WHERE course = ?1 AND student = ?2 AND lab = ?3
+                 AND status != 'graded' ORDER BY id LIMIT 1",
+                params![new.course, new.student, new.lab],
+                |row| row.get(0),
+            )
+            .optional()
+            .map_err(Error::Sql)?;
+        if let Some(id) = busy {
+            return Err(Error::Busy(id));
+        }
         connection
             .execute(
                 "INSERT INTO submissions (course, student, lab, seed, source, status)
@@ -169,10 +182,10 @@ impl Store {
         Ok(ids)
     }
 
-    /// One submission, if it exists.
+    /// One submission, if it exists. The result is read after the lock is released.
     pub fn get(&self, id: i64) -> Result<Option<Submission>, Error> {
-        let connection = self.connection();
-        connection
+        let row = self
+            .connection()
             .query_row(
                 "SELECT id, course, student, lab, seed, status, submitted_at, graded_at, result
                  FROM submissions WHERE id = ?1",
@@ -195,17 +208,17 @@ impl Store {
                 },
             )
             .optional()
-            .map_err(Error::Sql)?
-            .map(|(submission, result)| {
-                let result = result
-                    .map(|text| serde_json::from_str(&text).map_err(Error::StoredResult))
-                    .transpose()?;
-                Ok(Submission {
-                    result,
-                    ..submission
-                })
+            .map_err(Error::Sql)?;
+        row.map(|(submission, result)| {
+            let result = result
+                .map(|text| serde_json::from_str(&text).map_err(Error::StoredResult))
+                .transpose()?;
+            Ok(Submission {
+                result,
+                ..submission
             })
-            .transpose()
+        })
+        .transpose()
     }
 }
 

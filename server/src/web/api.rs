@@ -59,7 +59,10 @@ pub async fn submit(State(state): State<Arc<AppState>>, body: Bytes) -> Result<R
         seed,
         source: &submit.source,
     };
-    let id = state.grader.submit(&new)?;
+    let id = state.grader.submit(&new).map_err(|error| match error {
+        busy @ crate::submissions::Error::Busy(_) => Error::Conflict(busy.to_string()),
+        other => other.into(),
+    })?;
     let location = format!("/api/submissions/{id}");
     Ok((
         StatusCode::ACCEPTED,
@@ -76,7 +79,12 @@ pub async fn submission(
 ) -> Result<Response, Error> {
     let missing = || Error::NotFound(format!("there is no submission {id:?}"));
     let number: i64 = id.parse().map_err(|_| missing())?;
-    let submission = state.grader.store().get(number)?.ok_or_else(missing)?;
+    // Off the async executor: a stored result is read and parsed on a blocking thread.
+    let grader = Arc::clone(&state.grader);
+    let submission = tokio::task::spawn_blocking(move || grader.store().get(number))
+        .await
+        .map_err(|e| crate::submissions::Error::Task(e.to_string()))??
+        .ok_or_else(missing)?;
     Ok(Json(submission).into_response())
 }
 

@@ -20,6 +20,9 @@ pub enum Error {
     TooLarge(String),
     #[error("{0}")]
     NotFound(String),
+    /// The request conflicts with what is stored (a submission still being graded).
+    #[error("{0}")]
+    Conflict(String),
 }
 
 impl IntoResponse for Error {
@@ -28,6 +31,7 @@ impl IntoResponse for Error {
             Error::BadRequest(_) => StatusCode::BAD_REQUEST,
             Error::TooLarge(_) => StatusCode::PAYLOAD_TOO_LARGE,
             Error::NotFound(_) => StatusCode::NOT_FOUND,
+            Error::Conflict(_) => StatusCode::CONFLICT,
             Error::Template(_) | Error::Assets(_) | Error::Submissions(_) => {
                 eprintln!("estlab: {self}");
                 return (

@@ -17,6 +17,22 @@ function startWorker(url) {
   });
 }
 
+/**
+ * The harness's report as an object, or, when the student's code has spoiled it, the
+ * phase failed with the reason (the server reads reports the same way).
+ */
+function readReport(id, text) {
+  try {
+    return JSON.parse(text);
+  } catch (error) {
+    return {
+      ...id,
+      error: "The test harness's report of this phase is unreadable, which happens when a " +
+        `file changes built-in objects (${error.message}).`,
+    };
+  }
+}
+
 export class Runner {
   /** `url`: the worker's script. */
   constructor(url) {
@@ -50,30 +66,35 @@ export class Runner {
     let during = 'your file';
     return new Promise((resolve) => {
       let timer = null;
+      // The worker answers on a channel of this phase's own (see worker.js): messages the
+      // student's code posts on the worker itself are never read.
+      const channel = new MessageChannel();
+      worker.onmessage = null;
       const finish = (output) => {
         clearTimeout(timer);
         this.abort = null;
+        channel.port1.close();
         worker.terminate();
         resolve(output);
       };
       const stopped = (cause) => finish({ ...id, stopped: { during, cause } });
       this.abort = stopped;
       timer = setTimeout(() => stopped('time'), phase.limit_ms);
-      worker.onmessage = ({ data }) => {
+      channel.port1.onmessage = ({ data }) => {
         if (data.progress !== undefined) {
           during = data.progress;
           onProgress(during);
         } else if (data.failure !== undefined) {
           finish({ ...id, error: `the test harness failed: ${data.failure}` });
         } else {
-          finish(JSON.parse(data.output));
+          finish(readReport(id, data.output));
         }
       };
       worker.onerror = (event) => {
         event.preventDefault();
         stopped(`the browser stopped the test worker (${event.message || 'out of memory?'})`);
       };
-      worker.postMessage({ kind, source, phase });
+      worker.postMessage({ kind, source, phase, port: channel.port2 }, [channel.port2]);
     });
   }
 }

@@ -2,14 +2,24 @@
 // sandbox runs) on one phase of a grading job. The page gives each phase a worker of its
 // own and terminates it when the phase ends or outlives its time limit.
 //
-//   in:  { kind: 'function' | 'run', source, phase }   (phase: one entry of the job)
-//   out: { progress: label } while it works, then { output } (JSON text) or { failure }
+//   in:  { kind: 'function' | 'run', source, phase, port }   (phase: one entry of the job)
+//   out, on `port` only: { progress: label } while it works, then { output } (JSON text)
+//        or { failure }
+//
+// The page listens on the port it handed over, never on the worker itself, and the port
+// is held here where the student's code cannot reach it, posted to with a postMessage
+// captured before that code runs: a file cannot post a verdict of its own.
 import '../harness.js';
 
-const post = self.postMessage.bind(self);
 const harness = self.estlabHarness;
+const apply = Reflect.apply;
+const postToPort = MessagePort.prototype.postMessage;
+const errorMessage = (error) => String(error && error.message ? error.message : error);
 
 self.onmessage = ({ data }) => {
+  const { port } = data;
+  const post = (message) => apply(postToPort, port, [message]);
+  self.onmessage = null;
   const phase = JSON.stringify(data.phase);
   const progress = (label) => post({ progress: String(label) });
   try {
@@ -19,7 +29,7 @@ self.onmessage = ({ data }) => {
     post({ output });
   } catch (error) {
     // Only a fault of the harness itself gets here: it catches what student code throws.
-    post({ failure: String(error && error.message ? error.message : error) });
+    post({ failure: errorMessage(error) });
   }
 };
-post({ ready: true });
+self.postMessage({ ready: true });

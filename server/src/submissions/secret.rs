@@ -1,0 +1,110 @@
+//! The server's secret: 32 random bytes made at the first start and kept in the data
+//! directory (readable by the server's user only), never in a response or a log. The
+//! hidden cases of a submission are drawn from it and the submission's id, so a student
+//! cannot know them in advance, every submission gets new ones, and grading the same
+//! submission again draws the same ones.
+
+use super::Error;
+use sha2::{Digest, Sha256};
+use std::io::Write;
+use std::os::unix::fs::OpenOptionsExt;
+use std::path::Path;
+
+/// The secret's file inside the data directory.
+const FILE: &str = "secret";
+const BYTES: usize = 32;
+
+pub struct Secret([u8; BYTES]);
+
+impl std::fmt::Debug for Secret {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Secret(..)")
+    }
+}
+
+impl Secret {
+    /// The secret in `dir`, made (and written with mode 0600) if there is none yet.
+    pub fn load_or_create(dir: &Path) -> Result<Secret, Error> {
+        let path = dir.join(FILE);
+        let failed = |source: std::io::Error| Error::Secret {
+            path: path.clone(),
+            source,
+        };
+        match std::fs::read(&path) {
+            Ok(bytes) => {
+                let bytes: [u8; BYTES] = bytes.try_into().map_err(|bytes: Vec<u8>| {
+                    failed(std::io::Error::other(format!(
+                        "holds {} bytes, not {BYTES}; remove it to make a new secret (hidden cases of earlier submissions then change at a regrade)",
+                        bytes.len()
+                    )))
+                })?;
+                Ok(Secret(bytes))
+            }
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+                let mut bytes = [0; BYTES];
+                getrandom::fill(&mut bytes)
+                    .map_err(|e| failed(std::io::Error::other(e.to_string())))?;
+                let mut file = std::fs::OpenOptions::new()
+                    .write(true)
+                    .create_new(true)
+                    .mode(0o600)
+                    .open(&path)
+                    .map_err(failed)?;
+                file.write_all(&bytes).map_err(failed)?;
+                file.sync_all().map_err(failed)?;
+                Ok(Secret(bytes))
+            }
+            Err(e) => Err(failed(e)),
+        }
+    }
+
+    /// The seed of the hidden cases of a submission: SHA-256 of the secret and the id,
+    /// cut to a whole number below 2^53 like every seed.
+    pub fn hidden_seed(&self, submission: i64) -> u64 {
+        let digest = Sha256::new()
+            .chain_update(self.0)
+            .chain_update(b"hidden cases of submission ")
+            .chain_update(submission.to_le_bytes())
+            .finalize();
+        let mut first = [0; 8];
+        first.copy_from_slice(&digest[..8]);
+        u64::from_le_bytes(first) & ((1 << 53) - 1)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn is_made_once_kept_private_and_gives_each_submission_its_own_seed() {
+        let dir = tempfile::tempdir().unwrap();
+        let first = Secret::load_or_create(dir.path()).unwrap();
+        let again = Secret::load_or_create(dir.path()).unwrap();
+        assert_eq!(first.0, again.0);
+        let mode = std::fs::metadata(dir.path().join(FILE)).unwrap();
+        assert_eq!(
+            std::os::unix::fs::PermissionsExt::mode(&mode.permissions()) & 0o777,
+            0o600
+        );
+        assert_eq!(first.hidden_seed(7), again.hidden_seed(7));
+        assert_ne!(first.hidden_seed(7), first.hidden_seed(8));
+        assert!(first.hidden_seed(7) < 1 << 53);
+        assert_eq!(format!("{first:?}"), "Secret(..)");
+
+        let other = tempfile::tempdir().unwrap();
+        let other = Secret::load_or_create(other.path()).unwrap();
+        assert_ne!(first.hidden_seed(7), other.hidden_seed(7));
+    }
+
+    #[test]
+    fn a_damaged_secret_is_refused_with_its_path() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join(FILE), b"short").unwrap();
+        let error = Secret::load_or_create(dir.path()).unwrap_err().to_string();
+        assert!(
+            error.contains("secret") && error.contains("holds 5 bytes"),
+            "{error}"
+        );
+    }
+}
