@@ -199,6 +199,16 @@ impl Problems {
         self.score_below_one(result);
     }
 
+    fn score_is(&mut self, result: &Value, expected: f64) {
+        let score = result["score"].as_f64();
+        self.expect(score == Some(expected), || {
+            format!("the score is {score:?}, not {expected}")
+        });
+        self.expect(result["gradable"] == true, || {
+            format!("not gradable: {}", result["reason"])
+        });
+    }
+
     fn score_below_one(&mut self, result: &Value) {
         let score = result["score"].as_f64();
         self.expect(score.is_some_and(|s| s < 1.0), || {
@@ -685,7 +695,19 @@ fn hostile_suite() -> Vec<Hostile> {
             with(
                 "function predict(mu, sigma, u, R) { const text = eval('\"' + 'a'.repeat(10000000) + '\"'); return text.length; }",
             ),
-            |r, p| p.only_these_fail(r, &["predict"]),
+            // The string fits in the memory limit: the answer is its length, in the
+            // wrong shape, and the message says so.
+            |r, p| {
+                p.only_these_fail(r, &["predict"]);
+                p.says(
+                    r,
+                    "predict",
+                    &[
+                        "got 10000000 (not the contract's shape)",
+                        "should be an object with the fields mu_bar, sigma_bar, but is a number",
+                    ],
+                );
+            },
         ),
         hostile(
             "a syntax error",
@@ -752,15 +774,77 @@ fn hostile_suite() -> Vec<Hostile> {
         hostile(
             "Object.prototype.toJSON that throws",
             with("Object.prototype.toJSON = function () { throw new Error('gotcha'); };"),
+            // The harness writes its own JSON and the grader reads none of the student's
+            // objects with toJSON: the file is correct, and scores 1.
+            |r, p| p.score_is(r, 1.0),
+        ),
+        // ---- tampering with the harness's bookkeeping ----
+        hostile(
+            "setters on Object.prototype that swallow the harness's records, nothing implemented",
+            "Object.defineProperty(Object.prototype, 'error', { set(v) {}, configurable: true });\n\
+             Object.defineProperty(Object.prototype, 'output', { set(v) {}, configurable: true });\n\
+             Object.defineProperty(Array.prototype, '0', { set(v) {}, configurable: true });\n"
+                .to_owned(),
             |r, p| {
-                // No function depends on toJSON: they pass, or their tests say what threw,
-                // and the student's own code is not called a failure of the sandbox.
-                for name in [FUNCTIONS[0], DATASETS[0]] {
-                    if !passed(test(r, name)) {
-                        p.says(r, name, &["gotcha"]);
-                        p.does_not_say(r, name, "the sandbox failed");
-                    }
-                }
+                p.score_is(r, 0.0);
+                p.says(r, "predict", &["predict is not defined"]);
+            },
+        ),
+        hostile(
+            "getters on the prototypes that answer NaN, nothing implemented",
+            "for (const name of ['error', 'output', 'results', 'repeats', 'mu', 'c']) {\n\
+               Object.defineProperty(Object.prototype, name, { get() { return NaN; }, set(v) {}, configurable: true });\n\
+             }\n\
+             Object.defineProperty(Array.prototype, '0', { get() { return NaN; }, set(v) {}, configurable: true });\n"
+                .to_owned(),
+            |r, p| {
+                p.score_is(r, 0.0);
+                p.says(r, "update", &["update is not defined"]);
+            },
+        ),
+        hostile(
+            "setters on Object.prototype beside a correct file",
+            with(
+                "Object.defineProperty(Object.prototype, 'error', { set(v) {}, configurable: true });\n\
+                 Object.defineProperty(Object.prototype, 'results', { set(v) {}, get() { return []; }, configurable: true });",
+            ),
+            |r, p| p.score_is(r, 1.0),
+        ),
+        hostile(
+            "a heading of 1e300, equal to anything modulo 2 pi",
+            CORRECT
+                .replace("wrap(omega * delta_t)];", "wrap(omega * delta_t) + 1e300];")
+                .replace(
+                    "wrap(mu[2] + u[2])];",
+                    "wrap(mu[2] + u[2]) + 1e300];",
+                ),
+            |r, p| {
+                p.status(r, &["calculate_odometry", "predict", "o3", "outliers", "no-odometry"], false);
+                p.says(r, "predict", &["got 1e+300", "more than two turns outside [-pi, pi)"]);
+                p.says(r, "o3", &["the heading mu[2] = 1e300 is more than 2 turns outside"]);
+            },
+        ),
+        hostile(
+            "outputs of 15,000 elements",
+            with(
+                "function batch_update(mu_bar, sigma_bar, H_bar, Q_bar, nu_bar) { return new Array(15000).fill(1.5); }",
+            ),
+            |r, p| {
+                p.only_these_fail(r, &["batch_update"]);
+                p.says(r, "batch_update", &["an array of 15000 numbers"]);
+                let size = r.to_string().len();
+                p.expect(size < 64 << 10, || format!("the result has {size} bytes"));
+            },
+        ),
+        hostile(
+            "an endless loop at the top level, eleven bytes",
+            "for (;;) {}\n".to_owned(),
+            |r, p| {
+                p.whole_file_fails(
+                    r,
+                    &["Stopped after 1 s, the time limit, while running the top level of your file"],
+                );
+                p.score_is(r, 0.0);
             },
         ),
     ]

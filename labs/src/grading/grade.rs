@@ -537,7 +537,7 @@ pub fn student_run(spec: &RunSpec, output: &RunOutput) -> Result<ekf::Run, Strin
         .find(|(_, mu)| mu[2].abs() > farthest)
     {
         return Err(format!(
-            "at time step {}, the heading mu[2] = {} is more than {HEADING_TURNS} turns outside [-pi, pi), where its error means nothing: wrap it",
+            "at time step {}, the heading mu[2] = {:e} is more than {HEADING_TURNS} turns outside [-pi, pi), where its error means nothing: wrap it",
             k + 1,
             mu[2]
         ));

@@ -206,14 +206,19 @@ pub struct Stopped {
     pub during: String,
     /// "time", or what else stopped it ("out of memory").
     pub cause: String,
+    /// The time limit that ran out, when it was not the phase's own (the file's top level
+    /// is evaluated once, with a limit of its own, before any phase).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub limit_ms: Option<u32>,
 }
 
 impl Stopped {
-    pub fn message(&self, limit_ms: u32) -> String {
+    /// What happened, for the student; `phase_limit_ms` is the phase's time limit.
+    pub fn message(&self, phase_limit_ms: u32) -> String {
         if self.cause == "time" {
             format!(
                 "Stopped after {} s, the time limit, while running {}: an endless loop, or far too much work?",
-                f64::from(limit_ms) / 1000.0,
+                f64::from(self.limit_ms.unwrap_or(phase_limit_ms)) / 1000.0,
                 self.during
             )
         } else {

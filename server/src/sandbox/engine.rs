@@ -126,6 +126,7 @@ impl Engine {
                 .map_err(|e| e.to_string())
         });
         outcome.map_err(|message| Stopped {
+            limit_ms: None,
             during: during.borrow().clone(),
             cause: if self.budget.interrupted.get() {
                 "time".to_owned()
@@ -243,7 +244,11 @@ fn load_check(source: &str) -> Result<Option<Stopped>, String> {
             .map_err(|_| "a sandbox thread panicked".to_owned())?
     })?
     .err();
-    Ok(stopped)
+    Ok(stopped.map(|stopped| Stopped {
+        during: "the top level of your file (evaluated once, before every test)".to_owned(),
+        limit_ms: Some(LOAD_LIMIT_MS),
+        ..stopped
+    }))
 }
 
 /// One phase in an engine of its own: the harness's report, or where it was stopped.

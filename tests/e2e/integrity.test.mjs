@@ -1,0 +1,144 @@
+// A grade that means what it says, through the real server: a lookup table of every case a
+// student can know earns nothing on the hidden cases, a second submission waits for the
+// first, and the same file gets the same score alone and beside endless loops on a
+// machine busy with other work (limits are CPU time of the student's own engine).
+import assert from 'node:assert/strict';
+import { spawn } from 'node:child_process';
+import { readFileSync, writeFileSync } from 'node:fs';
+import { join } from 'node:path';
+import { test } from 'node:test';
+import { bounded, estlab, root, startServer, submit, tempDir, waitForSubmission } from './harness.mjs';
+
+const correct = readFileSync(join(root, 'tests', 'student', 'correct.js'), 'utf8');
+const PUBLIC_SEED = 2320;
+
+/** The key of a call's arguments in the table: every number to 12 digits. */
+function keyOf(args) {
+  const numbers = [];
+  const walk = (value) => {
+    if (Array.isArray(value)) value.forEach(walk);
+    else numbers.push(value === 'Infinity' ? Infinity : value);
+  };
+  walk(args);
+  return numbers.map((x) => (typeof x === 'number' ? x.toPrecision(12) : String(x))).join(',');
+}
+
+/**
+ * A student file that is nothing but a table: every case of `seeds` (as `estlab cases`
+ * prints them, which is all a student can know besides their results) answered from it.
+ */
+function lookupTable(seeds) {
+  const table = {};
+  for (const seed of seeds) {
+    for (const c of JSON.parse(estlab('cases', '--seed', String(seed), '--per-function', '6'))) {
+      (table[c.function] ??= {})[keyOf(Object.values(c.args))] = c.expected;
+    }
+  }
+  const functions = Object.keys(table).map((name) =>
+    `function ${name}(...args) { return TABLE[${JSON.stringify(name)}][keyOf(args)]; }`);
+  return [`const TABLE = ${JSON.stringify(table)};`, `const keyOf = ${keyOf.toString()};`, ...functions].join('\n');
+}
+
+/** Every function's test of a result, by function name. */
+function functionTests(result) {
+  return result.tests.filter((t) => /^\w+: \d+ cases$/.test(t.name));
+}
+
+test('a lookup table of every shown case earns nothing on the hidden cases, and a second submission waits for the first', bounded, async () => {
+  const server = await startServer();
+  try {
+    // The first submission tells the student their seed and shows their failures.
+    const first = await (await submit(server, { student: 'table', source: '// nothing yet\n' })).json();
+    const busy = await submit(server, { student: 'table', source: correct });
+    assert.equal(busy.status, 409);
+    assert.match((await busy.json()).error, new RegExp(`your submission ${first.id} is still waiting to be graded or being graded`));
+    const graded = await waitForSubmission(server, first.url);
+    assert.equal(graded.result.gradable, true);
+    assert.equal(graded.result.hidden_cases, true);
+
+    const table = lookupTable([PUBLIC_SEED, first.seed]);
+    // On the command line, which knows no secret, the table passes every function.
+    const file = join(tempDir(), 'table.js');
+    writeFileSync(file, table);
+    const local = JSON.parse(estlab('grade', file, '--seed', String(first.seed)));
+    assert.equal(local.hidden_cases, false);
+    for (const t of functionTests(local)) assert.equal(t.status, 'passed', `${t.name}: ${t.message}`);
+    const response = await submit(server, { student: 'table', source: table });
+    assert.equal(response.status, 202);
+    const second = await waitForSubmission(server, (await response.json()).url);
+    const result = second.result;
+    assert.equal(result.gradable, true);
+    for (const t of functionTests(result)) {
+      assert.match(t.message, /^12 of 12 shown cases and \d+ of 6 hidden cases pass/, t.name);
+      assert.doesNotMatch(t.message, /and 6 of 6 hidden/, t.name);
+      for (const failure of t.failures.filter((f) => f.hidden)) {
+        assert.equal(failure.args, null);
+        assert.equal(failure.expected, null);
+        assert.equal(failure.got, undefined);
+      }
+    }
+    assert.ok(result.score < 0.1, `a lookup table scored ${result.score}`);
+  } finally {
+    await server.stop();
+  }
+});
+
+/** correct.js made slow: `init`, called once per data-set run, first spends about half of
+ * the run's CPU time limit on busy work (about 2 s on this machine's kind). */
+const slow = correct.replace(/function init\(([^)]*)\) \{/,
+  "function init($1) {\n  let s = 0; for (let i = 0; i < 70000000; i++) s += i & 7; if (s < 0) throw new Error('never');");
+/** correct.js with an endless loop in `batch_update`: its test and the batch run run to
+ * their limits. */
+const looping = correct.replace(/function batch_update\(([^)]*)\) \{/, 'function batch_update($1) { for (;;) {}');
+
+/** Processes that keep `n` cores busy until stopped. */
+function burners(n) {
+  const children = Array.from({ length: n }, () =>
+    spawn(process.execPath, ['-e', 'for (;;) {}'], { stdio: 'ignore' }));
+  return () => Promise.all(children.map((child) => new Promise((done) => {
+    if (child.exitCode !== null || child.signalCode !== null) return done();
+    child.once('exit', done);
+    child.kill('SIGKILL');
+  })));
+}
+
+/** What a result says, test by test, without the timings and seeds that differ. */
+const verdicts = (result) => result.tests.map((t) => `${t.name}: ${t.status} ${t.points}`);
+
+test('the same file gets the same score alone and beside four endless loops on a busy machine', bounded, async () => {
+  assert.notEqual(slow, correct);
+  assert.notEqual(looping, correct);
+  const server = await startServer({ args: ['--parallel', '2'] });
+  let stopBurners = null;
+  try {
+    const alone = await (await submit(server, { student: 'slow', source: slow })).json();
+    const aloneResult = (await waitForSubmission(server, alone.url)).result;
+    assert.equal(aloneResult.score, 1, verdicts(aloneResult).join('\n'));
+
+    stopBurners = burners(2);
+    const busy = await (await submit(server, { student: 'slow', source: slow })).json();
+    const loops = [];
+    for (let i = 1; i <= 4; i++) {
+      const response = await submit(server, { student: `loop${i}`, source: looping });
+      assert.equal(response.status, 202);
+      loops.push(await response.json());
+    }
+    const busyResult = (await waitForSubmission(server, busy.url)).result;
+    const loopResults = [];
+    for (const loop of loops) loopResults.push((await waitForSubmission(server, loop.url)).result);
+    await stopBurners();
+    stopBurners = null;
+
+    assert.deepEqual(verdicts(busyResult), verdicts(aloneResult));
+    assert.equal(busyResult.score, aloneResult.score);
+    for (const result of loopResults) {
+      assert.equal(result.gradable, true);
+      const batch = result.tests.find((t) => t.name.startsWith('batch_update:'));
+      assert.match(batch.message, /Stopped after 2 s, the time limit/);
+      assert.equal(result.tests.filter((t) => t.status === 'failed').length, 2, verdicts(result).join('\n'));
+    }
+  } finally {
+    await stopBurners?.();
+    await server.stop();
+  }
+});
