@@ -408,6 +408,15 @@ function showSubmission(submission, text) {
   if (complete) {
     line += mine.points === result.points ? ' The same as in your browser.' : ` In your browser: ${fmt(mine.points, 4)} points.`;
   }
+  if (result.hidden_cases) {
+    // The browser knows only the shown cases; the server's differ at every submission.
+    const hidden = result.tests.flatMap((test) => (test.failures ?? []).filter((f) => f.hidden));
+    line += ' The server also graded hidden cases of every function and ran your filter on data sets you have not seen, which your browser cannot: a function earns the smaller of its pass rates on the shown and the hidden cases.';
+    for (const failure of hidden) {
+      line += `\nHidden case ${failure.case} (${failure.note}) fails` +
+        (failure.error ? `: ${failure.error}` : '') + (failure.hint ? `. Hint: ${failure.hint.text}` : '.');
+    }
+  }
   ui.submission.textContent = line;
 }
 
