@@ -6,9 +6,10 @@ import assert from 'node:assert/strict';
 import { readFileSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { after, before, test } from 'node:test';
-import { estlab, launchBrowser, openPage, root, startServer, tempDir } from './harness.mjs';
+import {
+  bounded, correct, estlab, launchBrowser, loopingInPredict, openPage, root, startServer, submission, submit, tempDir, waitForSubmission,
+} from './harness.mjs';
 
-const correct = readFileSync(join(root, 'tests', 'student', 'correct.js'), 'utf8');
 const mistakes = JSON.parse(readFileSync(join(root, 'tests', 'student', 'mistakes.json'), 'utf8'));
 
 /** correct.js with the mistake called `name` made. */
@@ -25,11 +26,11 @@ let browser;
 before(async () => {
   server = await startServer();
   browser = await launchBrowser();
-});
+}, bounded);
 after(async () => {
   await browser.close();
   await server.stop();
-});
+}, bounded);
 
 /** Replaces the editor's whole text by typing it, as a paste would. */
 async function type(page, text) {
@@ -45,7 +46,7 @@ function saved(page) {
 }
 
 /** Clicks `button` and waits until the run it starts has finished. */
-async function runAndWait(page, button, timeout = 60000) {
+async function runAndWait(page, button, timeout = 120_000) {
   await page.locator(button).click();
   await page.waitForFunction(() => document.getElementById('stop').disabled, null, { timeout });
 }
@@ -60,7 +61,7 @@ async function browserPoints(page) {
   return Number(text.match(/In your browser: ([\d.]+) of/)[1]);
 }
 
-test('the starter file: every test fails with "not implemented", and reset asks first', async () => {
+test('the starter file: every test fails with "not implemented", and reset asks first', bounded, async () => {
   const page = await openPage(browser, `${server.url}/ekf/code`);
   assert.deepEqual(page.problems, []);
   await runAndWait(page, '#run-tests');
@@ -85,7 +86,7 @@ test('the starter file: every test fails with "not implemented", and reset asks 
   await page.close();
 });
 
-test('a fix typed into the editor turns a failing test green, and the file survives a reload', async () => {
+test('a fix typed into the editor turns a failing test green, and the file survives a reload', bounded, async () => {
   const page = await openPage(browser, `${server.url}/ekf/code`);
   await type(page, withMistake('bearing-not-wrapped'));
   await runAndWait(page, '#run-tests');
@@ -109,7 +110,7 @@ test('a fix typed into the editor turns a failing test green, and the file survi
   await page.close();
 });
 
-test('the correct file scores 1 in the browser and through the server, and the verdicts agree', async () => {
+test('the correct file scores 1 in the browser and through the server, and the verdicts agree', bounded, async () => {
   const page = await openPage(browser, `${server.url}/ekf/code`);
   await page.locator('#student').fill('e2e-student');
   await page.locator('#student').dispatchEvent('change');
@@ -121,14 +122,14 @@ test('the correct file scores 1 in the browser and through the server, and the v
   assert.match(await page.locator('#summary').textContent(), /mean absolute error/);
 
   await page.locator('#submit').click();
-  await page.waitForSelector('#submission[data-status=graded]', { timeout: 60000 });
+  await page.waitForSelector('#submission[data-status=graded]', { timeout: 120_000 });
   const text = await page.locator('#submission').textContent();
   assert.match(text, /The server's grade for submission \d+: 110 of 110 points \(100%\)\. The same as in your browser\./);
   assert.deepEqual(page.problems, []);
   await page.close();
 });
 
-test('for broken files the browser gives the command line\'s points, test by test', async () => {
+test('for broken files the browser gives the command line\'s points, test by test', bounded, async () => {
   const page = await openPage(browser, `${server.url}/ekf/code`);
   const dir = tempDir();
   for (const name of ['odometry-wheels-swapped', 'jacobian-transposed', 'threshold-strict', 'batch-q-bar-range-variance']) {
@@ -149,9 +150,9 @@ test('for broken files the browser gives the command line\'s points, test by tes
   await page.close();
 });
 
-test('an endless loop is stopped at the time limit in the browser, and the server keeps serving meanwhile', async () => {
+test('an endless loop is stopped at the time limit in the browser, and the server keeps serving meanwhile', bounded, async () => {
   const page = await openPage(browser, `${server.url}/ekf/code`);
-  const looping = correct.replace(/function predict\(([^)]*)\) \{/, 'function predict($1) { while (true) {}');
+  const looping = loopingInPredict;
   assert.notEqual(looping, correct);
   await type(page, looping);
   await runAndWait(page, '#run-tests');
@@ -159,29 +160,21 @@ test('an endless loop is stopped at the time limit in the browser, and the serve
   assert.match(await page.locator('#test-predict .message').textContent(), /Stopped after 2 s, the time limit, while running predict\/p1/);
   assert.equal(await testStatus(page, 'update'), 'passed', 'the tests after it run in a fresh worker');
 
-  const response = await fetch(`${server.url}/api/submissions`, {
-    method: 'POST',
-    headers: { 'content-type': 'application/json' },
-    body: JSON.stringify({ student: 'loop', source: looping }),
-  });
+  const response = await submit(server, { student: 'loop', source: looping });
   assert.equal(response.status, 202);
   const { url } = await response.json();
   const health = await fetch(`${server.url}/healthz`);
   assert.equal(await health.text(), 'ok');
-  const during = await (await fetch(server.url + url)).json();
+  const during = await submission(server, url);
   assert.notEqual(during.status, 'graded', 'the health check was answered while the loop was being graded');
-  let submission;
-  do {
-    await new Promise((resolve) => setTimeout(resolve, 300));
-    submission = await (await fetch(server.url + url)).json();
-  } while (submission.status !== 'graded');
-  assert.equal(submission.result.gradable, true);
-  const predict = submission.result.tests.find((t) => t.name.startsWith('predict'));
+  const graded = await waitForSubmission(server, url);
+  assert.equal(graded.result.gradable, true);
+  const predict = graded.result.tests.find((t) => t.name.startsWith('predict'));
   assert.match(predict.message, /Stopped after 2 s, the time limit/);
   await page.close();
 });
 
-test('student code in the browser reaches no network, even through globalThis', async () => {
+test('student code in the browser reaches no network, even through globalThis', bounded, async () => {
   const page = await openPage(browser, `${server.url}/ekf/code`);
   const snooping = correct.replace(/function predict\(([^)]*)\) \{/, `function predict($1) {
   const request = new globalThis.XMLHttpRequest();

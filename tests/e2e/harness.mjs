@@ -1,7 +1,7 @@
 // What the end-to-end tests share: the real estlab binary, started on a free loopback
 // port, the estlab command line, and headless Chromium (Debian's) driven by Playwright.
 import { spawn, execFileSync } from 'node:child_process';
-import { existsSync, mkdtempSync } from 'node:fs';
+import { existsSync, mkdtempSync, readFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
@@ -9,8 +9,15 @@ import { chromium } from 'playwright-core';
 
 export const root = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
 export const estlabBinary = process.env.ESTLAB_BIN ?? join(root, 'target', 'debug', 'estlab');
-export const staticDir = join(root, 'target', 'web', 'dist');
+/** The browser build (scripts/build-web): the wasm-bindgen package in pkg/, the site in dist/. */
+export const webDir = process.env.ESTLAB_WEB ?? join(root, 'target', 'web');
+export const staticDir = join(webDir, 'dist');
 export const chromiumPath = process.env.CHROMIUM ?? '/usr/bin/chromium';
+
+/** The reference solution of the EKF exercise, as a student would write it. */
+export const correct = readFileSync(join(root, 'tests', 'student', 'correct.js'), 'utf8');
+/** correct.js with an endless loop at the start of `predict`, which the sandboxes stop after 2 s. */
+export const loopingInPredict = correct.replace(/function predict\(([^)]*)\) \{/, 'function predict($1) { while (true) {}');
 
 /** The estlab command line: its standard output, or a thrown error with its stderr. */
 export function estlab(...args) {
@@ -24,7 +31,8 @@ export function tempDir() {
 
 /**
  * Starts `estlab serve` on a free port, its submissions in `dataDir` (a fresh directory
- * unless given); resolves to { url, dataDir, stop() }.
+ * unless given); resolves to { url, dataDir, process, stop(), kill() }: stop() as Ctrl-C
+ * does, kill() at once (SIGKILL), each resolving once the server has exited.
  */
 export function startServer({ dataDir = tempDir(), args = [] } = {}) {
   if (!existsSync(estlabBinary)) throw new Error(`${estlabBinary} is not built (cargo build -p estlab)`);
@@ -43,12 +51,68 @@ export function startServer({ dataDir = tempDir(), args = [] } = {}) {
           url: match[1],
           dataDir,
           process: child,
-          stop: () => new Promise((done) => { child.once('exit', done); child.kill('SIGINT'); }),
+          stop: () => ended(child, 'SIGINT'),
+          kill: () => ended(child, 'SIGKILL'),
         });
       }
     });
     child.once('exit', (code) => reject(new Error(`estlab serve exited with ${code}: ${stderr}`)));
   });
+}
+
+/**
+ * Options for a test or a hook: the most it may take before it fails. A bound against
+ * hanging (node:test has no timeout of its own), generous, not a speed limit.
+ */
+export const bounded = { timeout: 5 * 60_000 };
+
+const sleep = (ms) => new Promise((resolve) => setTimeout(resolve, ms));
+
+/**
+ * Calls `probe` every `interval` ms until `until` holds for what it returns, and returns
+ * that. After `timeout` ms it fails with a message naming `what` and the value seen last:
+ * a bound against hanging (a grading that never ends), generous, not a speed limit.
+ */
+export async function waitFor(what, probe, until, { timeout = 120_000, interval = 200 } = {}) {
+  const deadline = Date.now() + timeout;
+  for (;;) {
+    const value = await probe();
+    if (until(value)) return value;
+    if (Date.now() > deadline) {
+      throw new Error(`gave up after ${timeout / 1000} s waiting for ${what}; seen last: ${JSON.stringify(value)?.slice(0, 500)}`);
+    }
+    await sleep(interval);
+  }
+}
+
+/** POSTs `body` (an object, or a string sent as it is) as a submission to `server`. */
+export function submit(server, body) {
+  return fetch(`${server.url}/api/submissions`, {
+    method: 'POST',
+    headers: { 'content-type': 'application/json' },
+    body: typeof body === 'string' ? body : JSON.stringify(body),
+  });
+}
+
+/** The submission at `url` (its API path) as `server` has it now. */
+export async function submission(server, url) {
+  const response = await fetch(server.url + url);
+  if (!response.ok) throw new Error(`GET ${url}: ${response.status} ${await response.text()}`);
+  return response.json();
+}
+
+/**
+ * The submission at `url` once `until` holds for it (by default: once it is graded);
+ * `what` names what is awaited in the message of a timeout.
+ */
+export function waitForSubmission(server, url, { until = (s) => s.status === 'graded', what = 'graded', ...options } = {}) {
+  return waitFor(`submission ${url} to be ${what}`, () => submission(server, url), until, options);
+}
+
+/** Sends `signal` to `child`, unless it has exited; resolves once it has. */
+function ended(child, signal) {
+  if (child.exitCode !== null || child.signalCode !== null) return Promise.resolve();
+  return new Promise((done) => { child.once('exit', done); child.kill(signal); });
 }
 
 /** Headless Chromium with the flags this machine needs. */

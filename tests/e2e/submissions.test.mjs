@@ -1,30 +1,10 @@
 // Submissions over HTTP: a bad request names the field, the source is stored before it is
 // graded, and grading cut off by a stop of the server resumes when it starts again.
 import assert from 'node:assert/strict';
-import { readFileSync } from 'node:fs';
-import { join } from 'node:path';
 import { test } from 'node:test';
-import { root, startServer } from './harness.mjs';
+import { bounded, correct, loopingInPredict, startServer, submit, waitForSubmission } from './harness.mjs';
 
-const correct = readFileSync(join(root, 'tests', 'student', 'correct.js'), 'utf8');
-
-function submit(server, body) {
-  return fetch(`${server.url}/api/submissions`, {
-    method: 'POST',
-    headers: { 'content-type': 'application/json' },
-    body: typeof body === 'string' ? body : JSON.stringify(body),
-  });
-}
-
-async function graded(server, url) {
-  for (;;) {
-    const submission = await (await fetch(server.url + url)).json();
-    if (submission.status === 'graded') return submission;
-    await new Promise((resolve) => setTimeout(resolve, 200));
-  }
-}
-
-test('a bad submission gets a 4xx that names what is wrong, and nothing is stored', async () => {
+test('a bad submission gets a 4xx that names what is wrong, and nothing is stored', bounded, async () => {
   const server = await startServer();
   try {
     const cases = [
@@ -48,25 +28,43 @@ test('a bad submission gets a 4xx that names what is wrong, and nothing is store
   }
 });
 
-test('a submission is stored, graded and kept; grading cut off by a stop resumes at the next start', async () => {
+test('a submission is stored, graded and kept; grading cut off by a stop resumes at the next start', bounded, async () => {
+  assert.notEqual(loopingInPredict, correct);
   const first = await startServer();
-  const response = await submit(first, { student: 'resume', source: correct });
-  assert.equal(response.status, 202);
-  const { id, url, seed } = await response.json();
-  assert.equal(response.headers.get('location'), url);
-  // Killed at once, before the grading (about a second) can end.
-  await new Promise((resolve) => { first.process.once('exit', resolve); first.process.kill('SIGKILL'); });
+  let id, url, seed, cut;
+  try {
+    const response = await submit(first, { student: 'resume', source: loopingInPredict });
+    assert.equal(response.status, 202);
+    ({ id, url, seed } = await response.json());
+    assert.equal(response.headers.get('location'), url);
+    // Killed while it grades: the endless loop in predict holds the grading for seconds
+    // (2 s for the tests of predict, more for the data-set runs), far longer than a poll.
+    cut = await waitForSubmission(first, url, { until: (s) => s.status !== 'queued', what: 'picked up for grading' });
+  } finally {
+    await first.kill();
+  }
+  assert.equal(cut.status, 'grading', 'the server was killed before the grading could end');
+  assert.equal(cut.graded_at, null);
 
+  const restarted = Date.now();
   const second = await startServer({ dataDir: first.dataDir });
   try {
-    const submission = await graded(second, url);
+    const submission = await waitForSubmission(second, url);
     assert.equal(submission.id, id);
     assert.equal(submission.student, 'resume');
     assert.equal(submission.seed, seed);
-    assert.equal(submission.result.score, 1);
+    assert.ok(Date.parse(submission.graded_at) >= restarted,
+      `graded at ${submission.graded_at}, after the restart at ${new Date(restarted).toISOString()}: the grade is the resumed run's`);
+    assert.equal(submission.result.gradable, true);
     assert.equal(submission.result.tests.length, 11);
-    const again = await submit(second, { student: 'resume', source: correct });
-    assert.equal((await again.json()).id, id + 1, 'the next submission is numbered after the stored one');
+    const predict = submission.result.tests.find((t) => t.name.startsWith('predict'));
+    assert.equal(predict.status, 'failed');
+    assert.match(predict.message, /Stopped after 2 s, the time limit/);
+    const update = submission.result.tests.find((t) => t.name.startsWith('update'));
+    assert.equal(update.status, 'passed', 'the functions without the loop pass');
+
+    const next = await submit(second, { student: 'resume-next', source: correct });
+    assert.equal((await next.json()).id, id + 1, 'the next submission is numbered after the stored one');
   } finally {
     await second.stop();
   }

@@ -5,9 +5,9 @@ import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { after, before, test } from 'node:test';
-import { estlab, launchBrowser, root, tempDir } from './harness.mjs';
+import { bounded, estlab, launchBrowser, tempDir, webDir } from './harness.mjs';
 
-const pkg = join(root, 'target', 'web', 'pkg');
+const pkg = join(webDir, 'pkg');
 let browser;
 let page;
 
@@ -26,8 +26,8 @@ before(async () => {
     window.estlab = await import('/estlab_wasm.js');
     await window.estlab.default({ module_or_path: '/estlab_wasm_bg.wasm' });
   });
-});
-after(async () => { await browser.close(); });
+}, bounded);
+after(async () => { await browser.close(); }, bounded);
 
 /** Asserts |got - expected| <= 1e-12 max(1, |expected|) elementwise. */
 function assertClose(got, expected, what) {
@@ -38,7 +38,7 @@ function assertClose(got, expected, what) {
   }
 }
 
-test('the car', async () => {
+test('the car', bounded, async () => {
   for (const [seed, extra] of [[1, {}], [7, { q: 1e-6, steps: 300 }]]) {
     const wasm = await page.evaluate(([seed, extra]) => {
       const params = { ...JSON.parse(window.estlab.carDefaults()), seed, ...extra };
@@ -65,7 +65,7 @@ test('the car', async () => {
   }
 });
 
-test('simulated data sets and whole EKF runs', async () => {
+test('simulated data sets and whole EKF runs', bounded, async () => {
   const dir = tempDir();
   for (const kind of ['o3', 'outliers', 'no-odometry']) {
     for (const seed of [1, 2]) {
@@ -106,18 +106,68 @@ test('simulated data sets and whole EKF runs', async () => {
         }
         assert.deepEqual(wasm.association, native.readings.map((r) => r.c), `${what}: associations`);
         assert.deepEqual(wasm.outlier, native.readings.map((r) => r.outlier), `${what}: rejections`);
-        assert.ok(estlab('run', sensor, map, ...flags).includes(wasm.report), `${what}: the report`);
+        // The report is the summary of estlab run, line for line, with the native numbers.
+        const printed = estlab('run', sensor, map, ...flags).split('\n').filter((l) => /^(mean|rejected)/.test(l));
+        assert.equal(wasm.report, `${printed.join('\n')}\n`, `${what}: the report is estlab run's`);
+        const { summary } = native;
+        const triple = (v) => `(${v.map((x) => x.toFixed(6)).join(', ')})`;
+        assert.equal(wasm.report, [
+          `mean error (x, y, theta):          ${triple(summary.mean_error)}`,
+          `mean absolute error (x, y, theta): ${triple(summary.mean_absolute_error)}`,
+          `rejected readings: ${summary.rejected} of ${summary.readings}`,
+          '',
+        ].join('\n'), `${what}: the report's numbers`);
       }
     }
   }
 });
 
-test('generated test cases', async () => {
+/** The name of each function's output where it is an array (the root of a mismatch's path). */
+const outputName = { calculate_odometry: 'u', observation_model: 'z_hat', jacobian_observation_model: 'H' };
+
+/**
+ * `expected` with its first number that is not a whole number (not an index) moved by a
+ * hundredth, towards zero: [the wrong output, the path of the change, the old and the new
+ * number]. The path is in the contract's notation: `u[1]`, `mu_bar[0]`, `nu[0][1]`.
+ */
+function oneNumberWrong(expected, path) {
+  if (typeof expected === 'number' && !Number.isInteger(expected)) {
+    const wrong = expected - Math.sign(expected) * 0.01 * (1 + Math.abs(expected));
+    return [wrong, path, expected, wrong];
+  }
+  const entries = Array.isArray(expected) ? expected.entries() : Object.entries(expected ?? {});
+  for (const [key, value] of entries) {
+    if (typeof value !== 'number' && typeof value !== 'object') continue;
+    const inner = Array.isArray(expected) ? `${path}[${key}]` : (path ? `${path}.${key}` : key);
+    const found = oneNumberWrong(value, inner);
+    if (found) {
+      const copy = Array.isArray(expected) ? [...expected] : { ...expected };
+      copy[key] = found[0];
+      return [copy, ...found.slice(1)];
+    }
+  }
+  return null;
+}
+
+test('generated test cases', bounded, async () => {
   for (const seed of [3, 99]) {
     const wasm = JSON.parse(await page.evaluate((seed) => window.estlab.generateCases(seed, 12), seed));
     const native = JSON.parse(estlab('cases', '--seed', String(seed), '--per-function', '12'));
     assert.deepEqual(wasm, native, `seed ${seed}`);
-    const verdict = await page.evaluate(([c]) => window.estlab.checkCase(JSON.stringify(c), JSON.stringify(c.expected)), [wasm[5]]);
-    assert.equal(verdict, '[]', 'a case passes its own expected output');
+    const functions = [...new Set(native.map((c) => c.function))];
+    assert.equal(functions.length, 8, 'cases of every student function');
+
+    // Every case passes with its own expected output, and one number wrong is found.
+    const check = (pairs) => page.evaluate((pairs) => pairs.map(([c, got]) => JSON.parse(window.estlab.checkCase(JSON.stringify(c), JSON.stringify(got)))), pairs);
+    const verdicts = await check(native.map((c) => [c, c.expected]));
+    verdicts.forEach((verdict, i) => assert.deepEqual(verdict, [], `${native[i].id} passes with its own expected output`));
+    for (const name of functions) {
+      const c = native.find((k) => k.function === name);
+      const [wrong, path, expected, got] = oneNumberWrong(c.expected, outputName[name] ?? '');
+      const [verdict] = await check([[c, wrong]]);
+      assert.equal(verdict.length, 1, `${c.id} with ${path} wrong: ${JSON.stringify(verdict)}`);
+      const { path: at, expected: was, got: is, problem } = verdict[0];
+      assert.deepEqual({ at, was, is, problem }, { at: path, was: expected, is: got, problem: 'differs' }, `${c.id} with ${path} wrong`);
+    }
   }
 });
