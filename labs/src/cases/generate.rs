@@ -2,12 +2,16 @@
 //! own. Each function's cases cycle through its scenarios, the regions where classic
 //! mistakes show: headings and bearings near +-pi, landmarks behind the robot, the first
 //! and the last landmark (0- versus 1-based indices), unequal wheels, a zero time step,
-//! outliers, readings just inside the outlier threshold and one exactly on it.
+//! outliers, readings just inside the outlier threshold and one exactly on it. Readings
+//! where a plausible wrong association rule picks another landmark than the likelihood
+//! (the nearest in Mahalanobis distance, the nearest innovation) and where the outlier
+//! decision differs between the associated landmark and the others are constructed, not
+//! left to chance: random readings almost never tell these rules apart.
 
 use super::Case;
 use super::contract::{Call, Mat2, Mat3, TwoRows, Vec2, Vec3, matrix2, reference, vector3};
 use crate::angle::wrap;
-use crate::ekf::{self, Belief};
+use crate::ekf::{self, Belief, Candidate, Landmark};
 use crate::rng::Rng;
 use nalgebra::{Matrix3, Vector2, Vector3};
 use std::f64::consts::PI;
@@ -97,18 +101,26 @@ const SCENARIOS: [(&str, &[Scenario]); 8] = [
     (
         "associate",
         &[
-            ("a good reading", |rng| association(rng, Reading::Good)),
+            (
+                "a good reading of an inner landmark, the first and the last beyond the gate",
+                good_reading,
+            ),
             ("a gross outlier", |rng| association(rng, Reading::Outlier)),
-            ("a reading just inside the threshold", |rng| {
-                association(rng, Reading::JustInside)
-            }),
-            ("a landmark behind the robot", |rng| {
-                association(rng, Reading::Behind)
-            }),
+            (
+                "the likelihood's normalisation decides: the most likely landmark is not the \
+                 nearest in Mahalanobis distance, and Lambda_M lies between their distances",
+                |rng| ambiguous_reading(rng, Rival::NearestMahalanobis),
+            ),
+            (
+                "a landmark behind the robot, read just inside the threshold",
+                |rng| association(rng, Reading::BehindJustInside),
+            ),
             ("D_M exactly on Lambda_M = 0", |_| threshold_boundary()),
-            ("no outlier rejection (Lambda_M = Infinity)", |rng| {
-                association(rng, Reading::NoRejection)
-            }),
+            (
+                "the landmark of the shortest innovation is not the most likely \
+                 (Lambda_M = Infinity)",
+                |rng| ambiguous_reading(rng, Rival::NearestInnovation),
+            ),
         ],
     ),
     (
@@ -299,7 +311,16 @@ fn observation(rng: &mut Rng, sight: Sight, jacobian: bool) -> Call {
         Sight::Anywhere | Sight::Behind => index(rng, n),
     };
     if matches!(sight, Sight::Behind) {
-        put_behind(rng, &mut m, j, &x);
+        // Behind, and where atan2(dy, dx) - theta itself lies outside [-pi, pi), so that
+        // a bearing left unwrapped shows: about half the places behind are so (none when
+        // theta is within 0.05 of 0, hence the bound).
+        for _ in 0..64 {
+            put_behind(rng, &mut m, j, &x);
+            let raw = libm::atan2(m[1][j] - x[1], m[0][j] - x[0]) - x[2];
+            if !(-PI..PI).contains(&raw) {
+                break;
+            }
+        }
     }
     if !jacobian {
         return Call::ObservationModel { x, m, j };
@@ -315,11 +336,8 @@ fn observation(rng: &mut Rng, sight: Sight, jacobian: bool) -> Call {
 
 #[derive(Clone, Copy, PartialEq)]
 enum Reading {
-    Good,
     Outlier,
-    JustInside,
-    Behind,
-    NoRejection,
+    BehindJustInside,
 }
 
 /// A predicted belief, a map, and a reading of landmark `c` from a pose drawn from the
@@ -332,12 +350,17 @@ struct Scene {
 }
 
 fn scene(rng: &mut Rng) -> Scene {
+    scene_with(rng, 1e-4, 1e-2)
+}
+
+/// A scene whose covariance has entries of a size between `low` and `high`.
+fn scene_with(rng: &mut Rng, low: f64, high: f64) -> Scene {
     let heading = any_heading(rng);
     let mu_bar = pose(rng, heading);
     let m = landmarks(rng, &mu_bar);
     Scene {
         mu_bar,
-        sigma_bar: covariance(rng, 1e-4, 1e-2),
+        sigma_bar: covariance(rng, low, high),
         m,
         q: measurement_noise(rng),
     }
@@ -363,6 +386,102 @@ impl Scene {
         Belief::new(vector3(&self.mu_bar), self.sigma_bar)
     }
 
+    /// The reference's association of the reading `z`.
+    fn associate(&self, z: Vec2, lambda_m: f64) -> ekf::Association {
+        ekf::associate(
+            &self.belief(),
+            &Vector2::from(z),
+            &contract_map(&self.m),
+            lambda_m,
+            &matrix2(&self.q),
+        )
+    }
+
+    /// The call of `associate` with the reading `z_i`.
+    fn into_call(self, z_i: Vec2, lambda_m: f64) -> Call {
+        Call::Associate {
+            mu_bar: self.mu_bar,
+            sigma_bar: rows3(&self.sigma_bar),
+            z_i,
+            m: self.m,
+            lambda_m,
+            q: self.q,
+        }
+    }
+
+    /// A reading on which the lab's rule and `rival` associate different landmarks, each
+    /// rule by a clear margin, at distances where psi does not underflow; `None` when no
+    /// pair of landmarks has one. Along the segment z(t) = z_hat_a + t (z_hat_b - z_hat_a)
+    /// in measurement space each rule prefers landmark a up to some t and b beyond it;
+    /// between the two rules' crossings they disagree, and the midpoint is taken. Pairs
+    /// close in measurement space come first: their readings are plausible for both.
+    fn separating(&self, rival: Rival) -> Option<Vec2> {
+        let mu = vector3(&self.mu_bar);
+        let z_hat: Vec<Vector2<f64>> = (0..self.m[0].len())
+            .map(|j| ekf::observation_model(&mu, &Vector2::new(self.m[0][j], self.m[1][j])))
+            .collect();
+        let towards = |a: usize, b: usize| {
+            let d = z_hat[b] - z_hat[a];
+            Vector2::new(d.x, wrap(d.y))
+        };
+        let n = z_hat.len();
+        let mut pairs: Vec<(usize, usize)> = (0..n)
+            .flat_map(|a| (a + 1..n).map(move |b| (a, b)))
+            .collect();
+        pairs.sort_by(|p, q| {
+            let gap = |&(a, b): &(usize, usize)| towards(a, b).norm_squared();
+            gap(p).total_cmp(&gap(q))
+        });
+        let belief = self.belief();
+        let q = matrix2(&self.q);
+        for (a, b) in pairs {
+            let at = |t: f64| {
+                let z = z_hat[a] + towards(a, b) * t;
+                [z.x, wrap(z.y)]
+            };
+            // The two landmarks alone, as landmarks 0 and 1.
+            let landmark = |j: usize, id| Landmark {
+                id,
+                position: Vector2::new(self.m[0][j], self.m[1][j]),
+            };
+            let both = ekf::Map::new(vec![landmark(a, 1), landmark(b, 2)]).ok()?;
+            // Where `rank` starts to prefer b, by bisection.
+            let crossing = |rank: &dyn Fn(&Candidate) -> f64| {
+                let (mut low, mut high) = (0.0, 1.0);
+                for _ in 0..40 {
+                    let mid = (low + high) / 2.0;
+                    let z = Vector2::from(at(mid));
+                    let cands = ekf::associate(&belief, &z, &both, f64::INFINITY, &q).candidates;
+                    if rank(&cands[1]) < rank(&cands[0]) {
+                        high = mid;
+                    } else {
+                        low = mid;
+                    }
+                }
+                (low + high) / 2.0
+            };
+            let z = at((crossing(&likelihood_rank) + crossing(&|c| rival.rank(c))) / 2.0);
+            let cands = self.associate(z, f64::INFINITY).candidates;
+            let (c, r) = (
+                best(&cands, likelihood_rank),
+                best(&cands, |c| rival.rank(c)),
+            );
+            let clear = |rank: &dyn Fn(&Candidate) -> f64, winner: usize, loser: usize| {
+                let (w, l) = (rank(&cands[winner]), rank(&cands[loser]));
+                l - w > 1e-6 * (1.0 + w.abs())
+            };
+            if c != r
+                && [c, r].iter().all(|j| [a, b].contains(j))
+                && clear(&likelihood_rank, c, r)
+                && clear(&|cand| rival.rank(cand), r, c)
+                && cands[c].mahalanobis.max(cands[r].mahalanobis) < 200.0
+            {
+                return Some(z);
+            }
+        }
+        None
+    }
+
     /// The reading `z` moved along the innovation of its most likely landmark until that
     /// innovation's D_M is `target`: an outlier of a chosen size, or an inlier just inside
     /// the threshold. Targets stay below ~1400, where psi itself would underflow and an
@@ -384,27 +503,104 @@ impl Scene {
     }
 }
 
+/// A threshold Lambda_M of the lab's kind, chi2inv(delta_M, 2).
+fn lab_threshold(rng: &mut Rng) -> f64 {
+    ekf::lambda_m([0.95, 0.99, 0.999][index(rng, 3)])
+}
+
 fn association(rng: &mut Rng, kind: Reading) -> Call {
     let mut s = scene(rng);
     let j = index(rng, s.m[0].len());
-    if kind == Reading::Behind {
+    if kind == Reading::BehindJustInside {
         put_behind(rng, &mut s.m, j, &s.mu_bar);
     }
-    let mut z_i = s.reading(rng, j);
-    let mut lambda_m = ekf::lambda_m([0.95, 0.99, 0.999][index(rng, 3)]);
-    match kind {
-        Reading::Outlier => z_i = s.stretched(z_i, rng.uniform_in(1.5 * lambda_m, 400.0)),
-        Reading::JustInside => z_i = s.stretched(z_i, 0.97 * lambda_m),
-        Reading::NoRejection => lambda_m = f64::INFINITY,
-        Reading::Good | Reading::Behind => {}
+    let z_i = s.reading(rng, j);
+    let lambda_m = lab_threshold(rng);
+    let target = match kind {
+        Reading::Outlier => rng.uniform_in(1.5 * lambda_m, 400.0),
+        Reading::BehindJustInside => 0.97 * lambda_m,
+    };
+    let z_i = s.stretched(z_i, target);
+    s.into_call(z_i, lambda_m)
+}
+
+/// A reading of an inner landmark, associated with it and inside the gate, while the
+/// first and the last landmark lie beyond the gate: an outlier decision made on the
+/// first, the last or any landmark instead of the associated one shows. Nearly every
+/// scene is so; the others are drawn again.
+fn good_reading(rng: &mut Rng) -> Call {
+    loop {
+        let s = scene(rng);
+        let last = s.m[0].len() - 1;
+        let j = 1 + index(rng, last - 1);
+        let z_i = s.reading(rng, j);
+        let lambda_m = lab_threshold(rng);
+        let a = s.associate(z_i, lambda_m);
+        let beyond = |k: usize| a.candidates[k].mahalanobis >= lambda_m;
+        if a.c == j && !a.outlier && beyond(0) && beyond(last) {
+            return s.into_call(z_i, lambda_m);
+        }
     }
-    Call::Associate {
-        mu_bar: s.mu_bar,
-        sigma_bar: rows3(&s.sigma_bar),
-        z_i,
-        m: s.m,
-        lambda_m,
-        q: s.q,
+}
+
+/// A plausible wrong rule for choosing the landmark of a reading, instead of the lab's
+/// largest likelihood psi_j.
+#[derive(Clone, Copy)]
+enum Rival {
+    /// The smallest Mahalanobis distance D_j: the likelihood without its normalisation.
+    NearestMahalanobis,
+    /// The shortest innovation |nu_j|, metres and radians added up.
+    NearestInnovation,
+}
+
+impl Rival {
+    /// How the rule ranks a landmark, lower preferred.
+    fn rank(self, cand: &Candidate) -> f64 {
+        match self {
+            Rival::NearestMahalanobis => cand.mahalanobis,
+            Rival::NearestInnovation => cand.nu.norm_squared(),
+        }
+    }
+}
+
+/// The lab's rank of a landmark, lower preferred: -2 ln psi_j = D_j + ln det(2 pi S_j),
+/// psi_j = det(2 pi S_j)^(-1/2) exp(-D_j / 2), less the constant ln (2 pi)^2.
+fn likelihood_rank(cand: &Candidate) -> f64 {
+    cand.mahalanobis + libm::log(cand.s.determinant())
+}
+
+/// The landmark `rank` prefers (the first of equals).
+fn best(cands: &[Candidate], rank: impl Fn(&Candidate) -> f64) -> usize {
+    (1..cands.len()).fold(0, |c, j| {
+        if rank(&cands[j]) < rank(&cands[c]) {
+            j
+        } else {
+            c
+        }
+    })
+}
+
+/// A reading on which `rival` associates another landmark than the lab's rule, in a scene
+/// of an uncertain pose (where the landmarks' S_j differ most). For the nearest in
+/// Mahalanobis distance, Lambda_M lies halfway between its D and the associated
+/// landmark's, so that the associated landmark is an outlier and the rival's is not:
+/// a decision made on the smallest D shows too. For the shortest innovation there is no
+/// rejection. Scenes without such a reading (rare) are drawn again.
+fn ambiguous_reading(rng: &mut Rng, rival: Rival) -> Call {
+    loop {
+        let s = scene_with(rng, 1e-2, 1e-1);
+        let Some(z_i) = s.separating(rival) else {
+            continue;
+        };
+        let lambda_m = match rival {
+            Rival::NearestMahalanobis => {
+                let cands = s.associate(z_i, f64::INFINITY).candidates;
+                let d = |j: usize| cands[j].mahalanobis;
+                (d(best(&cands, likelihood_rank)) + d(best(&cands, |c| rival.rank(c)))) / 2.0
+            }
+            Rival::NearestInnovation => f64::INFINITY,
+        };
+        return s.into_call(z_i, lambda_m);
     }
 }
 
@@ -433,11 +629,16 @@ fn batch_association(rng: &mut Rng, no_rejection: bool) -> Call {
     put_behind(rng, &mut s.m, behind, &s.mu_bar);
     let n = 3 + index(rng, 6);
     let mut z: TwoRows = [Vec::with_capacity(n), Vec::with_capacity(n)];
+    // The first two readings, where the scene has them, are ones a wrong association
+    // rule gets wrong; every third reading is an outlier.
+    let rivals = [Rival::NearestMahalanobis, Rival::NearestInnovation];
     for k in 0..n {
         let j = index(rng, n_landmarks);
         let mut reading = s.reading(rng, j);
         if k % 3 == 2 {
             reading = s.stretched(reading, rng.uniform_in(30.0, 400.0));
+        } else if let Some(constructed) = rivals.get(k).and_then(|&r| s.separating(r)) {
+            reading = constructed;
         }
         z[0].push(reading[0]);
         z[1].push(reading[1]);

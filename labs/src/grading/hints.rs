@@ -2,11 +2,13 @@
 //! mistake. Each check recomputes the reference with the mistake made (wheels swapped, an
 //! index off by one, a product transposed, ...) and compares the student's output with it.
 
+use crate::angle::wrap;
 use crate::cases::{Call, Mismatch, Problem, Tolerance, compare, output_shape, reference};
 use crate::ekf::motion_jacobian;
 use nalgebra::{Matrix2, Matrix3, Vector2};
 use serde::{Deserialize, Serialize};
 use serde_json::{Value, json};
+use std::f64::consts::TAU;
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Hint {
@@ -29,6 +31,11 @@ pub enum HintKind {
     #[serde(rename = "r_q_swapped")]
     RQSwapped,
     StaleAssociation,
+    NearestMahalanobis,
+    NearestInnovation,
+    OutlierOtherLandmark,
+    OdometryHeading,
+    AbsoluteHeading,
     BatchQBar,
     WrongShape,
     NotFinite,
@@ -88,6 +95,33 @@ impl HintKind {
                 "The same call gave another answer in a fresh copy of your file: the \
                  function keeps state between calls (a stale association from an earlier \
                  reading?). Compute every result from its arguments alone."
+            }
+            HintKind::NearestMahalanobis => {
+                "c is the landmark of the smallest Mahalanobis distance D_j, which is not the \
+                 most likely one: the likelihood psi_j = det(2 pi S_j)^(-1/2) exp(-D_j / 2) \
+                 also weighs the normalisation, which favours a landmark with a smaller S_j. \
+                 Take the largest psi_j, or the smallest D_j + ln det(2 pi S_j)."
+            }
+            HintKind::NearestInnovation => {
+                "c is the landmark of the shortest innovation nu_j, counting metres and \
+                 radians alike: an innovation is only small or large relative to its \
+                 covariance S_j. Take the largest likelihood psi_j = det(2 pi S_j)^(-1/2) \
+                 exp(-D_j / 2), D_j = nu_j^T S_j^-1 nu_j."
+            }
+            HintKind::OutlierOtherLandmark => {
+                "The outlier flag was decided on another landmark's distance (the first, the \
+                 last, the smallest or any D_j): a reading is an outlier when the distance \
+                 of the landmark it is associated with reaches the gate, D_c >= Lambda_M."
+            }
+            HintKind::OdometryHeading => {
+                "The x and y of u follow another heading than the lab's: eq. 4 moves the \
+                 robot along the heading of mu before the step, [v dt cos(theta), v dt \
+                 sin(theta)] with theta = mu[2], not the heading after the step or halfway \
+                 through it."
+            }
+            HintKind::AbsoluteHeading => {
+                "u[2] is the new heading theta + omega dt: u is the change of the pose over \
+                 the step, u[2] = omega dt, which predict adds to mu."
             }
             HintKind::BatchQBar => {
                 "The result is what S = H_bar Sigma_bar H_bar^T + q I gives, with the range \
@@ -156,7 +190,17 @@ pub fn diagnose(
     let kind = match call {
         Call::CalculateOdometry { delta_t, .. } if *delta_t == 0.0 => Some(HintKind::FirstStep),
         Call::CalculateOdometry { .. } => {
-            gives(reference(&swap_wheels(call)).ok()).then_some(HintKind::WheelsSwapped)
+            if gives(reference(&swap_wheels(call)).ok()) {
+                Some(HintKind::WheelsSwapped)
+            } else if gives(absolute_heading(call, expected)) {
+                Some(HintKind::AbsoluteHeading)
+            } else {
+                // The heading after the step (theta + omega dt) or halfway through it.
+                [1.0, 0.5]
+                    .iter()
+                    .any(|&k| gives(reference(&heading_moved(call, k)).ok()))
+                    .then_some(HintKind::OdometryHeading)
+            }
         }
         Call::ObservationModel { j, .. } | Call::JacobianObservationModel { j, .. } => (*j > 0
             && gives(reference(&with_landmark(call, j - 1)).ok()))
@@ -167,18 +211,18 @@ pub fn diagnose(
             .then_some(HintKind::JacobianSign)
         }),
         Call::Associate { lambda_m, .. } => {
-            if index_plus_one(mismatches) {
-                Some(HintKind::OneBasedIndex)
-            } else if mismatches.iter().any(|m| m.path == "outlier")
+            if mismatches.iter().any(|m| m.path == "outlier")
                 && mahalanobis_of_choice(expected).is_some_and(|d| d == *lambda_m)
             {
                 Some(HintKind::ThresholdStrict)
             } else {
-                None
+                association_hint(mismatches, |rule| {
+                    gives(rule.associate(expected, *lambda_m))
+                })
             }
         }
         Call::BatchAssociate { .. } => {
-            index_plus_one(mismatches).then_some(HintKind::OneBasedIndex)
+            association_hint(mismatches, |rule| gives(rule.batch_associate(call)))
         }
         Call::Predict { .. } => {
             gives(transposed_prediction(call)).then_some(HintKind::PredictTransposed)
@@ -328,11 +372,169 @@ fn index_plus_one(mismatches: &[Mismatch]) -> bool {
 /// D_M of the landmark the reference chose: nu^T S^-1 nu from the expected output.
 fn mahalanobis_of_choice(expected: &Value) -> Option<f64> {
     let c = expected["c"].as_u64()? as usize;
-    let nu: [f64; 2] = serde_json::from_value(expected["nu"][c].clone()).ok()?;
-    let s: [[f64; 2]; 2] = serde_json::from_value(expected["S"][c].clone()).ok()?;
-    let nu = Vector2::from(nu);
-    let s = Matrix2::from_fn(|i, j| s[i][j]);
-    Some(nu.dot(&(s.try_inverse()? * nu)))
+    candidates(expected)?.get(c).map(|cand| cand.mahalanobis)
+}
+
+/// What one landmark predicts in the expected output of `associate`.
+struct Predicted {
+    nu: Vector2<f64>,
+    /// D_j = nu_j^T S_j^-1 nu_j.
+    mahalanobis: f64,
+}
+
+/// Every landmark's innovation and distance, from the expected output of `associate`.
+fn candidates(expected: &Value) -> Option<Vec<Predicted>> {
+    let nus: Vec<[f64; 2]> = serde_json::from_value(expected["nu"].clone()).ok()?;
+    let ss: Vec<[[f64; 2]; 2]> = serde_json::from_value(expected["S"].clone()).ok()?;
+    nus.iter()
+        .zip(&ss)
+        .map(|(nu, s)| {
+            let nu = Vector2::from(*nu);
+            let s = Matrix2::from_fn(|i, j| s[i][j]);
+            Some(Predicted {
+                nu,
+                mahalanobis: nu.dot(&(s.try_inverse()? * nu)),
+            })
+        })
+        .collect()
+}
+
+/// A classic mistake in choosing the landmark of a reading, or in deciding whether it is
+/// an outlier.
+#[derive(Clone, Copy)]
+enum Rule {
+    /// c = argmin_j D_j, the likelihood without its normalisation det(2 pi S_j)^(-1/2).
+    NearestMahalanobis,
+    /// c = argmin_j |nu_j|^2, metres and radians added up.
+    NearestInnovation,
+    /// The outlier flag D_k >= Lambda_M of another landmark k than c, or of any.
+    OutlierOf(Other),
+}
+
+#[derive(Clone, Copy)]
+enum Other {
+    First,
+    Last,
+    /// The landmark of the smallest D_j: an outlier only if no landmark is within the gate.
+    Nearest,
+    /// Any landmark: an outlier if any D_j reaches the gate.
+    Any,
+}
+
+const RULES: [Rule; 6] = [
+    Rule::NearestMahalanobis,
+    Rule::NearestInnovation,
+    Rule::OutlierOf(Other::First),
+    Rule::OutlierOf(Other::Last),
+    Rule::OutlierOf(Other::Nearest),
+    Rule::OutlierOf(Other::Any),
+];
+
+impl Rule {
+    fn hint(self) -> HintKind {
+        match self {
+            Rule::NearestMahalanobis => HintKind::NearestMahalanobis,
+            Rule::NearestInnovation => HintKind::NearestInnovation,
+            Rule::OutlierOf(_) => HintKind::OutlierOtherLandmark,
+        }
+    }
+
+    /// What `associate` returns with the mistake made, from its expected output: the
+    /// rule's c, and the outlier flag that goes with it.
+    fn associate(self, expected: &Value, lambda_m: f64) -> Option<Value> {
+        let cands = candidates(expected)?;
+        let c = expected["c"].as_u64()? as usize;
+        let first_smallest = |rank: &dyn Fn(&Predicted) -> f64| {
+            (1..cands.len()).fold(0, |best, j| {
+                if rank(&cands[j]) < rank(&cands[best]) {
+                    j
+                } else {
+                    best
+                }
+            })
+        };
+        let gate = |k: usize| cands.get(k).map(|cand| cand.mahalanobis >= lambda_m);
+        let (c, outlier) = match self {
+            Rule::NearestMahalanobis | Rule::NearestInnovation => {
+                let nearest = first_smallest(&|cand: &Predicted| match self {
+                    Rule::NearestInnovation => cand.nu.norm_squared(),
+                    _ => cand.mahalanobis,
+                });
+                (nearest, gate(nearest)?)
+            }
+            Rule::OutlierOf(other) => (
+                c,
+                match other {
+                    Other::First => gate(0)?,
+                    Other::Last => gate(cands.len().checked_sub(1)?)?,
+                    Other::Nearest => gate(first_smallest(&|cand| cand.mahalanobis))?,
+                    Other::Any => cands.iter().any(|cand| cand.mahalanobis >= lambda_m),
+                },
+            ),
+        };
+        let mut wrong = expected.clone();
+        wrong["c"] = json!(c);
+        wrong["outlier"] = json!(outlier);
+        Some(wrong)
+    }
+
+    /// What `batch_associate` returns with the mistake made in the association of each
+    /// reading (each reading's full association recomputed with the reference).
+    fn batch_associate(self, call: &Call) -> Option<Value> {
+        let Call::BatchAssociate {
+            mu_bar,
+            sigma_bar,
+            z,
+            m,
+            lambda_m,
+            q,
+        } = call
+        else {
+            return None;
+        };
+        let mut out = json!({ "c": [], "outlier": [], "nu_bar": [], "H_bar": [] });
+        for (&range, &bearing) in z[0].iter().zip(&z[1]) {
+            let single = Call::Associate {
+                mu_bar: *mu_bar,
+                sigma_bar: *sigma_bar,
+                z_i: [range, bearing],
+                m: m.clone(),
+                lambda_m: *lambda_m,
+                q: *q,
+            };
+            let wrong = self.associate(&reference(&single).ok()?, *lambda_m)?;
+            let c = wrong["c"].as_u64()? as usize;
+            let mut push = |field: &str, values: Vec<Value>| {
+                out[field].as_array_mut().map(|list| list.extend(values))
+            };
+            push("c", vec![wrong["c"].clone()])?;
+            push("outlier", vec![wrong["outlier"].clone()])?;
+            push("nu_bar", wrong["nu"].get(c)?.as_array()?.clone())?;
+            push("H_bar", wrong["H"].get(c)?.as_array()?.clone())?;
+        }
+        Some(out)
+    }
+}
+
+/// The hint of the one association mistake that explains the output, a 1-based index or
+/// a rule (`explains` tells whether a rule does); none when several do, as the case
+/// cannot tell them apart.
+fn association_hint(mismatches: &[Mismatch], explains: impl Fn(Rule) -> bool) -> Option<HintKind> {
+    let one_based = index_plus_one(mismatches).then_some(HintKind::OneBasedIndex);
+    let mut kinds: Vec<HintKind> = one_based
+        .into_iter()
+        .chain(
+            RULES
+                .iter()
+                .filter(|rule| explains(**rule))
+                .map(|rule| rule.hint()),
+        )
+        .collect();
+    kinds.dedup();
+    match kinds[..] {
+        [kind] => Some(kind),
+        _ => None,
+    }
 }
 
 /// What predict returns with G^T Sigma G + R in place of G Sigma G^T + R.
@@ -365,4 +567,36 @@ fn range_variance_only(call: &Call) -> Call {
         }
     }
     other
+}
+
+/// The odometry call with mu's heading moved on by `k` times the turn of the step,
+/// omega dt = (2 pi e_R R_R / E_T - 2 pi e_L R_L / E_T) / B (EL2320 eq. 4): the heading
+/// after the step for k = 1, halfway through it for k = 1/2.
+fn heading_moved(call: &Call, k: f64) -> Call {
+    let mut other = call.clone();
+    if let Call::CalculateOdometry {
+        e_r,
+        e_l,
+        e_t,
+        b,
+        r_r,
+        r_l,
+        mu,
+        ..
+    } = &mut other
+    {
+        let turn = (TAU * *e_r * *r_r / *e_t - TAU * *e_l * *r_l / *e_t) / *b;
+        mu[2] += k * turn;
+    }
+    other
+}
+
+/// The odometry output with u[2] the new heading theta + omega dt instead of omega dt.
+fn absolute_heading(call: &Call, expected: &Value) -> Option<Value> {
+    let Call::CalculateOdometry { mu, .. } = call else {
+        return None;
+    };
+    let mut wrong = expected.clone();
+    wrong[2] = json!(wrap(mu[2] + expected[2].as_f64()?));
+    Some(wrong)
 }
