@@ -1,5 +1,10 @@
 //! Whole runs of the reference EKF on the three original EL2320 data sets (from
 //! `ESTLAB_SHARED_DATA`) and on generated ones, sequential and batch, and single steps.
+//!
+//! `cargo test --all-targets` (as `scripts/test` runs it) runs each benchmark once as a
+//! test, which shows only that every benchmarked call completes without a panic: the
+//! results are not checked here (the tests in `labs/tests/` do that) and no time is
+//! asserted. Without the shared data the original data sets are left out, with a note.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use labs::dataset::{Dataset, Kind, parse_map, parse_sensor_log, simulate};
@@ -11,8 +16,8 @@ use nalgebra::Vector3;
 use std::hint::black_box;
 
 fn original(sensor: &str, map: &str) -> Option<Dataset> {
-    let map_text = testdata::read(&format!("el2320/datasets/{map}"))?;
-    let sensor_text = testdata::read(&format!("el2320/datasets/{sensor}"))?;
+    let map_text = testdata::read_if_present(&format!("el2320/datasets/{map}"))?;
+    let sensor_text = testdata::read_if_present(&format!("el2320/datasets/{sensor}"))?;
     let map = parse_map(&map_text, map).unwrap();
     let log = parse_sensor_log(&sensor_text, sensor, &map).unwrap();
     Some(Dataset { map, log })
@@ -121,8 +126,8 @@ fn single_steps(c: &mut Criterion) {
 
 fn parsing(c: &mut Criterion) {
     let (Some(map_text), Some(sensor_text)) = (
-        testdata::read("el2320/datasets/map_o3.txt"),
-        testdata::read("el2320/datasets/so_o3_ie.txt"),
+        testdata::read_if_present("el2320/datasets/map_o3.txt"),
+        testdata::read_if_present("el2320/datasets/so_o3_ie.txt"),
     ) else {
         return;
     };

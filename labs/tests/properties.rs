@@ -12,6 +12,7 @@ use labs::ekf::{
 };
 use nalgebra::{Matrix2, Matrix2x3, Matrix3, Vector2, Vector3};
 use proptest::prelude::*;
+use proptest::test_runner::FileFailurePersistence;
 use std::f64::consts::PI;
 
 fn pose() -> impl Strategy<Value = Vector3<f64>> {
@@ -59,7 +60,8 @@ proptest! {
     #![proptest_config(ProptestConfig {
         cases: 300,
         rng_seed: proptest::test_runner::RngSeed::Fixed(0x00e5_71ab),
-        failure_persistence: None,
+        // The cases saved in properties.proptest-regressions run first.
+        failure_persistence: Some(Box::new(FileFailurePersistence::WithSource("proptest-regressions"))),
         ..ProptestConfig::default()
     })]
 
@@ -166,7 +168,11 @@ fn assert_symmetric_positive_semidefinite(sigma: &Matrix3<f64>, what: &str) {
     );
 }
 
+/// Whole runs of both updates: every covariance symmetric positive semi-definite, every
+/// heading (the estimate's, the odometry-only pose's and the error's) wrapped to
+/// [-pi, pi) as the README promises.
 fn check_runs(data: &Dataset, settings: &Settings, name: &str) {
+    let wrapped = |angle: f64| (-PI..PI).contains(&angle);
     for mode in [UpdateMode::Sequential, UpdateMode::Batch] {
         let result = run(
             data,
@@ -177,16 +183,21 @@ fn check_runs(data: &Dataset, settings: &Settings, name: &str) {
         )
         .unwrap();
         for (k, step) in result.steps.iter().enumerate() {
-            assert_symmetric_positive_semidefinite(
-                &step.sigma,
-                &format!("{name} {mode:?} step {k}"),
-            );
+            let what = format!("{name} {mode:?} step {k}");
+            assert_symmetric_positive_semidefinite(&step.sigma, &what);
+            for (heading, angle) in [
+                ("mu", step.mu.z),
+                ("odometry", step.odometry.z),
+                ("error", step.error.z),
+            ] {
+                assert!(wrapped(angle), "{what}: {heading} theta = {angle}");
+            }
         }
     }
 }
 
 #[test]
-fn covariances_stay_symmetric_positive_semidefinite_through_whole_runs() {
+fn generated_runs_keep_covariances_positive_semidefinite_and_headings_wrapped() {
     for kind in Kind::ALL {
         for seed in 1..=3 {
             check_runs(
@@ -196,6 +207,11 @@ fn covariances_stay_symmetric_positive_semidefinite_through_whole_runs() {
             );
         }
     }
+}
+
+testdata::data_tests!(original_runs_keep_covariances_positive_semidefinite_and_headings_wrapped);
+
+fn original_runs_keep_covariances_positive_semidefinite_and_headings_wrapped() {
     for (sensor, map_file, settings) in [
         ("so_o3_ie.txt", "map_o3.txt", Settings::lab_o3()),
         (
@@ -209,12 +225,8 @@ fn covariances_stay_symmetric_positive_semidefinite_through_whole_runs() {
             Settings::lab_no_odometry(),
         ),
     ] {
-        let (Some(s), Some(m)) = (
-            testdata::read(&format!("el2320/datasets/{sensor}")),
-            testdata::read(&format!("el2320/datasets/{map_file}")),
-        ) else {
-            return;
-        };
+        let s = testdata::read(&format!("el2320/datasets/{sensor}"));
+        let m = testdata::read(&format!("el2320/datasets/{map_file}"));
         let map = parse_map(&m, map_file).unwrap();
         let log = parse_sensor_log(&s, sensor, &map).unwrap();
         check_runs(&Dataset { map, log }, &settings, sensor);

@@ -2,6 +2,10 @@
 //! same sandbox worker process): the plan from the seed, every function suite and every
 //! data-set run of the correct student file in QuickJS, the comparison. Run with
 //! `cargo bench -p estlab --bench grade`; the budget (DESIGN.md) is 1 s.
+//!
+//! `cargo test --all-targets` (as `scripts/test` runs it) runs it once as a test, which
+//! asserts only that `estlab grade` exits with 0, as it does whatever the score: the
+//! grades themselves are checked in `server/tests/grade.rs`, and no time is asserted.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::path::Path;

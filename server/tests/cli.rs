@@ -1,5 +1,6 @@
 //! The `estlab` command line, run as a user runs it.
 
+use labs::car::{CarParams, CarRun};
 use std::path::Path;
 use std::process::{Command, Output};
 
@@ -79,12 +80,10 @@ fn simulate_then_run_meets_the_bound() {
     assert_eq!(json["summary"]["steps"].as_u64().unwrap() as usize, steps);
 }
 
-#[test]
+testdata::data_tests!(the_original_o3_run_prints_the_lab_figures);
+
 fn the_original_o3_run_prints_the_lab_figures() {
-    let Some(data) = testdata::shared_data() else {
-        return;
-    };
-    let dir = data.join("el2320/datasets");
+    let dir = testdata::shared_data().join("el2320/datasets");
     let out = estlab(&[
         "run",
         path(&dir.join("so_o3_ie.txt")),
@@ -183,18 +182,126 @@ fn bad_flags_are_refused() {
     );
 }
 
+/// Every number of a line that starts with `label`.
+fn numbers_on(text: &str, label: &str) -> Vec<f64> {
+    let line = text
+        .lines()
+        .find(|l| l.starts_with(label))
+        .unwrap_or_else(|| panic!("no '{label}' in:\n{text}"));
+    line.split(|c: char| !(c.is_ascii_digit() || ".-+e".contains(c)))
+        .filter_map(|word| word.parse().ok())
+        .collect()
+}
+
+fn assert_close(got: &[f64], expected: &[f64], tolerance: f64, text: &str) {
+    assert_eq!(
+        got.len(),
+        expected.len(),
+        "{got:?} vs {expected:?} in:\n{text}"
+    );
+    for (g, e) in got.iter().zip(expected) {
+        assert!(
+            (g - e).abs() <= tolerance,
+            "{got:?} vs {expected:?} in:\n{text}"
+        );
+    }
+}
+
 #[test]
-fn the_car_prints_its_summary_and_names_bad_parameters() {
-    let out = estlab(&["car", "--seed", "4"]);
+fn the_car_runs_the_reference_with_every_flag_and_names_bad_parameters() {
+    // Each flag set to a value of its own, so that one landing in the wrong field shows.
+    let flags = [
+        "car",
+        "--seed",
+        "4",
+        "--steps",
+        "60",
+        "--dt",
+        "0.05",
+        "--u",
+        "0.3",
+        "--x0",
+        "2,0.1",
+        "--process-std",
+        "0.02,0.2",
+        "--measurement-std",
+        "0.3",
+        "--R",
+        "1e-3,2e-2",
+        "--Q",
+        "0.05",
+        "--mu0",
+        "0.5,1",
+        "--sigma0",
+        "2,3",
+    ];
+    let params = CarParams {
+        seed: 4,
+        steps: 60,
+        dt: 0.05,
+        u: 0.3,
+        x0: [2.0, 0.1],
+        process_std: [0.02, 0.2],
+        measurement_std: 0.3,
+        r: [[1e-3, 0.0], [0.0, 2e-2]],
+        q: 0.05,
+        mu0: [0.5, 1.0],
+        sigma0: [[2.0, 0.0], [0.0, 3.0]],
+    };
+    let reference = labs::car::run(&params).unwrap();
+
+    let out = estlab(&[&flags[..], &["--json"]].concat());
+    assert!(out.status.success(), "{}", stderr(&out));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let printed: CarParams = serde_json::from_value(json["params"].clone()).unwrap();
+    assert_eq!(printed, params);
+    let run: CarRun = serde_json::from_value(json["run"].clone()).unwrap();
+    assert_eq!(run, reference);
+
+    // The text: the final step and the second half's error spread, to the 4 decimals
+    // printed.
+    let out = estlab(&flags);
     assert!(out.status.success(), "{}", stderr(&out));
     let text = stdout(&out);
-    assert!(
-        text.contains("error std over the second half: position "),
-        "{text}"
+    let last = reference.steps.last().unwrap();
+    let final_line = [
+        last.mu.x,
+        last.mu.y,
+        last.truth.x,
+        last.truth.y,
+        last.sigma[(0, 0)].sqrt(),
+        last.sigma[(1, 1)].sqrt(),
+    ];
+    assert_close(&numbers_on(&text, "final: "), &final_line, 5e-5, &text);
+    assert_close(
+        &numbers_on(&text, "error std over the second half: "),
+        &reference.error_std,
+        5e-5,
+        &text,
     );
 
-    let trusting = stdout(&estlab(&["car", "--seed", "4", "--Q", "1e-8"]));
-    assert_ne!(trusting, text);
+    // The lab's defaults with seed 4, pinned; then a filter that trusts the measurements
+    // 10^6 times too much, which follows their noise: both errors spread wider.
+    let text = stdout(&estlab(&["car", "--seed", "4"]));
+    assert_close(
+        &numbers_on(&text, "final: "),
+        &[11.8958, 1.3185, 11.9121, 1.4067, 0.0607, 0.2154],
+        0.0,
+        &text,
+    );
+    assert_close(
+        &numbers_on(&text, "error std over the second half: "),
+        &[0.0411, 0.1591],
+        0.0,
+        &text,
+    );
+    let text = stdout(&estlab(&["car", "--seed", "4", "--Q", "1e-8"]));
+    assert_close(
+        &numbers_on(&text, "error std over the second half: "),
+        &[0.0794, 0.6244],
+        0.0,
+        &text,
+    );
 
     let out = estlab(&["car", "--Q", "0"]);
     assert_eq!(out.status.code(), Some(1));
