@@ -89,10 +89,11 @@ fn straightforward(call: &Call) -> Value {
             let wl = 2.0 * PI * e_l / (e_t * delta_t);
             let v = (wr * r_r + wl * r_l) / 2.0;
             let w = (wr * r_r - wl * r_l) / b;
+            // The turn is an angle like any other: wrapped, as the contract says.
             json!([
                 v * delta_t * mu[2].cos(),
                 v * delta_t * mu[2].sin(),
-                w * delta_t
+                wrap(w * delta_t)
             ])
         }
         Call::Predict { mu, sigma, u, r } => {
