@@ -833,7 +833,7 @@ fn hostile_suite() -> Vec<Hostile> {
                 p.only_these_fail(r, &["batch_update"]);
                 p.says(r, "batch_update", &["an array of 15000 numbers"]);
                 let size = r.to_string().len();
-                p.expect(size < 64 << 10, || format!("the result has {size} bytes"));
+                p.expect(size < 40 << 10, || format!("the result has {size} bytes"));
             },
         ),
         hostile(

@@ -4,10 +4,10 @@
 // machine busy with other work (limits are CPU time of the student's own engine).
 import assert from 'node:assert/strict';
 import { spawn } from 'node:child_process';
-import { readFileSync, writeFileSync } from 'node:fs';
+import { existsSync, readdirSync, readFileSync, statSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { test } from 'node:test';
-import { bounded, estlab, root, startServer, submit, tempDir, waitForSubmission } from './harness.mjs';
+import { bounded, estlab, root, startServer, submit, tempDir, waitFor, waitForSubmission } from './harness.mjs';
 
 const correct = readFileSync(join(root, 'tests', 'student', 'correct.js'), 'utf8');
 const PUBLIC_SEED = 2320;
@@ -141,4 +141,88 @@ test('the same file gets the same score alone and beside four endless loops on a
     await stopBurners?.();
     await server.stop();
   }
+});
+
+/** A field of /proc/PID/status in kB (VmRSS, VmHWM), or null when the process is gone. */
+function memoryOf(pid, field) {
+  try {
+    const status = readFileSync(`/proc/${pid}/status`, 'utf8');
+    return Number(status.match(new RegExp(`^${field}:\\s+(\\d+) kB`, 'm'))[1]);
+  } catch {
+    return null;
+  }
+}
+
+/** The processes whose parent is `pid`. */
+function childrenOf(pid) {
+  return readdirSync('/proc').filter((name) => /^\d+$/.test(name)).filter((name) => {
+    try {
+      // /proc/PID/stat: "pid (comm) state ppid ...", comm may hold spaces.
+      const stat = readFileSync(`/proc/${name}/stat`, 'utf8');
+      return Number(stat.slice(stat.lastIndexOf(')') + 2).split(' ')[1]) === pid;
+    } catch {
+      return false;
+    }
+  }).map(Number);
+}
+
+const HOSTILE = {
+  'tampering setters': "Object.defineProperty(Object.prototype, 'error', { set(v) {}, configurable: true });\n",
+  'a 1e300 heading': correct.replace('wrap(mu[2] + u[2])];', 'wrap(mu[2] + u[2]) + 1e300];'),
+  'huge outputs': ['calculate_odometry', 'predict', 'observation_model', 'jacobian_observation_model',
+    'associate', 'batch_associate', 'update', 'batch_update']
+    .map((name) => `function ${name}() { return new Array(15000).fill(1.5); }`).join('\n'),
+  'a top-level loop': 'for (;;) {}',
+  'an allocation bomb': correct + '\nfunction predict() { const a = []; for (;;) a.push(new Float64Array(1 << 20)); }\n',
+  'an endless loop': looping,
+};
+
+test('hostile files graded side by side: the server answers meanwhile, its memory and its results stay small', bounded, async () => {
+  const server = await startServer({ args: ['--parallel', '2'] });
+  try {
+    const urls = [];
+    for (const [name, source] of Object.entries(HOSTILE)) {
+      const response = await submit(server, { student: name, source });
+      assert.equal(response.status, 202, name);
+      urls.push([name, (await response.json()).url]);
+    }
+    // While they are graded, every request is answered.
+    let answered = 0;
+    const done = () => Promise.all(urls.map(([, url]) => fetch(server.url + url).then((r) => r.json())))
+      .then((all) => all.every((s) => s.status === 'graded'));
+    while (!(await done())) {
+      const page = await fetch(`${server.url}/ekf/code`);
+      assert.equal(page.status, 200);
+      answered++;
+    }
+    assert.ok(answered > 0);
+    for (const [name, url] of urls) {
+      const { result } = await waitForSubmission(server, url);
+      assert.equal(result.gradable, true, `${name}: ${result.reason}`);
+      assert.ok(result.score < 1, name);
+      const size = JSON.stringify(result).length;
+      assert.ok(size < 40 << 10, `${name}: a stored result of ${size} bytes`);
+    }
+    const peak = memoryOf(server.process.pid, 'VmHWM');
+    assert.ok(peak !== null && peak < 200 << 10, `the server's memory peaked at ${peak} kB`);
+    const database = statSync(join(server.dataDir, 'estlab.sqlite3')).size +
+      (existsSync(join(server.dataDir, 'estlab.sqlite3-wal')) ? statSync(join(server.dataDir, 'estlab.sqlite3-wal')).size : 0);
+    assert.ok(database < 4 << 20, `the database holds ${database} bytes`);
+  } finally {
+    await server.stop();
+  }
+});
+
+test('sandbox workers die with the server, even when it is killed', bounded, async () => {
+  const server = await startServer();
+  const { url } = await (await submit(server, { student: 'orphan', source: looping })).json();
+  let workers = [];
+  try {
+    await waitForSubmission(server, url, { until: (s) => s.status === 'grading', what: 'being graded' });
+    workers = await waitFor('a sandbox worker', () => childrenOf(server.process.pid), (pids) => pids.length > 0);
+  } finally {
+    await server.kill();
+  }
+  await waitFor('the workers to end with the server', () => workers.filter((pid) => memoryOf(pid, 'VmRSS') !== null),
+    (alive) => alive.length === 0, { timeout: 30_000 });
 });

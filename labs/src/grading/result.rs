@@ -93,6 +93,8 @@ fn is_zero(n: &usize) -> bool {
 /// A returned value kept in a failure when its JSON has at most this many bytes; a larger
 /// one is described in words ("an array of 15000 numbers").
 const KEPT_VALUE: usize = 1 << 10;
+/// A differing element's values kept when their JSON has at most this many bytes.
+const KEPT_ELEMENT: usize = 120;
 /// Differing elements kept in a failure; the rest are counted in `differing`.
 const KEPT_MISMATCHES: usize = 12;
 /// Characters kept of a message the student's code wrote (what it threw).
@@ -125,9 +127,13 @@ impl Failure {
             self.differing = self.mismatches.len();
             self.mismatches.truncate(KEPT_MISMATCHES);
         }
+        // A mismatch of the whole output (a wrong shape) would repeat it: in words.
+        let brief = |value: &Value| value.to_string().len() <= KEPT_ELEMENT;
         for mismatch in &mut self.mismatches {
-            if !small(&mismatch.got) {
-                mismatch.got = Value::String(describe(&mismatch.got));
+            for value in [&mut mismatch.expected, &mut mismatch.got] {
+                if !brief(value) {
+                    *value = Value::String(describe(value));
+                }
             }
         }
         if let Some(error) = self.error.as_mut() {

@@ -16,7 +16,7 @@ const PUBLIC_VARIANT = 1;
 const MAX_SOURCE = 256 * 1024;
 const STORAGE = { source: 'estlab:ekf-localization:source', student: 'estlab:student' };
 /** Failing cases shown in detail per test, and differing elements per case. */
-const SHOWN = { failures: 4, mismatches: 12 };
+const SHOWN = { failures: 2, mismatches: 12 };
 
 const estlab = await loadEstlab();
 const ui = {
@@ -280,23 +280,34 @@ function testItem(test) {
   const details = element('details');
   details.open = test.status === 'failed';
   details.append(element('summary', null, test.status === 'passed' ? 'passed' : 'why it fails'));
-  const failures = test.failures ?? [];
-  details.append(element('pre', 'message', failures.length ? summaryOf(test.message, key) : test.message));
-  for (const failure of failures.slice(0, SHOWN.failures)) details.append(failureView(failure));
-  if (failures.length > SHOWN.failures) details.append(element('p', 'more', `… and ${failures.length - SHOWN.failures} more failing cases.`));
+  const failures = (test.failures ?? []).slice(0, SHOWN.failures);
+  const shown = new Set(failures.map((failure) => failure.case));
+  const { summary, rest } = partsOf(test.message, shown);
+  details.append(element('pre', 'message', summary));
+  for (const failure of failures) details.append(failureView(failure));
+  if (rest) details.append(element('pre', 'message more', rest));
   item.append(details);
   return item;
 }
 
 /**
- * The lines of a function test's message before its first case (`predict/p1 (...)`): the
- * count, and what stopped the code; the cases themselves are shown in detail below it.
+ * A function test's message in three parts: the lines before its first failing case (the
+ * count, what stopped the code), then the cases shown in detail (`shown`, by id), then the
+ * lines of the failing cases not shown in detail and the count of the rest.
  */
-function summaryOf(message, key) {
-  const lines = message.split('\n');
-  const first = lines.findIndex((line) => line.startsWith(`${key}/`));
-  return (first < 0 ? lines : lines.slice(0, first)).join('\n');
+function partsOf(message, shown) {
+  const summary = [];
+  const rest = [];
+  let current = summary;
+  for (const line of message.split('\n')) {
+    const id = line.match(/^(\w+\/\w+) \(/)?.[1];
+    if (id) current = shown.has(id) ? null : rest;
+    else if (line.startsWith('... and ')) current = rest;
+    current?.push(line);
+  }
+  return { summary: summary.join('\n'), rest: rest.join('\n') };
 }
+
 
 const json = (value) => JSON.stringify(value, null, 1);
 
@@ -318,7 +329,10 @@ function failureView(failure) {
       table.append(row);
     }
     box.append(table);
-    if (mismatches.length > SHOWN.mismatches) box.append(element('p', 'more', `… and ${mismatches.length - SHOWN.mismatches} more elements differ.`));
+    // The server keeps the first few differing elements and counts the rest.
+    const differing = Math.max(failure.differing ?? 0, mismatches.length);
+    const listed = Math.min(mismatches.length, SHOWN.mismatches);
+    if (differing > listed) box.append(element('p', 'more', `… and ${differing - listed} more elements differ.`));
   }
   const all = element('details', 'case');
   all.append(element('summary', null, 'the arguments, the expected output and yours'));
