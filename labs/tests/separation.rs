@@ -31,7 +31,10 @@ fn landmarks(expected: &Value) -> Vec<(Vector2<f64>, f64)> {
 fn argmin(ranks: impl Iterator<Item = f64>) -> usize {
     ranks
         .enumerate()
-        .fold((0, f64::INFINITY), |best, (j, r)| if r < best.1 { (j, r) } else { best })
+        .fold(
+            (0, f64::INFINITY),
+            |best, (j, r)| if r < best.1 { (j, r) } else { best },
+        )
         .0
 }
 
@@ -56,9 +59,10 @@ const RULES: [(&str, Rule); 6] = [
     ("the outlier flag of any landmark", |l, c, lambda| {
         (c, l.iter().any(|(_, d)| *d >= lambda))
     }),
-    ("an outlier only when no landmark is within the gate", |l, c, lambda| {
-        (c, l.iter().all(|(_, d)| *d >= lambda))
-    }),
+    (
+        "an outlier only when no landmark is within the gate",
+        |l, c, lambda| (c, l.iter().all(|(_, d)| *d >= lambda)),
+    ),
 ];
 
 #[test]
