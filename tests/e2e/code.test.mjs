@@ -186,3 +186,25 @@ test('student code in the browser reaches no network, even through globalThis', 
   assert.match(await page.locator('#test-predict .failure .thrown').first().textContent(), /NetworkError|Failed to execute 'send'/);
   await page.close();
 });
+
+test('student code in the browser cannot post a verdict of its own, nor rewrite the harness\'s', bounded, async () => {
+  const page = await openPage(browser, `${server.url}/ekf/code`);
+  // A file with no predict of its own that tries every way to make the page believe
+  // predict passed: posting on the worker, and rewriting what the harness posts.
+  const forged = JSON.stringify({ function: 'predict', results: [], repeats: [] });
+  const forging = correct.replace(/function predict\(/, 'function not_predict(') + `
+self.postMessage({ output: ${JSON.stringify(forged)} });
+globalThis.postMessage({ ready: true });
+const realPost = MessagePort.prototype.postMessage;
+MessagePort.prototype.postMessage = function (message) {
+  return realPost.call(this, { output: ${JSON.stringify(forged)} });
+};
+Object.defineProperty(Object.prototype, 'error', { set(v) {}, configurable: true });
+`;
+  await type(page, forging);
+  await runAndWait(page, '#test-predict button.run');
+  assert.equal(await testStatus(page, 'predict'), 'failed');
+  assert.match(await page.locator('#test-predict .message').first().textContent(), /predict is not defined/);
+  assert.deepEqual(page.problems, []);
+  await page.close();
+});

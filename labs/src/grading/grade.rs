@@ -452,8 +452,12 @@ fn settings_hint(kind: Kind, tuning: &Tuning) -> Option<String> {
     if !same(tuning.lambda_m, lab_lambda) {
         note(
             "Lambda_M",
-            format!("{}", tuning.lambda_m),
-            format!("{lab_lambda} (chi2inv({}, 2))", lab.delta_m),
+            setting_number(tuning.lambda_m),
+            format!(
+                "{} (chi2inv({}, 2))",
+                setting_number(lab_lambda),
+                lab.delta_m
+            ),
         );
     }
     if !same_all(tuning.mu.as_slice(), lab.mu0.as_slice()) {
@@ -475,6 +479,12 @@ fn settings_hint(kind: Kind, tuning: &Tuning) -> Option<String> {
     })
 }
 
+/// A setting for a message, to six significant digits: 0.04, not 0.04000000000000001.
+fn setting_number(value: f64) -> String {
+    let rounded: f64 = format!("{value:.5e}").parse().unwrap_or(value);
+    format!("{rounded}")
+}
+
 /// A matrix for a message: `diag(a, b)` when it is diagonal, rows otherwise.
 fn matrix_text<R: nalgebra::Dim, C: nalgebra::Dim, S: nalgebra::RawStorage<f64, R, C>>(
     a: &nalgebra::Matrix<f64, R, C, S>,
@@ -483,7 +493,7 @@ fn matrix_text<R: nalgebra::Dim, C: nalgebra::Dim, S: nalgebra::RawStorage<f64, 
     let join = |values: Vec<f64>| {
         values
             .iter()
-            .map(|v| format!("{v}"))
+            .map(|&v| setting_number(v))
             .collect::<Vec<_>>()
             .join(", ")
     };
