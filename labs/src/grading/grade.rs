@@ -585,7 +585,7 @@ pub fn student_run(spec: &RunSpec, output: &RunOutput) -> Result<ekf::Run, Strin
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::grading::{CallResult, FunctionOutput};
+    use crate::grading::{CallResult, FunctionOutput, PhaseOutput};
 
     /// What a function's phase reports when every case gets `answer(case)`, each call
     /// repeated alike.

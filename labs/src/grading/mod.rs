@@ -17,7 +17,7 @@ mod result;
 pub use grade::{LAB, POINTS, grade, student_run};
 pub use hints::{Hint, HintKind};
 pub use job::{CallJob, FunctionPhase, Job, Mode, Phase, PhaseKind, RobotJob, RunPhase, StepJob};
-pub use outputs::{CallResult, FunctionOutput, Outputs, Reports, RunOutput, Stopped};
+pub use outputs::{CallResult, FunctionOutput, Outputs, PhaseOutput, Reports, RunOutput, Stopped};
 pub use plan::{Plan, PlannedCase, RunSpec, Suite, bound};
 pub use result::{Failure, GradeResult, RunFigures, Status, Test, Visibility};
 

@@ -3,6 +3,7 @@
 //! cannot hold come as the strings "NaN", "Infinity" and "-Infinity"; `undefined` as the
 //! string "undefined".
 
+use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
@@ -42,19 +43,78 @@ impl Reports {
             functions: self
                 .functions
                 .into_iter()
-                .map(|report| {
-                    let function = name(&report, "function");
-                    FunctionOutput::from_value(&function, report)
-                })
+                .map(|report| FunctionOutput::from_value(&name(&report, "function"), report))
                 .collect(),
             runs: self
                 .runs
                 .into_iter()
-                .map(|report| {
-                    let run = name(&report, "name");
-                    RunOutput::from_value(&run, report)
-                })
+                .map(|report| RunOutput::from_value(&name(&report, "name"), report))
                 .collect(),
+        }
+    }
+}
+
+/// The output of one phase, read from the harness's report: what a report that does not
+/// read becomes is that phase failed, with the reason.
+pub trait PhaseOutput: DeserializeOwned {
+    /// The function's name, or the run's.
+    fn phase_name(&self) -> &str;
+
+    /// The phase failed before anything ran, and why.
+    fn failed(name: &str, error: String) -> Self;
+
+    /// The harness's report (JSON text) of the phase called `name`.
+    fn from_report(name: &str, report: &str) -> Self {
+        match serde_json::from_str(report) {
+            Ok(value) => Self::from_value(name, value),
+            Err(e) => Self::failed(name, format!("{UNREADABLE} ({e}).")),
+        }
+    }
+
+    /// The same, already parsed (the browser's runner parses what its worker posts).
+    fn from_value(name: &str, report: Value) -> Self {
+        match serde_json::from_value::<Self>(report) {
+            Ok(output) if output.phase_name() == name => output,
+            Ok(output) => Self::failed(
+                name,
+                format!("{UNREADABLE} (it names {:?}).", output.phase_name()),
+            ),
+            Err(e) => Self::failed(name, format!("{UNREADABLE} ({e}).")),
+        }
+    }
+}
+
+impl PhaseOutput for FunctionOutput {
+    fn phase_name(&self) -> &str {
+        &self.function
+    }
+
+    fn failed(function: &str, error: String) -> FunctionOutput {
+        FunctionOutput {
+            function: function.to_owned(),
+            error: Some(error),
+            results: Vec::new(),
+            stopped: None,
+            repeats: Vec::new(),
+        }
+    }
+}
+
+impl PhaseOutput for RunOutput {
+    fn phase_name(&self) -> &str {
+        &self.name
+    }
+
+    fn failed(name: &str, error: String) -> RunOutput {
+        RunOutput {
+            name: name.to_owned(),
+            error: Some(error),
+            stopped: None,
+            init: None,
+            mu: Vec::new(),
+            sigma: Vec::new(),
+            c: Vec::new(),
+            outlier: Vec::new(),
         }
     }
 }
@@ -79,42 +139,12 @@ pub struct FunctionOutput {
 }
 
 impl FunctionOutput {
-    /// The harness's report (JSON text) of the phase of `function`, or that phase failed.
-    pub fn from_report(function: &str, report: &str) -> FunctionOutput {
-        match serde_json::from_str(report) {
-            Ok(value) => FunctionOutput::from_value(function, value),
-            Err(e) => FunctionOutput::failed(function, format!("{UNREADABLE} ({e}).")),
-        }
-    }
-
-    fn from_value(function: &str, report: Value) -> FunctionOutput {
-        match serde_json::from_value::<FunctionOutput>(report) {
-            Ok(output) if output.function == function => output,
-            Ok(output) => FunctionOutput::failed(
-                function,
-                format!("{UNREADABLE} (it names {:?}).", output.function),
-            ),
-            Err(e) => FunctionOutput::failed(function, format!("{UNREADABLE} ({e}).")),
-        }
-    }
-
     /// A phase the host stopped.
     pub fn stopped(function: &str, stopped: Stopped) -> FunctionOutput {
         FunctionOutput {
             error: None,
             stopped: Some(stopped),
             ..FunctionOutput::failed(function, String::new())
-        }
-    }
-
-    /// A phase in which no call was made, and why.
-    pub fn failed(function: &str, error: String) -> FunctionOutput {
-        FunctionOutput {
-            function: function.to_owned(),
-            error: Some(error),
-            results: Vec::new(),
-            stopped: None,
-            repeats: Vec::new(),
         }
     }
 }
@@ -156,38 +186,6 @@ pub struct RunOutput {
 }
 
 impl RunOutput {
-    /// The harness's report (JSON text) of the run called `name`, or that run failed.
-    pub fn from_report(name: &str, report: &str) -> RunOutput {
-        match serde_json::from_str(report) {
-            Ok(value) => RunOutput::from_value(name, value),
-            Err(e) => RunOutput::failed(name, format!("{UNREADABLE} ({e}).")),
-        }
-    }
-
-    fn from_value(name: &str, report: Value) -> RunOutput {
-        match serde_json::from_value::<RunOutput>(report) {
-            Ok(output) if output.name == name => output,
-            Ok(output) => {
-                RunOutput::failed(name, format!("{UNREADABLE} (it names {:?}).", output.name))
-            }
-            Err(e) => RunOutput::failed(name, format!("{UNREADABLE} ({e}).")),
-        }
-    }
-
-    /// A run that did not take place, and why.
-    pub fn failed(name: &str, error: String) -> RunOutput {
-        RunOutput {
-            name: name.to_owned(),
-            error: Some(error),
-            stopped: None,
-            init: None,
-            mu: Vec::new(),
-            sigma: Vec::new(),
-            c: Vec::new(),
-            outlier: Vec::new(),
-        }
-    }
-
     /// A run the host stopped.
     pub fn stopped(name: &str, stopped: Stopped) -> RunOutput {
         RunOutput {

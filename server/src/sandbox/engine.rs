@@ -8,7 +8,7 @@
 use super::cpu::ThreadClock;
 use labs::cases::FUNCTIONS;
 use labs::grading::{
-    FunctionOutput, FunctionPhase, Job, Outputs, Phase, PhaseKind, RunOutput, Stopped,
+    FunctionOutput, FunctionPhase, Job, Outputs, Phase, PhaseKind, PhaseOutput, RunOutput, Stopped,
 };
 use rquickjs::{CatchResultExt, Context, Function, Object, Persistent, Runtime};
 use std::cell::{Cell, RefCell};
