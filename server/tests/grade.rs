@@ -376,6 +376,28 @@ fn the_correct_file_scores_one_in_every_format() {
         );
         assert!(text.contains(&line), "no {line:?} in:\n{text}");
     }
+    assert_eq!(
+        text.lines().nth(1),
+        Some(
+            "Graded on the shown cases only: the server also grades hidden cases drawn from its secret, and data sets you have not seen."
+        ),
+        "the command line says what it leaves out"
+    );
+    assert_eq!(json["hidden_cases"], false);
+}
+
+/// A second correct file, written another way (likelihoods rather than their logarithms,
+/// the Joseph form of the update, another angle wrap), scores 1 for several students.
+#[test]
+fn a_correct_file_written_another_way_scores_one() {
+    const ANOTHER_WAY: &str = include_str!("../../tests/student/correct-alt.js");
+    let students = ["carol", "dave", "erin"];
+    let results = parallel(&students, |student| {
+        grade(ANOTHER_WAY, &["--student", student])
+    });
+    for (student, result) in students.iter().zip(&results) {
+        assert_eq!(result["score"], 1.0, "{student}: {result:#}");
+    }
 }
 
 #[test]
@@ -843,7 +865,7 @@ fn hostile_suite() -> Vec<Hostile> {
             ),
             |r, p| {
                 p.only_these_fail(r, &["batch_update"]);
-                p.says(r, "batch_update", &["an array of 15000 numbers"]);
+                p.says(r, "batch_update", &["returned more than 2000 values"]);
                 let size = r.to_string().len();
                 p.expect(size < 40 << 10, || format!("the result has {size} bytes"));
             },

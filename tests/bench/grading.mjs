@@ -30,7 +30,26 @@ const hostile = {
   'for (;;) {} at the top level': 'for (;;) {}',
   'an allocation bomb in predict': `${correct}\nfunction predict() { const a = []; for (;;) a.push(new Float64Array(1 << 20)); }\n`,
   'an endless loop in batch_update': looping,
+  'the right shapes with wrong numbers everywhere': wrongEverywhere(),
 };
+
+/** correct.js with every function's answer nudged: every case fails, in detail. */
+function wrongEverywhere() {
+  const names = ['calculate_odometry', 'predict', 'observation_model', 'jacobian_observation_model',
+    'associate', 'batch_associate', 'update', 'batch_update'];
+  let source = correct;
+  for (const name of names) source = source.replace(`function ${name}(`, `function original_${name}(`);
+  return `${source}
+function nudge(v) {
+  if (typeof v === 'number') return v * 1.01 + 1e-3;
+  if (typeof v === 'boolean') return !v;
+  if (Array.isArray(v)) return v.map(nudge);
+  return Object.fromEntries(Object.entries(v).map(([k, x]) => [k, nudge(x)]));
+}
+${names.map((name) => `function ${name}(...args) { return nudge(original_${name}(...args)); }`).join('
+')}
+`;
+}
 
 async function main() {
   const server = await startServer();

@@ -201,7 +201,7 @@ test('hostile files graded side by side: the server answers meanwhile, its memor
       assert.equal(result.gradable, true, `${name}: ${result.reason}`);
       assert.ok(result.score < 1, name);
       const size = JSON.stringify(result).length;
-      assert.ok(size < 40 << 10, `${name}: a stored result of ${size} bytes`);
+      assert.ok(size < 16 << 10, `${name}: a stored result of ${size} bytes`);
     }
     const peak = memoryOf(server.process.pid, 'VmHWM');
     assert.ok(peak !== null && peak < 200 << 10, `the server's memory peaked at ${peak} kB`);

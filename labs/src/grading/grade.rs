@@ -712,4 +712,49 @@ mod tests {
         assert!(stored.contains("an array of 15000 numbers"), "{stored}");
         assert_eq!(test.failures.len(), DETAILED_FAILURES);
     }
+
+    #[test]
+    fn a_stored_result_is_a_few_kilobytes_however_wrong_the_file() {
+        // Every function answers every case with the right shapes and wrong numbers.
+        let plan = Plan::new(1);
+        let wrong = |value: &Value| -> Value {
+            fn nudge(value: &Value) -> Value {
+                match value {
+                    Value::Number(x) => serde_json::json!(x.as_f64().unwrap_or(0.0) * 1.01 + 1e-3),
+                    Value::Bool(b) => Value::Bool(!b),
+                    Value::Array(items) => Value::Array(items.iter().map(nudge).collect()),
+                    Value::Object(fields) => {
+                        Value::Object(fields.iter().map(|(k, v)| (k.clone(), nudge(v))).collect())
+                    }
+                    other => other.clone(),
+                }
+            }
+            nudge(value)
+        };
+        let outputs = Outputs {
+            functions: FUNCTIONS
+                .iter()
+                .map(|function| answered(&plan, function, |p| Some(wrong(&p.case.expected))))
+                .collect(),
+            runs: Vec::new(),
+        };
+        let result = grade(&plan, &outputs);
+        assert_eq!(result.points, 0.0);
+        let full = serde_json::to_string(&result).unwrap().len();
+        let stored = result.stored();
+        let size = serde_json::to_string(&stored).unwrap().len();
+        assert!(size < 16 << 10, "{size} bytes stored (of {full})");
+        for test in &stored.tests {
+            assert!(test.failures.len() <= 1);
+            for failure in &test.failures {
+                assert_eq!(
+                    (&failure.args, &failure.expected),
+                    (&Value::Null, &Value::Null)
+                );
+                assert!(failure.mismatches.len() <= 4);
+                // All differing elements are listed, or their count is kept.
+                assert!(failure.differing == 0 || failure.differing > failure.mismatches.len());
+            }
+        }
+    }
 }

@@ -68,8 +68,8 @@ pub struct Failure {
     pub note: String,
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub hidden: bool,
-    /// How many elements of the output differ (for a hidden case, whose mismatches are
-    /// not shown).
+    /// How many elements of the output differ, when not all of them are listed in
+    /// `mismatches` (a hidden case lists none); 0 when they are.
     #[serde(default, skip_serializing_if = "is_zero")]
     pub differing: usize,
     /// The arguments, named as in the contract.
@@ -159,7 +159,30 @@ pub struct RunFigures {
     pub readings: usize,
 }
 
+/// Failing cases a stored result keeps in detail per test, and differing elements per case.
+const STORED_FAILURES: usize = 1;
+const STORED_MISMATCHES: usize = 4;
+
 impl GradeResult {
+    /// The result as the server keeps and serves it, a few kilobytes whatever the file
+    /// returned: every test's message, and one failing case per test in detail without
+    /// its arguments and expected output (the plan of the result's seed makes them again
+    /// from the case's id) and with its first few differing elements.
+    pub fn stored(mut self) -> GradeResult {
+        for test in &mut self.tests {
+            test.failures.truncate(STORED_FAILURES);
+            for failure in &mut test.failures {
+                failure.args = Value::Null;
+                failure.expected = Value::Null;
+                if failure.mismatches.len() > STORED_MISMATCHES {
+                    failure.differing = failure.differing.max(failure.mismatches.len());
+                    failure.mismatches.truncate(STORED_MISMATCHES);
+                }
+            }
+        }
+        self
+    }
+
     /// The result of a grading the sandbox could not carry out.
     pub fn not_gradable(lab: &str, seed: u64, reason: impl Into<String>) -> GradeResult {
         GradeResult {

@@ -69,6 +69,6 @@ impl Grader {
         let (source, seed) = self.store.start_grading(id)?;
         let hidden = self.secret.hidden_seed(id);
         let result = self.sandbox.grade(&source, seed, Some(hidden));
-        self.store.finish_grading(id, &result)
+        self.store.finish_grading(id, &result.stored())
     }
 }
