@@ -46,8 +46,7 @@ function nudge(v) {
   if (Array.isArray(v)) return v.map(nudge);
   return Object.fromEntries(Object.entries(v).map(([k, x]) => [k, nudge(x)]));
 }
-${names.map((name) => `function ${name}(...args) { return nudge(original_${name}(...args)); }`).join('
-')}
+${names.map((name) => `function ${name}(...args) { return nudge(original_${name}(...args)); }`).join('\n')}
 `;
 }
 
