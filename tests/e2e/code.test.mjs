@@ -73,6 +73,13 @@ test('the starter file: every test fails with "not implemented", and reset asks 
       new RegExp(`threw Error: ${key}: not implemented \\(line ${line}\\)`), key);
   }
   assert.equal(await testStatus(page, 'o3'), 'not-run');
+  // Grouped, not 32 failures spelt out: one line on the score, each function folded.
+  assert.match(await page.locator('#score').textContent(),
+    /8 functions not implemented yet: calculate_odometry, predict, observation_model, jacobian_observation_model, associate, batch_associate, update, batch_update\./);
+  for (const key of ['predict', 'associate']) {
+    assert.equal(await page.locator(`#test-${key} > details`).getAttribute('open'), null, key);
+    assert.equal(await page.locator(`#test-${key} .failure`).count(), 1, key);
+  }
   await type(page, '// my start\n');
   let asked = null;
   page.once('dialog', (dialog) => { asked = dialog.message(); dialog.dismiss(); });

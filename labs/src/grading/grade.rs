@@ -33,14 +33,24 @@ pub fn grade(plan: &Plan, outputs: &Outputs) -> GradeResult {
             function_test(plan, function, output)
         })
         .collect();
-    let failing: Vec<&str> = tests
-        .iter()
-        .filter(|t| t.status == Status::Failed)
-        .map(|t| t.name.split(':').next().unwrap_or_default())
-        .collect();
-    let failing = failing.join(", ");
+    // What the data-set tests say of the functions: those that fail their own tests, and
+    // those whose tests have not run (the browser grades what has run so far).
+    let ran = |function: &str| outputs.functions.iter().any(|f| f.function == function);
+    let names = |wanted: &dyn Fn(&str, &Test) -> bool| -> String {
+        FUNCTIONS
+            .iter()
+            .zip(&tests)
+            .filter(|(function, test)| wanted(function, test))
+            .map(|(function, _)| *function)
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let functions = FunctionVerdicts {
+        failing: names(&|function, test| ran(function) && test.status == Status::Failed),
+        not_run: names(&|function, _| !ran(function)),
+    };
     for kind in Kind::ALL {
-        tests.push(dataset_test(plan, outputs, kind, &failing));
+        tests.push(dataset_test(plan, outputs, kind, &functions));
     }
     let points: f64 = tests.iter().map(|t| t.points).sum();
     let max_points: f64 = tests.iter().map(|t| t.max_points).sum();
@@ -271,7 +281,13 @@ fn failed(name: String, message: String) -> Test {
 
 /// The test of a data set: the first run of its kind in the plan is held to the lab's
 /// bound; any other (the sequential update without odometry) is shown for comparison.
-fn dataset_test(plan: &Plan, outputs: &Outputs, kind: Kind, failing: &str) -> Test {
+/// The functions named in a failing data-set test's message, comma-separated.
+struct FunctionVerdicts {
+    failing: String,
+    not_run: String,
+}
+
+fn dataset_test(plan: &Plan, outputs: &Outputs, kind: Kind, functions: &FunctionVerdicts) -> Test {
     let mut specs = plan.runs.iter().filter(|r| r.kind == kind);
     let graded = specs.next().expect("the plan runs every kind of data set");
     let name = format!(
@@ -316,15 +332,24 @@ fn dataset_test(plan: &Plan, outputs: &Outputs, kind: Kind, failing: &str) -> Te
     let passed = graded_run
         .as_ref()
         .is_ok_and(|run| mae(run).iter().all(|&e| e < bound));
-    let mut lines = vec![if passed {
+    let mut verdict = if passed {
         format!("Passed: every mean absolute error is below the lab's bound of {bound}.")
-    } else if failing.is_empty() {
-        format!("Failed: every mean absolute error must be below the lab's bound of {bound}.")
     } else {
-        format!(
-            "Failed: every mean absolute error must be below the lab's bound of {bound}. These functions fail their own tests: {failing}."
-        )
-    }];
+        format!("Failed: every mean absolute error must be below the lab's bound of {bound}.")
+    };
+    if !passed && !functions.failing.is_empty() {
+        verdict += &format!(
+            " These functions fail their own tests: {}.",
+            functions.failing
+        );
+    }
+    if !passed && !functions.not_run.is_empty() {
+        verdict += &format!(
+            " The tests of these functions have not run yet: {}.",
+            functions.not_run
+        );
+    }
+    let mut lines = vec![verdict];
     lines.push(match &graded_run {
         Ok(run) => describe_run(graded, run),
         Err(error) => format!("{}: {error}", graded.name),
@@ -711,6 +736,31 @@ mod tests {
         assert!(stored.len() < 8 << 10, "{} bytes", stored.len());
         assert!(stored.contains("an array of 15000 numbers"), "{stored}");
         assert_eq!(test.failures.len(), DETAILED_FAILURES);
+    }
+
+    #[test]
+    fn the_data_set_tests_tell_functions_that_fail_from_functions_not_run_yet() {
+        let plan = Plan::new(1);
+        // One function's tests run (and fail), the data sets and the other functions not.
+        let outputs = Outputs {
+            functions: vec![answered(&plan, "predict", |_| Some(Value::Null))],
+            runs: Vec::new(),
+        };
+        let result = grade(&plan, &outputs);
+        let o3 = result.test("o3 data set").unwrap();
+        assert!(
+            o3.message
+                .contains("These functions fail their own tests: predict."),
+            "{}",
+            o3.message
+        );
+        assert!(
+            o3.message.contains(
+                "have not run yet: calculate_odometry, observation_model, jacobian_observation_model, associate, batch_associate, update, batch_update."
+            ),
+            "{}",
+            o3.message
+        );
     }
 
     #[test]

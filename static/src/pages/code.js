@@ -241,12 +241,21 @@ function render() {
     ui.score.hidden = false;
     const passed = ran.filter((test) => test.status === 'passed').length;
     const notRun = result.tests.length - ran.length;
+    const todo = ran.filter((test) => notImplemented(test, testKey(test))).map(testKey);
     ui.score.textContent = `In your browser: ${fmt(result.points, 4)} of ${result.max_points} points (${Math.round(100 * result.score)}%), ` +
-      `${passed} of ${result.tests.length} tests pass` + (notRun ? `, ${notRun} not run yet.` : '.');
+      `${passed} of ${result.tests.length} tests pass` + (notRun ? `, ${notRun} not run yet.` : '.') +
+      (todo.length ? ` ${todo.length === 1 ? '1 function' : `${todo.length} functions`} not implemented yet: ${todo.join(', ')}.` : '');
     if (!state.busy && !ui.tests.classList.contains('stale')) ui.status.textContent = 'Done.';
   }
   document.body.dataset.ready = 'true';
   showRuns();
+}
+
+/** Whether every failing case of a function's test throws the starter file's "not implemented". */
+function notImplemented(test, key) {
+  const failures = test.failures ?? [];
+  return test.status === 'failed' && test.points === 0 && failures.length > 0 &&
+    failures.every((failure) => (failure.error ?? '').includes(`${key}: not implemented`));
 }
 
 function element(tag, className, text) {
@@ -278,9 +287,12 @@ function testItem(test) {
   item.append(head);
   if (!ran) return item;
   const details = element('details');
-  details.open = test.status === 'failed';
-  details.append(element('summary', null, test.status === 'passed' ? 'passed' : 'why it fails'));
-  const failures = (test.failures ?? []).slice(0, SHOWN.failures);
+  const todo = ran && notImplemented(test, key);
+  // A function still as the starter file has it: one line, not a case-by-case account.
+  details.open = test.status === 'failed' && !todo;
+  details.append(element('summary', null, test.status === 'passed' ? 'passed'
+    : todo ? `not implemented yet: every case throws "${key}: not implemented"` : 'why it fails'));
+  const failures = (test.failures ?? []).slice(0, todo ? 1 : SHOWN.failures);
   const shown = new Set(failures.map((failure) => failure.case));
   const { summary, rest } = partsOf(test.message, shown);
   details.append(element('pre', 'message', summary));
