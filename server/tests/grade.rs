@@ -209,6 +209,16 @@ impl Problems {
         });
     }
 
+    fn score_is_below(&mut self, result: &Value, bound: f64) {
+        let score = result["score"].as_f64();
+        self.expect(score.is_some_and(|s| s < bound), || {
+            format!("the score is {score:?}, not below {bound}")
+        });
+        self.expect(result["gradable"] == true, || {
+            format!("not gradable: {}", result["reason"])
+        });
+    }
+
     fn score_below_one(&mut self, result: &Value) {
         let score = result["score"].as_f64();
         self.expect(score.is_some_and(|s| s < 1.0), || {
@@ -854,7 +864,7 @@ fn hostile_suite() -> Vec<Hostile> {
                 ),
             |r, p| {
                 p.status(r, &["calculate_odometry", "predict", "o3", "outliers", "no-odometry"], false);
-                p.says(r, "predict", &["got 1e+300", "more than two turns outside [-pi, pi)"]);
+                p.says(r, "predict", &["got 1e+300", "more than 2 turns outside [-pi, pi)"]);
                 p.says(r, "o3", &["the heading mu[2] = 1e300 is more than 2 turns outside"]);
             },
         ),
@@ -871,12 +881,46 @@ fn hostile_suite() -> Vec<Hostile> {
             },
         ),
         hostile(
+            "an error whose name is a megabyte, and fields with names of 5,000 characters",
+            with(
+                "function predict(mu, sigma, u, R) { const e = new Error('big'); e.name = 'N'.repeat(1 << 20); throw e; }\n\
+                 function observation_model(x, M, j) { const o = {}; for (let i = 0; i < 100; i++) o['k'.repeat(5000) + i] = i; return o; }",
+            ),
+            |r, p| {
+                p.score_is_below(r, 1.0);
+                p.says(r, "predict", &["threw NNNN"]);
+                let size = r.to_string().len();
+                p.expect(size < 64 << 10, || format!("the result has {size} bytes"));
+            },
+        ),
+        hostile(
+            "a thrown object whose getters throw",
+            with(
+                "function update(mu_bar, sigma_bar, H, S, nu) { throw { get message() { throw 'gotcha'; }, get name() { throw 'gotcha'; } }; }",
+            ),
+            |r, p| {
+                p.only_these_fail(r, &["update"]);
+                p.says(r, "update", &["cannot be described"]);
+                p.does_not_say(r, "update", "the sandbox failed");
+            },
+        ),
+        hostile(
+            "a file that loads once and throws on its second load, to silence the repeats",
+            format!(
+                "if (globalThis.seenBefore) throw new Error('second load');\nglobalThis.seenBefore = true;\n{CORRECT}"
+            ),
+            |r, p| {
+                p.score_is_below(r, 0.5);
+                p.says(r, "predict", &["second load"]);
+            },
+        ),
+        hostile(
             "an endless loop at the top level, eleven bytes",
             "for (;;) {}\n".to_owned(),
             |r, p| {
                 p.whole_file_fails(
                     r,
-                    &["Stopped after 1 s, the time limit, while running the top level of your file"],
+                    &["Stopped after 2 s, the time limit, while running the top level of your file"],
                 );
                 p.score_is(r, 0.0);
             },

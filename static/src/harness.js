@@ -48,8 +48,10 @@
   ];
   /// Values the student's code may return from one call, at most: the largest answer of
   /// the contract is associate's with 40 landmarks, 482 values. More is not an answer, and
-  /// would only make the reports (and the host's memory) large.
+  /// would only make the reports (and the host's memory) large. Strings and field names
+  /// count their characters against a budget of their own.
   const MAX_VALUES = 2000;
+  const MAX_TEXT = 4000;
   const MAX_DEPTH = 8;
 
   // Names a student's file may reach for that the sandbox does not give it: each is
@@ -103,13 +105,23 @@
     lineOffset = line === null ? null : line - 1;
   }
 
+  /// What was thrown, in words. The thrown value is the student's: its getters may throw
+  /// in turn, which is said rather than passed on.
   function describeError(error) {
+    try {
+      return describeThrown(error);
+    } catch (e) {
+      return 'a value that cannot be described (reading it threw)';
+    }
+  }
+
+  function describeThrown(error) {
     if (error === null) {
       // What QuickJS throws when it has no memory left even for the error.
       return 'null was thrown: your code most likely ran out of memory (far too much data allocated)';
     }
     if (error instanceof ErrorConstructor || (error && typeof error.message === 'string')) {
-      const name = typeof error.name === 'string' ? error.name : 'Error';
+      const name = typeof error.name === 'string' ? clip(error.name, NAME_LENGTH) : 'Error';
       const line = stackLine(error);
       const where = line !== null && lineOffset !== null && line > lineOffset
         ? ' (line ' + (line - lineOffset) + ')' : '';
@@ -122,8 +134,13 @@
     try { return toJson(plain(value)); } catch (e) { return typeof value; }
   }
 
-  function clip(text) {
-    return text.length > 300 ? apply(stringSlice, text, [0, 300]) + '...' : text;
+  /// Characters kept of a text the student's code made (a message, a string it returned).
+  const TEXT_LENGTH = 300;
+  /// Characters kept of a name it made (an error's name, a field of a returned object).
+  const NAME_LENGTH = 60;
+
+  function clip(text, length = TEXT_LENGTH) {
+    return text.length > length ? apply(stringSlice, text, [0, length]) + '...' : text;
   }
 
   /// JSON text of plain data, written here rather than by JSON.stringify, which a file
@@ -226,7 +243,17 @@
   function plain(value) {
     const budget = record();
     put(budget, 'left', MAX_VALUES);
+    put(budget, 'text', MAX_TEXT);
     return walk(value, 0, budget);
+  }
+
+  /// A text of the returned value, charged to the budget.
+  function text(value, budget) {
+    budget.text -= value.length;
+    if (budget.text < 0) {
+      throw new HarnessError('returned more than ' + MAX_TEXT + ' characters of text');
+    }
+    return value;
   }
 
   function walk(value, depth, budget) {
@@ -242,7 +269,7 @@
       case 'undefined':
         return 'undefined';
       case 'string':
-        return clip(value);
+        return text(clip(value), budget);
       case 'bigint':
         return toText(value) + 'n';
       case 'function':
@@ -263,7 +290,8 @@
     const object = record();
     const names = keysOf(value);
     for (let i = 0; i < names.length; i++) {
-      put(object, names[i], walk(value[names[i]], depth + 1, budget));
+      const name = text(clip(names[i], NAME_LENGTH), budget);
+      put(object, name, walk(value[names[i]], depth + 1, budget));
     }
     return object;
   }
@@ -508,9 +536,11 @@
     if (isArray(value)) return 'an array of ' + value.length + ' elements';
     if (value !== null && typeof value === 'object') {
       const names = keysOf(value);
-      let text = 'an object with the fields';
-      for (let i = 0; i < names.length; i++) text += (i > 0 ? ', ' : ' ') + names[i];
-      return text;
+      let fields = 'an object with the fields';
+      for (let i = 0; i < names.length; i++) {
+        fields += (i > 0 ? ', ' : ' ') + clip(names[i], NAME_LENGTH);
+      }
+      return clip(fields);
     }
     return clip(safeText(value));
   }

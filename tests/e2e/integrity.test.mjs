@@ -194,6 +194,7 @@ test('hostile files graded side by side: the server answers meanwhile, its memor
       const page = await fetch(`${server.url}/ekf/code`);
       assert.equal(page.status, 200);
       answered++;
+      await new Promise((resolve) => setTimeout(resolve, 100));
     }
     assert.ok(answered > 0);
     for (const [name, url] of urls) {
@@ -213,9 +214,14 @@ test('hostile files graded side by side: the server answers meanwhile, its memor
   }
 });
 
+/** correct.js with an endless loop in every function: its worker would run for about
+ * 18 s after the load check (every phase to its limit, on two engines). */
+const loopingEverywhere = correct.replace(/function (\w+)\(([^)]*)\) \{/g, 'function $1($2) { for (;;) {}');
+
 test('sandbox workers die with the server, even when it is killed', bounded, async () => {
+  assert.notEqual(loopingEverywhere, correct);
   const server = await startServer();
-  const { url } = await (await submit(server, { student: 'orphan', source: looping })).json();
+  const { url } = await (await submit(server, { student: 'orphan', source: loopingEverywhere })).json();
   let workers = [];
   try {
     await waitForSubmission(server, url, { until: (s) => s.status === 'grading', what: 'being graded' });
@@ -223,6 +229,8 @@ test('sandbox workers die with the server, even when it is killed', bounded, asy
   } finally {
     await server.kill();
   }
+  // At once, by the kernel (PR_SET_PDEATHSIG); without it the worker would go on for
+  // many seconds more, its phases running to their limits before its write fails.
   await waitFor('the workers to end with the server', () => workers.filter((pid) => memoryOf(pid, 'VmRSS') !== null),
-    (alive) => alive.length === 0, { timeout: 30_000 });
+    (alive) => alive.length === 0, { timeout: 8_000 });
 });

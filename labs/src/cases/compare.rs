@@ -134,17 +134,24 @@ impl Default for Tolerance {
 impl Problem {
     /// What is wrong, in words to follow the expected and the returned value ("" when
     /// the two values say it).
-    pub fn explanation(self) -> &'static str {
+    pub fn explanation(self) -> String {
         match self {
-            Problem::Differs => "",
-            Problem::NotWrapped => " (not wrapped to [-pi, pi))",
-            Problem::TooManyTurns => {
-                " (more than two turns outside [-pi, pi), where a comparison modulo 2 pi means nothing: wrap it)"
-            }
-            Problem::WrongShape => " (not the contract's shape)",
-            Problem::NotSymmetric => " (its mirror image across the diagonal differs)",
+            Problem::Differs => String::new(),
+            Problem::NotWrapped => " (not wrapped to [-pi, pi))".to_owned(),
+            Problem::TooManyTurns => format!(
+                " (more than {HEADING_TURNS} turns outside [-pi, pi), where a comparison modulo 2 pi means nothing: wrap it)"
+            ),
+            Problem::WrongShape => " (not the contract's shape)".to_owned(),
+            Problem::NotSymmetric => " (its mirror image across the diagonal differs)".to_owned(),
         }
     }
+}
+
+/// Whether a heading lies within [`HEADING_TURNS`] turns of [-pi, pi), where comparing
+/// it modulo 2 pi still means something.
+pub fn heading_within_turns(heading: f64) -> bool {
+    let turns = HEADING_TURNS * TAU;
+    (-PI - turns..PI + turns).contains(&heading)
 }
 
 /// One element of an output that is not what it should be.
@@ -284,8 +291,7 @@ fn compare_scalar(
             if kind == Kind::Bearing && !(-PI..PI).contains(&g) {
                 return Some(Problem::NotWrapped);
             }
-            let turns = HEADING_TURNS * TAU;
-            if kind == Kind::Heading && !(-PI - turns..PI + turns).contains(&g) {
+            if kind == Kind::Heading && !heading_within_turns(g) {
                 return Some(Problem::TooManyTurns);
             }
             let gap = if kind == Kind::Number {

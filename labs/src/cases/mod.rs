@@ -7,7 +7,8 @@ mod el2320;
 mod generate;
 
 pub use compare::{
-    HEADING_TURNS, Kind, Mismatch, Problem, Shape, Tolerance, compare, output_shape,
+    HEADING_TURNS, Kind, Mismatch, Problem, Shape, Tolerance, compare, heading_within_turns,
+    output_shape,
 };
 pub(crate) use contract::rows;
 pub use contract::{Call, FUNCTIONS, reference};

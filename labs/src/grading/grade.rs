@@ -7,13 +7,14 @@ use super::outputs::{FunctionOutput, Outputs, RunOutput};
 use super::plan::{
     FUNCTION_LIMIT_MS, Plan, PlannedCase, RUN_LIMIT_MS, RunSpec, Suite, bound, mode_name,
 };
-use super::result::{Failure, GradeResult, RunFigures, Status, Test, Visibility};
-use crate::cases::{FUNCTIONS, HEADING_TURNS, Tolerance};
+use super::result::{
+    Failure, GradeResult, KEPT_MESSAGE, RunFigures, Status, Test, Visibility, clip,
+};
+use crate::cases::{FUNCTIONS, HEADING_TURNS, Tolerance, heading_within_turns};
 use crate::dataset::Kind;
 use crate::ekf::{self, Belief, Decision, UpdateMode};
 use nalgebra::{Matrix2, Matrix3, Vector3};
 use serde_json::Value;
-use std::f64::consts::{PI, TAU};
 
 pub const LAB: &str = "ekf-localization";
 /// Points of each function's test and of each data-set test.
@@ -52,6 +53,9 @@ pub fn grade(plan: &Plan, outputs: &Outputs) -> GradeResult {
     for kind in Kind::ALL {
         tests.push(dataset_test(plan, outputs, kind, &functions));
     }
+    for test in &mut tests {
+        test.message = clip(&test.message, KEPT_MESSAGE);
+    }
     let points: f64 = tests.iter().map(|t| t.points).sum();
     let max_points: f64 = tests.iter().map(|t| t.max_points).sum();
     GradeResult {
@@ -79,16 +83,40 @@ fn function_test(plan: &Plan, function: &str, output: Option<&FunctionOutput>) -
             .as_ref()
             .map(|s| s.message(FUNCTION_LIMIT_MS))
     });
-    // Fails closed: a case without a result has failed, whatever else was reported.
+    // Fails closed: a case passes only when its result matches the reference and its
+    // repeat in a fresh copy of the file gives the same answer; anything missing fails.
     let mut failures = Vec::new();
     let mut tally = Tally::default();
+    let (mut impure, mut unrepeated) = (false, false);
     for planned in &cases {
-        let result = output.results.iter().find(|r| r.id == planned.case.id);
-        let failure = check(
+        let first = output.results.iter().find(|r| r.id == planned.case.id);
+        let repeat = output.repeats.iter().find(|r| r.id == planned.case.id);
+        let mut failure = check(
             planned,
-            result.and_then(|r| r.output.as_ref()),
-            result.and_then(|r| r.error.clone()),
+            first.and_then(|r| r.output.as_ref()),
+            first.and_then(|r| r.error.clone()),
         );
+        if failure.is_none() {
+            match repeat {
+                None => {
+                    unrepeated = true;
+                    failure = check(planned, None, Some(NOT_REPEATED.to_owned()));
+                }
+                Some(repeat)
+                    if first.is_some_and(|first| {
+                        first.output != repeat.output || first.error != repeat.error
+                    }) =>
+                {
+                    impure = true;
+                    failure = check(planned, None, Some(ANSWERED_DIFFERENTLY.to_owned()));
+                }
+                Some(_) => {}
+            }
+        } else if repeat
+            .is_some_and(|repeat| first.is_some_and(|first| first.output != repeat.output))
+        {
+            impure = true;
+        }
         tally.count(planned.suite, failure.is_none());
         failures.extend(failure);
     }
@@ -101,16 +129,7 @@ fn function_test(plan: &Plan, function: &str, output: Option<&FunctionOutput>) -
     if let Some(error) = &error {
         lines.push(error.clone());
     }
-    let impure = output.repeats.iter().any(|repeat| {
-        let first = output.results.iter().find(|r| r.id == repeat.id);
-        first.is_some_and(|first| first.output != repeat.output || first.error != repeat.error)
-    });
-    let unrepeated = error.is_none()
-        && output
-            .results
-            .iter()
-            .any(|first| !output.repeats.iter().any(|repeat| repeat.id == first.id));
-    if unrepeated {
+    if unrepeated && error.is_none() {
         lines.push(
             "Some calls were not repeated in a fresh copy of your file, so the report is incomplete: does your file change built-in objects?"
                 .to_owned(),
@@ -123,6 +142,11 @@ fn function_test(plan: &Plan, function: &str, output: Option<&FunctionOutput>) -
             failure.hint = Some(hint.clone());
         }
     }
+    // Bounded before they are written into the message: a thrown text, a hint naming the
+    // fields of a returned object, a large value, all within a few hundred characters.
+    for failure in &mut failures {
+        failure.bound();
+    }
     for failure in failures.iter().take(SHOWN_FAILURES) {
         lines.push(failure_line(failure));
     }
@@ -132,11 +156,8 @@ fn function_test(plan: &Plan, function: &str, output: Option<&FunctionOutput>) -
             failures.len() - SHOWN_FAILURES
         ));
     }
-    let all = failures.is_empty() && error.is_none() && !impure && !unrepeated;
+    let all = failures.is_empty() && error.is_none();
     failures.truncate(DETAILED_FAILURES);
-    for failure in &mut failures {
-        failure.bound();
-    }
     Test {
         name,
         points: if all { POINTS } else { POINTS * tally.share() },
@@ -148,6 +169,12 @@ fn function_test(plan: &Plan, function: &str, output: Option<&FunctionOutput>) -
         run: None,
     }
 }
+
+/// What a case that passed says when its repeat in a fresh copy of the file is missing.
+const NOT_REPEATED: &str =
+    "not repeated in a fresh copy of your file, so its answer cannot be counted";
+/// What a case that passed says when its repeat answered differently.
+const ANSWERED_DIFFERENTLY: &str = "answered differently when called again in a fresh copy of your file (the calls in reverse order): the function keeps state between calls";
 
 /// The cases of a function that pass, of those shown to the student (public and their
 /// variant) and of the hidden ones.
@@ -567,12 +594,11 @@ pub fn student_run(spec: &RunSpec, output: &RunOutput) -> Result<ekf::Run, Strin
         ));
     }
     // Far outside [-pi, pi) a heading's error wraps to anything (exactly 0 at 1e300).
-    let farthest = PI + HEADING_TURNS * TAU;
     if let Some((k, mu)) = output
         .mu
         .iter()
         .enumerate()
-        .find(|(_, mu)| mu[2].abs() > farthest)
+        .find(|(_, mu)| !heading_within_turns(mu[2]))
     {
         return Err(format!(
             "at time step {}, the heading mu[2] = {:e} is more than {HEADING_TURNS} turns outside [-pi, pi), where its error means nothing: wrap it",

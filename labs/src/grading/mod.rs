@@ -18,7 +18,7 @@ pub use grade::{LAB, POINTS, grade, student_run};
 pub use hints::{Hint, HintKind};
 pub use job::{CallJob, FunctionPhase, Job, Mode, Phase, PhaseKind, RobotJob, RunPhase, StepJob};
 pub use outputs::{CallResult, FunctionOutput, Outputs, PhaseOutput, Reports, RunOutput, Stopped};
-pub use plan::{Plan, PlannedCase, RunSpec, Suite, bound};
+pub use plan::{FUNCTION_LIMIT_MS, Plan, PlannedCase, RunSpec, Suite, bound};
 pub use result::{Failure, GradeResult, RunFigures, Status, Test, Visibility};
 
 /// The course a student's variant belongs to unless another is named.

@@ -3,6 +3,7 @@
 //! cannot hold come as the strings "NaN", "Infinity" and "-Infinity"; `undefined` as the
 //! string "undefined".
 
+use super::job::Job;
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
@@ -17,6 +18,25 @@ pub struct Outputs {
     pub functions: Vec<FunctionOutput>,
     #[serde(default)]
     pub runs: Vec<RunOutput>,
+}
+
+impl Outputs {
+    /// Every phase of `job` ended alike, before or instead of running: what stopped the
+    /// file, or why its outputs cannot be used.
+    pub fn every_phase(
+        job: &Job,
+        function: impl Fn(&str) -> FunctionOutput,
+        run: impl Fn(&str) -> RunOutput,
+    ) -> Outputs {
+        Outputs {
+            functions: job
+                .functions
+                .iter()
+                .map(|p| function(&p.function))
+                .collect(),
+            runs: job.runs.iter().map(|p| run(&p.name)).collect(),
+        }
+    }
 }
 
 /// The harness's reports as the host received them, each phase read on its own.

@@ -1,4 +1,4 @@
-//! The result of a grading (format in `DESIGN.md`) and its exports to the Gradescope and
+//! The result of a grading (`DESIGN.md`, "The result") and its exports to the Gradescope and
 //! PrairieLearn `results.json` formats.
 
 use super::hints::{Hint, describe};
@@ -97,8 +97,11 @@ const KEPT_VALUE: usize = 1 << 10;
 const KEPT_ELEMENT: usize = 120;
 /// Differing elements kept in a failure; the rest are counted in `differing`.
 const KEPT_MISMATCHES: usize = 12;
-/// Characters kept of a message the student's code wrote (what it threw).
+/// Characters kept of a message the student's code wrote (what it threw), or of a hint
+/// that names what it returned.
 const KEPT_TEXT: usize = 500;
+/// Characters kept of a test's message.
+pub const KEPT_MESSAGE: usize = 4000;
 
 impl Failure {
     /// A hidden case's failure without what would reveal the case.
@@ -139,6 +142,9 @@ impl Failure {
         if let Some(error) = self.error.as_mut() {
             *error = clip(error, KEPT_TEXT);
         }
+        if let Some(hint) = self.hint.as_mut() {
+            hint.text = clip(&hint.text, KEPT_TEXT);
+        }
     }
 }
 
@@ -166,8 +172,8 @@ const STORED_MISMATCHES: usize = 4;
 impl GradeResult {
     /// The result as the server keeps and serves it, a few kilobytes whatever the file
     /// returned: every test's message, and one failing case per test in detail without
-    /// its arguments and expected output (the plan of the result's seed makes them again
-    /// from the case's id) and with its first few differing elements.
+    /// its arguments and expected output (known to the grader, not the student's) and with
+    /// its first few differing elements.
     pub fn stored(mut self) -> GradeResult {
         for test in &mut self.tests {
             test.failures.truncate(STORED_FAILURES);

@@ -8,7 +8,8 @@
 use super::cpu::ThreadClock;
 use labs::cases::FUNCTIONS;
 use labs::grading::{
-    FunctionOutput, FunctionPhase, Job, Outputs, Phase, PhaseKind, PhaseOutput, RunOutput, Stopped,
+    FUNCTION_LIMIT_MS, FunctionOutput, FunctionPhase, Job, Outputs, Phase, PhaseKind, PhaseOutput,
+    RunOutput, Stopped,
 };
 use rquickjs::{CatchResultExt, Context, Function, Object, Persistent, Runtime};
 use std::cell::{Cell, RefCell};
@@ -25,8 +26,9 @@ pub const STACK_LIMIT: usize = 512 << 10;
 /// CPU time for loading the harness into a fresh engine.
 const HARNESS_LIMIT: Duration = Duration::from_secs(5);
 /// CPU time for evaluating the student's file once before any phase: a file whose top
-/// level never ends is stopped once, not once per phase.
-pub const LOAD_LIMIT_MS: u32 = 1_000;
+/// level never ends is stopped once, not once per phase. The same as a function phase's
+/// limit, which is all the browser (which has no such check) gives the top level.
+pub const LOAD_LIMIT_MS: u32 = FUNCTION_LIMIT_MS;
 
 /// The CPU time one phase may still use, shared between the engine and its interrupt
 /// handler (both on the engine's thread).
@@ -161,18 +163,11 @@ const THREAD_STACK: usize = 8 << 20;
 /// data-set runs) first.
 pub fn carry_out(source: &str, job: &Job, threads: usize) -> Result<Outputs, String> {
     if let Some(stopped) = load_check(source)? {
-        return Ok(Outputs {
-            functions: job
-                .functions
-                .iter()
-                .map(|phase| FunctionOutput::stopped(&phase.function, stopped.clone()))
-                .collect(),
-            runs: job
-                .runs
-                .iter()
-                .map(|phase| RunOutput::stopped(&phase.name, stopped.clone()))
-                .collect(),
-        });
+        return Ok(Outputs::every_phase(
+            job,
+            |function| FunctionOutput::stopped(function, stopped.clone()),
+            |run| RunOutput::stopped(run, stopped.clone()),
+        ));
     }
     let phases: Vec<Phase> = job.phases().collect();
     let reports: Vec<Mutex<Option<Report>>> = phases.iter().map(|_| Mutex::new(None)).collect();

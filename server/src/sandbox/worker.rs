@@ -7,7 +7,9 @@
 //! student nothing.
 
 use super::engine::LOAD_LIMIT_MS;
-use labs::grading::{GradeResult, Job, LAB, Outputs, Plan, grade};
+use labs::grading::{
+    FunctionOutput, GradeResult, Job, LAB, Outputs, PhaseOutput, Plan, RunOutput, grade,
+};
 use serde::{Deserialize, Serialize};
 use std::io::{Read, Write};
 use std::os::unix::process::CommandExt;
@@ -107,7 +109,7 @@ impl Sandbox {
             .map_err(|e| format!("the sandbox did not start: {e}"))?;
         let input = serde_json::to_string(&WorkerInput {
             source: source.to_owned(),
-            job,
+            job: job.clone(),
             threads: self.threads,
         })
         .expect("worker inputs serialise");
@@ -115,9 +117,11 @@ impl Sandbox {
         let writer = thread::spawn(move || stdin.write_all(input.as_bytes()));
         let stdout = child.stdout.take().expect("piped stdout");
         let reader = thread::spawn(move || {
+            // One byte past the limit tells a report that is too large; stopping there
+            // ends the worker, whose next write fails.
             let mut text = String::new();
             stdout
-                .take(MAX_OUTPUT)
+                .take(MAX_OUTPUT + 1)
                 .read_to_string(&mut text)
                 .map(|_| text)
         });
@@ -147,6 +151,19 @@ impl Sandbox {
         let _ = writer.join();
         let output = reader.join().ok().and_then(Result::ok).unwrap_or_default();
         let complaints = complaints.join().unwrap_or_default();
+        if output.len() as u64 > MAX_OUTPUT {
+            // Only the student's code makes the reports this large: its grade, not the
+            // sandbox's fault.
+            let error = format!(
+                "Your code's answers came to more than {} MB, far more than any answer of the exercise: every test fails.",
+                MAX_OUTPUT >> 20
+            );
+            return Ok(Outputs::every_phase(
+                &job,
+                |function| FunctionOutput::failed(function, error.clone()),
+                |run| RunOutput::failed(run, error.clone()),
+            ));
+        }
         if !status.success() {
             return Err(format!(
                 "the sandbox failed ({status}){}",
@@ -170,9 +187,10 @@ fn die_with_parent(parent: u32, cpu_seconds: u64) -> std::io::Result<()> {
         if libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL) != 0 {
             return Err(std::io::Error::last_os_error());
         }
-        // The parent may have died before the signal was asked for.
+        // The parent may have died before the signal was asked for. (No allocation
+        // between fork and exec: an error made from a number.)
         if libc::getppid() as u32 != parent {
-            return Err(std::io::Error::other("the server stopped"));
+            return Err(std::io::Error::from_raw_os_error(libc::ESRCH));
         }
         let limit = libc::rlimit {
             rlim_cur: cpu_seconds,

@@ -57,10 +57,23 @@ impl Grader {
                 .expect("the semaphore stays open");
             let worker = Arc::clone(&grader);
             let graded = tokio::task::spawn_blocking(move || worker.grade(id)).await;
-            match graded {
-                Ok(Ok(())) => {}
-                Ok(Err(err)) => eprintln!("estlab: grading submission {id}: {err}"),
-                Err(err) => eprintln!("estlab: grading submission {id} stopped: {err}"),
+            let failure = match graded {
+                Ok(Ok(())) => return,
+                Ok(Err(err)) => format!("grading submission {id}: {err}"),
+                Err(err) => format!("grading submission {id} stopped: {err}"),
+            };
+            eprintln!("estlab: {failure}");
+            // The submission is not left waiting, which would refuse the student's next
+            // one: it ends "not gradable", which costs them nothing.
+            let store = Arc::clone(&grader);
+            let ended = tokio::task::spawn_blocking(move || {
+                store
+                    .store
+                    .give_up(id, "the server could not grade it; submit again")
+            })
+            .await;
+            if let Ok(Err(err)) = ended {
+                eprintln!("estlab: submission {id} could not be marked as not gradable: {err}");
             }
         });
     }

@@ -168,6 +168,19 @@ impl Store {
         Ok(())
     }
 
+    /// Ends a submission whose grading failed as not gradable, with the reason.
+    pub fn give_up(&self, id: i64, reason: &str) -> Result<(), Error> {
+        let (lab, seed): (String, i64) = self
+            .connection()
+            .query_row(
+                "SELECT lab, seed FROM submissions WHERE id = ?1",
+                [id],
+                |row| Ok((row.get(0)?, row.get(1)?)),
+            )
+            .map_err(Error::Sql)?;
+        self.finish_grading(id, &GradeResult::not_gradable(&lab, seed as u64, reason))
+    }
+
     /// The submissions whose grading has not finished (queued, or cut off by a stop), oldest first.
     pub fn unfinished(&self) -> Result<Vec<i64>, Error> {
         let connection = self.connection();
@@ -232,4 +245,52 @@ fn migrate(connection: &Connection) -> rusqlite::Result<()> {
         ))?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn new<'a>(student: &'a str, source: &'a str) -> NewSubmission<'a> {
+        NewSubmission {
+            course: "el2320",
+            student,
+            lab: "ekf-localization",
+            seed: 7,
+            source,
+        }
+    }
+
+    #[test]
+    fn a_student_has_one_submission_waiting_and_a_failed_grading_frees_the_next() {
+        let dir = tempfile::tempdir().unwrap();
+        let store = Store::open(dir.path()).unwrap();
+        let first = store.insert(&new("ada", "// one")).unwrap();
+        // Another student is not held up; the same student is, while the first waits.
+        store.insert(&new("grace", "// other")).unwrap();
+        assert!(matches!(store.insert(&new("ada", "// two")), Err(Error::Busy(id)) if id == first));
+        store.start_grading(first).unwrap();
+        assert!(matches!(
+            store.insert(&new("ada", "// two")),
+            Err(Error::Busy(_))
+        ));
+
+        // Grading failed on the server's side: the submission ends not gradable, the
+        // student may submit again, and nothing is lost.
+        store
+            .give_up(first, "the server could not grade it")
+            .unwrap();
+        let ended = store.get(first).unwrap().unwrap();
+        assert_eq!(ended.status, Status::Graded);
+        let result = ended.result.unwrap();
+        assert!(!result.gradable);
+        assert_eq!(
+            result.reason.as_deref(),
+            Some("the server could not grade it")
+        );
+        assert_eq!(result.seed, 7);
+        let second = store.insert(&new("ada", "// two")).unwrap();
+        assert!(second > first);
+        assert_eq!(store.start_grading(first).unwrap().0, "// one");
+    }
 }

@@ -320,7 +320,6 @@ function partsOf(message, shown) {
   return { summary: summary.join('\n'), rest: rest.join('\n') };
 }
 
-
 const json = (value) => JSON.stringify(value, null, 1);
 
 function failureView(failure) {
