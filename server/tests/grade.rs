@@ -735,19 +735,20 @@ fn hostile_suite() -> Vec<Hostile> {
             },
         ),
         hostile(
-            "eval of a 10 MB string",
+            "eval of a 1 MB string",
             with(
-                "function predict(mu, sigma, u, R) { const text = eval('\"' + 'a'.repeat(10000000) + '\"'); return text.length; }",
+                "function predict(mu, sigma, u, R) { const text = eval('\"' + 'a'.repeat(1000000) + '\"'); return text.length; }",
             ),
-            // The string fits in the memory limit: the answer is its length, in the
-            // wrong shape, and the message says so.
+            // The string fits in the memory limit and the time: the answer is its length,
+            // in the wrong shape, and the message says so. (Ten times larger, the evals
+            // of a phase run past its limit inside single calls: see the indexOf file.)
             |r, p| {
                 p.only_these_fail(r, &["predict"]);
                 p.says(
                     r,
                     "predict",
                     &[
-                        "got 10000000 (not the contract's shape)",
+                        "got 1000000 (not the contract's shape)",
                         "should be an object with the fields mu_bar, sigma_bar, but is a number",
                     ],
                 );
@@ -913,6 +914,30 @@ fn hostile_suite() -> Vec<Hostile> {
                 p.score_is_below(r, 0.5);
                 p.says(r, "predict", &["second load"]);
             },
+        ),
+        hostile(
+            "a single built-in call far past the limit, where the engine cannot interrupt it",
+            with(
+                "var haystack = 'a'.repeat(400000), needle = 'a'.repeat(200000) + 'b';\n\
+                 function calculate_odometry() { return haystack.indexOf(needle); }",
+            ),
+            |r, p| {
+                p.whole_file_fails(
+                    r,
+                    &[
+                        "a single call ran on past the time limit where it cannot be interrupted",
+                    ],
+                );
+                p.score_is(r, 0.0);
+            },
+        ),
+        hostile(
+            "the stack-trace hook that would hand over the harness's functions",
+            with(
+                "Error.prepareStackTrace = (error, frames) => frames;\n\
+                 if (typeof new Error('probe').stack !== 'string') throw new Error('call sites reached');",
+            ),
+            |r, p| p.score_is(r, 1.0),
         ),
         hostile(
             "an endless loop at the top level, eleven bytes",

@@ -83,6 +83,15 @@
     return createObject(null);
   }
 
+  // Stack traces as call sites (Error.prepareStackTrace, in V8 and QuickJS) would hand
+  // the student's code the harness's own functions: the hook is fixed to nothing.
+  try {
+    defineProperty(ErrorConstructor, 'prepareStackTrace',
+      { value: undefined, writable: false, configurable: false });
+  } catch (e) {
+    // Already fixed in place by the engine: there is no hook to take away.
+  }
+
   const standIns = [];
   for (let i = 0; i < UNAVAILABLE.length; i++) push(standIns, unavailable(UNAVAILABLE[i]));
   push(standIns, unavailable('import(...)'));

@@ -1,38 +1,63 @@
-//! The CPU time of the calling thread (Linux's `CLOCK_THREAD_CPUTIME_ID`): what a
-//! student's code has used of its limit, however many other processes share the cores.
+//! The CPU time of a thread (Linux's per-thread CPU clocks): what a student's code has
+//! used of its limit, however many other processes share the cores.
 
 use std::time::Duration;
 
+/// A thread's CPU clock, which any thread of the process may read.
+#[derive(Clone, Copy, Debug)]
+pub struct CpuClock(libc::clockid_t);
+
+impl CpuClock {
+    /// The clock of the calling thread.
+    pub fn of_this_thread() -> CpuClock {
+        let mut clock: libc::clockid_t = 0;
+        // SAFETY: pthread_self is always valid for the caller, and the call writes one
+        // clockid_t through a valid pointer.
+        let status = unsafe { libc::pthread_getcpuclockid(libc::pthread_self(), &mut clock) };
+        assert_eq!(status, 0, "this thread's CPU clock is unavailable");
+        CpuClock(clock)
+    }
+
+    /// The CPU time the thread has used, or None once it has ended.
+    pub fn read(self) -> Option<Duration> {
+        let mut time = libc::timespec {
+            tv_sec: 0,
+            tv_nsec: 0,
+        };
+        // SAFETY: clock_gettime writes one timespec through a valid pointer; a clock of a
+        // thread that has ended gives an error, not undefined behaviour.
+        let status = unsafe { libc::clock_gettime(self.0, &mut time) };
+        (status == 0).then(|| Duration::new(time.tv_sec as u64, time.tv_nsec as u32))
+    }
+}
+
 /// A stopwatch of this thread's CPU time. Read it on the thread that started it.
 pub struct ThreadClock {
+    clock: CpuClock,
     start: std::cell::Cell<Duration>,
 }
 
 impl ThreadClock {
     pub fn start() -> ThreadClock {
+        let clock = CpuClock::of_this_thread();
         ThreadClock {
-            start: std::cell::Cell::new(now()),
+            clock,
+            start: std::cell::Cell::new(now(clock)),
         }
     }
 
     pub fn restart(&self) {
-        self.start.set(now());
+        self.start.set(now(self.clock));
     }
 
     /// CPU time this thread used since the start.
     pub fn elapsed(&self) -> Duration {
-        now().saturating_sub(self.start.get())
+        now(self.clock).saturating_sub(self.start.get())
     }
 }
 
-fn now() -> Duration {
-    let mut time = libc::timespec {
-        tv_sec: 0,
-        tv_nsec: 0,
-    };
-    // SAFETY: clock_gettime writes one timespec through a valid pointer; the thread CPU
-    // clock exists on every Linux since 2.6.12, so it cannot fail with a valid clock id.
-    let status = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut time) };
-    assert_eq!(status, 0, "the thread CPU clock is unavailable");
-    Duration::new(time.tv_sec as u64, time.tv_nsec as u32)
+fn now(clock: CpuClock) -> Duration {
+    clock
+        .read()
+        .expect("a running thread's own CPU clock can be read")
 }

@@ -6,6 +6,7 @@
 //! and a stack limit. A phase that is stopped loses its outputs.
 
 use super::cpu::ThreadClock;
+use super::watchdog::Watchdog;
 use labs::cases::FUNCTIONS;
 use labs::grading::{
     FUNCTION_LIMIT_MS, FunctionOutput, FunctionPhase, Job, Outputs, Phase, PhaseKind, PhaseOutput,
@@ -127,15 +128,27 @@ impl Engine {
                 .catch(&ctx)
                 .map_err(|e| e.to_string())
         });
-        outcome.map_err(|message| Stopped {
-            limit_ms: None,
-            during: during.borrow().clone(),
-            cause: if self.budget.interrupted.get() {
-                "time".to_owned()
-            } else {
-                cause(&message)
-            },
-        })
+        // QuickJS looks at the clock between bytecode steps only: one built-in call on
+        // huge data (a naive indexOf, a huge BigInt's digits) can run past the limit and
+        // return. Such a phase is over its time all the same.
+        let over_time = self.budget.interrupted.get() || self.budget.exhausted();
+        match outcome {
+            Ok(_) if over_time => Err(Stopped {
+                limit_ms: None,
+                during: during.borrow().clone(),
+                cause: "time".to_owned(),
+            }),
+            Ok(report) => Ok(report),
+            Err(message) => Err(Stopped {
+                limit_ms: None,
+                during: during.borrow().clone(),
+                cause: if over_time {
+                    "time".to_owned()
+                } else {
+                    cause(&message)
+                },
+            }),
+        }
     }
 }
 
@@ -160,31 +173,49 @@ const THREAD_STACK: usize = 8 << 20;
 /// once: the outputs the grader reads. The file is evaluated once first; if that is
 /// stopped, every phase reports it without running. Otherwise every phase gets a fresh
 /// engine, so that nothing one phase leaves behind reaches another, the longest (the
-/// data-set runs) first.
+/// data-set runs) first. A watchdog ends the process if a phase overruns its limit inside
+/// a single call (see `watchdog`).
 pub fn carry_out(source: &str, job: &Job, threads: usize) -> Result<Outputs, String> {
-    if let Some(stopped) = load_check(source)? {
+    let phases: Vec<Phase> = job.phases().collect();
+    let threads = threads.clamp(1, phases.len().max(1));
+    let watchdog = Watchdog::new(threads);
+    std::thread::scope(|scope| {
+        scope.spawn(|| watchdog.patrol());
+        let outputs = watched(source, job, &phases, threads, &watchdog);
+        watchdog.stop();
+        outputs
+    })
+}
+
+fn watched(
+    source: &str,
+    job: &Job,
+    phases: &[Phase],
+    threads: usize,
+    watchdog: &Watchdog,
+) -> Result<Outputs, String> {
+    if let Some(stopped) = load_check(source, watchdog)? {
         return Ok(Outputs::every_phase(
             job,
             |function| FunctionOutput::stopped(function, stopped.clone()),
             |run| RunOutput::stopped(run, stopped.clone()),
         ));
     }
-    let phases: Vec<Phase> = job.phases().collect();
     let reports: Vec<Mutex<Option<Report>>> = phases.iter().map(|_| Mutex::new(None)).collect();
     let next = AtomicUsize::new(0);
-    let threads = threads.clamp(1, phases.len().max(1));
     std::thread::scope(|scope| {
         let workers: Vec<_> = (0..threads)
-            .map(|_| {
+            .map(|slot| {
+                let (next, reports) = (&next, &reports);
                 std::thread::Builder::new()
                     .stack_size(THREAD_STACK)
-                    .spawn_scoped(scope, || {
+                    .spawn_scoped(scope, move || {
                         loop {
                             let i = next.fetch_add(1, Ordering::Relaxed);
                             let Some(phase) = phases.get(i) else {
                                 return Ok(());
                             };
-                            let report = run_phase(source, *phase)?;
+                            let report = run_phase(source, *phase, watchdog, (slot, phase.name()))?;
                             *reports[i].lock().expect("a report slot") = Some(report);
                         }
                     })
@@ -222,9 +253,12 @@ pub fn carry_out(source: &str, job: &Job, threads: usize) -> Result<Outputs, Str
 /// A phase's report, or where the engine stopped it.
 type Report = Result<String, Stopped>;
 
+/// What the watchdog calls the evaluation of the file before the phases.
+pub const TOP_LEVEL: &str = "the top level of your file (evaluated once, before every test)";
+
 /// Evaluates the file once, calling nothing (a function phase without calls): what
 /// stopped it, if anything did.
-fn load_check(source: &str) -> Result<Option<Stopped>, String> {
+fn load_check(source: &str, watchdog: &Watchdog) -> Result<Option<Stopped>, String> {
     let nothing = FunctionPhase {
         function: FUNCTIONS[0].to_owned(),
         calls: Vec::new(),
@@ -233,27 +267,32 @@ fn load_check(source: &str) -> Result<Option<Stopped>, String> {
     let stopped = std::thread::scope(|scope| {
         std::thread::Builder::new()
             .stack_size(THREAD_STACK)
-            .spawn_scoped(scope, || run_phase(source, Phase::Function(&nothing)))
+            .spawn_scoped(scope, || {
+                run_phase(source, Phase::Function(&nothing), watchdog, (0, TOP_LEVEL))
+            })
             .map_err(|e| format!("the sandbox could not start a thread: {e}"))?
             .join()
             .map_err(|_| "a sandbox thread panicked".to_owned())?
     })?
     .err();
     Ok(stopped.map(|stopped| Stopped {
-        during: "the top level of your file (evaluated once, before every test)".to_owned(),
+        during: TOP_LEVEL.to_owned(),
         limit_ms: Some(LOAD_LIMIT_MS),
         ..stopped
     }))
 }
 
-/// One phase in an engine of its own: the harness's report, or where it was stopped.
-/// Only a failure of the sandbox itself is an error.
-fn run_phase(source: &str, phase: Phase) -> Result<Report, String> {
+/// One phase in an engine of its own, watched in `slot` under the name `watched_as`: the
+/// harness's report, or where it was stopped. Only a failure of the sandbox itself is an
+/// error.
+fn run_phase(
+    source: &str,
+    phase: Phase,
+    watchdog: &Watchdog,
+    (slot, watched_as): (usize, &str),
+) -> Result<Report, String> {
     let engine = Engine::new()?;
-    Ok(engine.phase(
-        phase.kind(),
-        source,
-        &phase.to_json(),
-        Duration::from_millis(phase.limit_ms().into()),
-    ))
+    let limit = Duration::from_millis(phase.limit_ms().into());
+    let _watching = watchdog.watch(slot, watched_as, limit);
+    Ok(engine.phase(phase.kind(), source, &phase.to_json(), limit))
 }

@@ -2,6 +2,7 @@
 
 mod cpu;
 mod engine;
+mod watchdog;
 mod worker;
 
 pub use engine::carry_out;

@@ -7,12 +7,13 @@
 //! student nothing.
 
 use super::engine::LOAD_LIMIT_MS;
+use super::watchdog::{OVERRUN_EXIT, OVERRUN_PREFIX};
 use labs::grading::{
     FunctionOutput, GradeResult, Job, LAB, Outputs, PhaseOutput, Plan, RunOutput, grade,
 };
 use serde::{Deserialize, Serialize};
 use std::io::{Read, Write};
-use std::os::unix::process::CommandExt;
+use std::os::unix::process::{CommandExt, ExitStatusExt};
 use std::path::PathBuf;
 use std::process::{Command, Stdio};
 use std::thread;
@@ -164,6 +165,35 @@ impl Sandbox {
                 |run| RunOutput::failed(run, error.clone()),
             ));
         }
+        if status.code() == Some(OVERRUN_EXIT) {
+            // The watchdog ended the worker: a phase ran past its limit inside one call.
+            let phase = complaints
+                .lines()
+                .find_map(|line| line.strip_prefix(OVERRUN_PREFIX))
+                .unwrap_or("a test")
+                .to_owned();
+            let error = format!(
+                "Stopped while running {phase}: a single call ran on past the time limit where it cannot be interrupted (a built-in function on huge data, such as indexOf on long strings?), and every test fails."
+            );
+            return Ok(Outputs::every_phase(
+                &job,
+                |function| FunctionOutput::failed(function, error.clone()),
+                |run| RunOutput::failed(run, error.clone()),
+            ));
+        }
+        if status.signal() == Some(libc::SIGXCPU) {
+            // The kernel's limit on the worker's CPU time: only the student's code gets
+            // there, with built-in calls the engines' own limits cannot interrupt.
+            let error = format!(
+                "Your code used more than {} s of CPU time in all, in single calls the time limits cannot interrupt (a built-in function on huge data?): every test fails.",
+                cpu_limit.as_secs()
+            );
+            return Ok(Outputs::every_phase(
+                &job,
+                |function| FunctionOutput::failed(function, error.clone()),
+                |run| RunOutput::failed(run, error.clone()),
+            ));
+        }
         if !status.success() {
             return Err(format!(
                 "the sandbox failed ({status}){}",
@@ -180,7 +210,7 @@ impl Sandbox {
 }
 
 /// In the worker, before it runs: it gets SIGKILL when the process that started it dies
-/// (even by SIGKILL), and SIGKILL from the kernel after `cpu_seconds` of CPU time.
+/// (even by SIGKILL), and SIGXCPU from the kernel after `cpu_seconds` of CPU time.
 fn die_with_parent(parent: u32, cpu_seconds: u64) -> std::io::Result<()> {
     // SAFETY: plain system calls on this process, with no pointers but a valid rlimit.
     unsafe {
@@ -192,9 +222,11 @@ fn die_with_parent(parent: u32, cpu_seconds: u64) -> std::io::Result<()> {
         if libc::getppid() as u32 != parent {
             return Err(std::io::Error::from_raw_os_error(libc::ESRCH));
         }
+        // SIGXCPU at the soft limit (which the server tells from a crash), SIGKILL a
+        // second later if that did not end it.
         let limit = libc::rlimit {
             rlim_cur: cpu_seconds,
-            rlim_max: cpu_seconds,
+            rlim_max: cpu_seconds + 1,
         };
         if libc::setrlimit(libc::RLIMIT_CPU, &limit) != 0 {
             return Err(std::io::Error::last_os_error());
