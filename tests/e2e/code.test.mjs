@@ -127,11 +127,46 @@ test('the correct file scores 1 in the browser and through the server, and the v
   assert.match(await page.locator('#score').textContent(), /110 of 110 points \(100%\), 11 of 11 tests pass\./);
   assert.equal(await page.locator('#runs').isVisible(), true, 'the runs are plotted');
   assert.match(await page.locator('#summary').textContent(), /mean absolute error/);
+  // Where the run is shown: that it is a prefix, and a link to the whole data set.
+  assert.match(await page.locator('#prefix').textContent(),
+    /^Grading runs the first \d+ readings of this data set \([\d.]+ s of \d+ time steps\)/);
+  const whole = await page.locator('#prefix a').getAttribute('href');
+  assert.match(whole, /^\/ekf\?kind=o3&seed=\d+&mode=sequential$/);
+  const experiment = await openPage(browser, server.url + whole);
+  const seed = whole.match(/seed=(\d+)/)[1];
+  assert.equal(await experiment.locator('#dataset-kind').inputValue(), 'o3');
+  assert.equal(await experiment.locator('#dataset-seed').inputValue(), seed);
+  assert.equal(await experiment.locator('input[name=mode][value=sequential]').isChecked(), true);
+  const dir = tempDir();
+  estlab('simulate', '--kind', 'o3', '--seed', seed, '--out', dir);
+  const native = estlab('run', join(dir, `so_o3_${seed}.txt`), join(dir, `map_o3_${seed}.txt`));
+  const errors = native.split('\n').find((line) => line.startsWith('mean absolute error'));
+  assert.ok((await experiment.locator('#summary').textContent()).includes(errors),
+    `the experiment page runs the whole data set: ${errors}`);
+  assert.deepEqual(experiment.problems, []);
+  await experiment.close();
 
   await page.locator('#submit').click();
   await page.waitForSelector('#submission[data-status=graded]', { timeout: 120_000 });
   const text = await page.locator('#submission').textContent();
   assert.match(text, /The server's grade for submission \d+: 110 of 110 points \(100%\)\. The same as in your browser\./);
+  assert.deepEqual(page.problems, []);
+  await page.close();
+});
+
+test('typing a student id says which variant it gives at once, and keeps the results of the last run, saying whose they are', bounded, async () => {
+  const page = await openPage(browser, `${server.url}/ekf/code`);
+  await page.locator('#student').fill('');
+  await page.locator('#student').dispatchEvent('change');
+  await type(page, correct);
+  await runAndWait(page, '#test-predict button.run');
+  assert.equal(await testStatus(page, 'predict'), 'passed');
+  await page.locator('#student').pressSequentially('variant-reader');
+  assert.match(await page.locator('#seed').textContent(),
+    /^your own variant: seed \d+\. The results below are for seed 1: run again for this variant\.$/);
+  assert.equal(await testStatus(page, 'predict'), 'passed', 'the results stay');
+  await runAndWait(page, '#test-predict button.run');
+  assert.match(await page.locator('#seed').textContent(), /^your own variant: seed \d+$/);
   assert.deepEqual(page.problems, []);
   await page.close();
 });

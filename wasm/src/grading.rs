@@ -42,6 +42,13 @@ impl Grader {
         Ok(serde_json::to_string(&result).expect("results serialise"))
     }
 
+    /// The seed a run's data set was simulated from (before it was cut to the graded
+    /// readings), for a link to the whole data set.
+    #[wasm_bindgen(js_name = dataSeed)]
+    pub fn data_seed(&self, name: &str) -> Result<f64, JsError> {
+        Ok(self.spec(name)?.data_seed as f64)
+    }
+
     /// The data set of a run (by its name, `o3/sequential`), for the map.
     pub fn dataset(&self, name: &str) -> Result<Dataset, JsError> {
         let spec = self.spec(name)?;

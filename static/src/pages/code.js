@@ -119,13 +119,26 @@ function seed() {
   return student ? estlab.studentSeed(COURSE, student) : PUBLIC_VARIANT;
 }
 
-/** Makes the grader of the current seed, forgetting results of another one. */
-function useSeed() {
+/**
+ * Says which variant the id gives, as it is typed; results of another variant stay until
+ * the next run, and the note says whose they are.
+ */
+function showVariant() {
   const current = seed();
-  ui.seed.textContent = ui.student.value.trim()
+  let note = ui.student.value.trim()
     ? `your own variant: seed ${current}`
     : `no id yet: the public variant, seed ${current}`;
-  if (state.seed === current) return;
+  const shown = state.functions.size + state.runs.size > 0;
+  if (shown && state.seed !== current) {
+    note += `. The results below are for seed ${state.seed}: run again for this variant.`;
+  }
+  ui.seed.textContent = note;
+}
+
+/** Makes the grader of the current seed (at a run), forgetting results of another one. */
+function useSeed() {
+  const current = seed();
+  if (state.seed === current) return showVariant();
   state.grader?.free();
   state.grader = new estlab.Grader(current);
   state.job = JSON.parse(state.grader.job());
@@ -134,12 +147,14 @@ function useSeed() {
   state.runs.clear();
   state.views.clear();
   state.source = null;
+  showVariant();
   render();
 }
 
+ui.student.addEventListener('input', showVariant);
 ui.student.addEventListener('change', () => {
   localStorage.setItem(STORAGE.student, ui.student.value.trim());
-  useSeed();
+  showVariant();
 });
 
 // ---------------------------------------------------------------------------------------
@@ -374,6 +389,29 @@ function showRun() {
   state.runView ??= new RunView(ui.runs, 'code');
   state.runView.show(view, true);
   byId('summary').textContent = view.report;
+  showPrefix(ui.runChoice.value);
+}
+
+/**
+ * Where the run is shown, what part of the data set grading runs through (a prefix, so
+ * that the server grades within a second), and a link to the whole data set on the
+ * experiment page with the same update.
+ */
+function showPrefix(name) {
+  const phase = state.job.runs.find((run) => run.name === name);
+  const note = byId('prefix');
+  if (!phase) {
+    note.replaceChildren();
+    return;
+  }
+  const readings = phase.steps.reduce((n, step) => n + step.z[0].length, 0);
+  const seconds = phase.steps.reduce((t, step) => t + step.delta_t, 0);
+  const link = element('a', null, 'the whole data set on the experiment page');
+  link.href = `/ekf?kind=${phase.dataset}&seed=${state.grader.dataSeed(name)}&mode=${phase.mode}`;
+  note.replaceChildren(
+    `Grading runs the first ${readings} readings of this data set (${fmt(seconds, 3)} s of ${phase.steps.length} time steps), ` +
+      'which keeps a grading on the server within a second; the map shows only that much of the path. See ',
+    link, ' with the reference filter.');
 }
 
 // ---------------------------------------------------------------------------------------
