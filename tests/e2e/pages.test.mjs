@@ -377,3 +377,46 @@ test('every plot saves as a PNG and an SVG that show its data', bounded, async (
     await page.close();
   }
 });
+
+test('on a phone every page fits the screen: the settings fold above the plots, equations and the editor scroll in their own boxes', bounded, async () => {
+  for (const width of [360, 390]) {
+    for (const path of ['/', '/car', '/ekf', '/ekf/code']) {
+      const page = await browser.newPage({ viewport: { width, height: 844 } });
+      await page.goto(server.url + path);
+      await page.waitForFunction(() => document.body.dataset.ready === 'true', null, { timeout: 120_000 });
+      const what = `${path} at ${width} px`;
+      assert.equal(await page.evaluate(() => document.documentElement.scrollWidth), width, `${what}: no sideways scrolling`);
+      for (const name of plotsOf[path] ?? []) {
+        const box = await (await shown(page, name)).boundingBox();
+        assert.ok(box.x >= 0 && box.x + box.width <= width, `${what}: the plot ${name} fits`);
+      }
+      if (path === '/car' || path === '/ekf') {
+        // Above the plots, not pinned over them, and folding away.
+        const settings = page.locator('details.controls');
+        assert.equal(await settings.evaluate((el) => getComputedStyle(el).position), 'static', what);
+        await settings.locator('summary').click();
+        assert.equal(await settings.getAttribute('open'), null, `${what}: the settings fold away`);
+        const equation = page.locator('.katex-display').first();
+        assert.equal(await equation.evaluate((el) => getComputedStyle(el).overflowX), 'auto', what);
+      }
+      if (path === '/ekf/code') {
+        const editor = await page.locator('.editor').boundingBox();
+        assert.ok(editor.x >= 0 && editor.x + editor.width <= width, `${what}: the editor fits`);
+        for (const button of ['#run-tests', '#submit', '#reset']) {
+          const box = await page.locator(button).boundingBox();
+          assert.ok(box.x + box.width <= width, `${what}: ${button} is on the screen`);
+        }
+      }
+      await page.close();
+    }
+  }
+});
+
+test('on a wide screen the workbench uses the room it has', bounded, async () => {
+  const page = await browser.newPage({ viewport: { width: 1800, height: 1000 } });
+  await page.goto(`${server.url}/ekf/code`);
+  await page.waitForFunction(() => document.body.dataset.ready === 'true', null, { timeout: 120_000 });
+  const editor = await page.locator('.editor').boundingBox();
+  assert.ok(editor.width > 900, `the editor is ${editor.width} px wide at 1800 px`);
+  await page.close();
+});
