@@ -48,11 +48,14 @@ export class Plot {
     new ResizeObserver(() => this.chart.resize()).observe(this.element);
     const buttons = document.createElement('div');
     buttons.className = 'save';
+    // The caption's own text, before the buttons join it: what a screen reader names.
+    const caption = figure.querySelector('figcaption').textContent.trim();
     for (const [label, save] of [['PNG', () => this.savePng()], ['SVG', () => this.saveSvg()]]) {
       const button = document.createElement('button');
       button.type = 'button';
       button.textContent = label;
-      button.title = `Save this plot as ${label}`;
+      button.title = `Save the plot "${caption}" as ${label}`;
+      button.setAttribute('aria-label', button.title);
       button.addEventListener('click', save);
       buttons.append(button);
     }

@@ -250,3 +250,28 @@ Object.defineProperty(Object.prototype, 'error', { set(v) {}, configurable: true
   assert.deepEqual(page.problems, []);
   await page.close();
 });
+
+test('the keyboard reaches every control of the workbench, and each names what it does', bounded, async () => {
+  const page = await openPage(browser, `${server.url}/ekf/code`);
+  await type(page, correct);
+  await runAndWait(page, '#test-predict button.run');
+  // Tab from the student id through the toolbar: every button is reached.
+  await page.locator('#student').focus();
+  const reached = new Set();
+  for (let i = 0; i < 12; i++) {
+    await page.keyboard.press('Tab');
+    reached.add(await page.evaluate(() => document.activeElement.id || document.activeElement.className));
+  }
+  for (const id of ['run-tests', 'run-datasets', 'submit', 'download', 'upload-button', 'reset']) {
+    assert.ok(reached.has(id), `${id} is reached with Tab: ${[...reached].join(', ')}`);
+  }
+  assert.equal(await page.locator('#test-predict button.run').getAttribute('aria-label'), 'Run the tests of predict only');
+  // Upload from the keyboard: the button opens the file chooser.
+  const chooser = page.waitForEvent('filechooser');
+  await page.locator('#upload-button').focus();
+  await page.keyboard.press('Enter');
+  await (await chooser).setFiles({ name: 'mine.js', mimeType: 'text/javascript', buffer: Buffer.from('// uploaded\n') });
+  await page.waitForFunction(() => document.querySelector('.cm-content').textContent.includes('// uploaded'));
+  assert.deepEqual(page.problems, []);
+  await page.close();
+});

@@ -412,6 +412,23 @@ test('on a phone every page fits the screen: the settings fold above the plots, 
   }
 });
 
+test('the home page leads to every exercise; plots\' save buttons name their plot; no rejection reads as ∞', bounded, async () => {
+  const home = await openPage(browser, `${server.url}/`);
+  assert.deepEqual(await home.locator('.exercises h2 a').evaluateAll((links) => links.map((a) => a.getAttribute('href'))),
+    ['/car', '/ekf', '/ekf/code']);
+  await home.close();
+  const page = await openPage(browser, `${server.url}/ekf`);
+  assert.equal(await page.locator('figure[data-name="map"] .save button').first().getAttribute('aria-label'),
+    'Save the plot "The map: true (green), estimated (red) and odometry-only (blue) paths" as PNG');
+  await page.locator('#dataset-kind').selectOption('no-odometry');
+  await page.waitForFunction(() => document.getElementById('lambda-m').textContent.includes('∞'));
+  assert.equal(await page.locator('#lambda-m').textContent(), 'Λ_M = ∞: no reading is rejected');
+  await page.locator('#dataset-kind').selectOption('files');
+  assert.equal(await page.locator('#dataset-seed').isVisible(), false, 'uploaded files have no seed');
+  assert.deepEqual(page.problems.filter((p) => !p.includes('Choose a map file')), []);
+  await page.close();
+});
+
 test('on a wide screen the workbench uses the room it has', bounded, async () => {
   const page = await browser.newPage({ viewport: { width: 1800, height: 1000 } });
   await page.goto(`${server.url}/ekf/code`);

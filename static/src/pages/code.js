@@ -81,6 +81,8 @@ byId('reset').addEventListener('click', () => {
   }
 });
 byId('download').addEventListener('click', () => download('ekf_localization.js', source(), 'text/javascript'));
+// A real button, reachable with the keyboard, opens the file chooser.
+byId('upload-button').addEventListener('click', () => byId('upload').click());
 byId('upload').addEventListener('change', async (event) => {
   const file = event.target.files[0];
   event.target.value = '';
@@ -296,6 +298,7 @@ function testItem(test) {
     button.type = 'button';
     button.disabled = state.busy;
     button.title = `Run the tests of ${key} only`;
+    button.setAttribute('aria-label', button.title);
     button.addEventListener('click', () => runTests([key]));
     head.append(button);
   }

@@ -74,6 +74,8 @@ function labSettings() {
 async function loadDataset() {
   const kind = ui.kind.value;
   ui.files.hidden = kind !== 'files';
+  // A seed makes a simulated data set; uploaded files have none.
+  ui.seed.closest('label').hidden = kind === 'files';
   for (const id of ['download-map', 'download-sensor']) byId(id).disabled = kind === 'files';
   let next;
   try {
@@ -116,7 +118,10 @@ function update(newData = false) {
   if (!dataset) return;
   const start = performance.now();
   const current = settings();
-  ui.lambda.textContent = `Λ_M = ${fmt(estlab.lambdaM(current.delta_m))}`;
+  const lambda = estlab.lambdaM(current.delta_m);
+  ui.lambda.textContent = Number.isFinite(lambda)
+    ? `Λ_M = ${fmt(lambda)}`
+    : 'Λ_M = ∞: no reading is rejected';
   let run;
   try {
     run = dataset.run(JSON.stringify(current));
