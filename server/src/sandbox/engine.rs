@@ -132,22 +132,16 @@ impl Engine {
         // huge data (a naive indexOf, a huge BigInt's digits) can run past the limit and
         // return. Such a phase is over its time all the same.
         let over_time = self.budget.interrupted.get() || self.budget.exhausted();
+        let stopped = |cause: String| Stopped {
+            limit_ms: None,
+            during: during.borrow().clone(),
+            cause,
+        };
         match outcome {
-            Ok(_) if over_time => Err(Stopped {
-                limit_ms: None,
-                during: during.borrow().clone(),
-                cause: "time".to_owned(),
-            }),
-            Ok(report) => Ok(report),
-            Err(message) => Err(Stopped {
-                limit_ms: None,
-                during: during.borrow().clone(),
-                cause: if over_time {
-                    "time".to_owned()
-                } else {
-                    cause(&message)
-                },
-            }),
+            Ok(report) if !over_time => Ok(report),
+            Ok(_) => Err(stopped("time".to_owned())),
+            Err(_) if over_time => Err(stopped("time".to_owned())),
+            Err(message) => Err(stopped(cause(&message))),
         }
     }
 }

@@ -152,42 +152,7 @@ impl Sandbox {
         let _ = writer.join();
         let output = reader.join().ok().and_then(Result::ok).unwrap_or_default();
         let complaints = complaints.join().unwrap_or_default();
-        if output.len() as u64 > MAX_OUTPUT {
-            // Only the student's code makes the reports this large: its grade, not the
-            // sandbox's fault.
-            let error = format!(
-                "Your code's answers came to more than {} MB, far more than any answer of the exercise: every test fails.",
-                MAX_OUTPUT >> 20
-            );
-            return Ok(Outputs::every_phase(
-                &job,
-                |function| FunctionOutput::failed(function, error.clone()),
-                |run| RunOutput::failed(run, error.clone()),
-            ));
-        }
-        if status.code() == Some(OVERRUN_EXIT) {
-            // The watchdog ended the worker: a phase ran past its limit inside one call.
-            let phase = complaints
-                .lines()
-                .find_map(|line| line.strip_prefix(OVERRUN_PREFIX))
-                .unwrap_or("a test")
-                .to_owned();
-            let error = format!(
-                "Stopped while running {phase}: a single call ran on past the time limit where it cannot be interrupted (a built-in function on huge data, such as indexOf on long strings?), and every test fails."
-            );
-            return Ok(Outputs::every_phase(
-                &job,
-                |function| FunctionOutput::failed(function, error.clone()),
-                |run| RunOutput::failed(run, error.clone()),
-            ));
-        }
-        if status.signal() == Some(libc::SIGXCPU) {
-            // The kernel's limit on the worker's CPU time: only the student's code gets
-            // there, with built-in calls the engines' own limits cannot interrupt.
-            let error = format!(
-                "Your code used more than {} s of CPU time in all, in single calls the time limits cannot interrupt (a built-in function on huge data?): every test fails.",
-                cpu_limit.as_secs()
-            );
+        if let Some(error) = student_fault(output.len(), status, &complaints, cpu_limit) {
             return Ok(Outputs::every_phase(
                 &job,
                 |function| FunctionOutput::failed(function, error.clone()),
@@ -207,6 +172,41 @@ impl Sandbox {
         serde_json::from_str(&output)
             .map_err(|e| format!("the sandbox wrote unreadable outputs: {e}"))
     }
+}
+
+/// Why a worker's end is the student's code's doing, not the sandbox's, if it is: then
+/// every test fails with this message, and the submission stays gradable.
+fn student_fault(
+    output_bytes: usize,
+    status: std::process::ExitStatus,
+    complaints: &str,
+    cpu_limit: Duration,
+) -> Option<String> {
+    if output_bytes as u64 > MAX_OUTPUT {
+        // Only the student's code makes the reports this large.
+        return Some(format!(
+            "Your code's answers came to more than {} MB, far more than any answer of the exercise: every test fails.",
+            MAX_OUTPUT >> 20
+        ));
+    }
+    if status.code() == Some(OVERRUN_EXIT) {
+        // The watchdog ended the worker: a phase ran past its limit inside one call.
+        let phase = complaints
+            .lines()
+            .find_map(|line| line.strip_prefix(OVERRUN_PREFIX))
+            .unwrap_or("a test");
+        return Some(format!(
+            "Stopped while running {phase}: a single call ran on past the time limit where it cannot be interrupted (a built-in function on huge data, such as indexOf on long strings?), and every test fails."
+        ));
+    }
+    // The kernel's limit on the worker's CPU time: only the student's code gets there,
+    // with built-in calls the engines' own limits cannot interrupt.
+    (status.signal() == Some(libc::SIGXCPU)).then(|| {
+        format!(
+            "Your code used more than {} s of CPU time in all, in single calls the time limits cannot interrupt (a built-in function on huge data?): every test fails.",
+            cpu_limit.as_secs()
+        )
+    })
 }
 
 /// In the worker, before it runs: it gets SIGKILL when the process that started it dies
