@@ -1,3 +1,5 @@
+//! What a command of `estlab` can fail with.
+
 use std::path::PathBuf;
 
 /// What a command can fail with.
@@ -7,6 +9,8 @@ pub enum Error {
     Labs(#[from] labs::Error),
     #[error(transparent)]
     Web(#[from] crate::web::Error),
+    #[error(transparent)]
+    Store(#[from] crate::store::Error),
     /// Bad input that is not a data file: a submission too large, a job that is not JSON.
     #[error("{0}")]
     Invalid(String),

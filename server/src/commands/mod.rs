@@ -1,7 +1,9 @@
 //! One module per subcommand of `estlab`.
 
+pub mod backup;
 pub mod car;
 pub mod cases;
+pub mod course;
 pub mod grade;
 pub mod run;
 pub mod sandbox_worker;
@@ -9,7 +11,58 @@ pub mod serve;
 pub mod simulate;
 
 use crate::error::Error;
+use clap::{Parser, Subcommand};
 use std::path::Path;
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(
+    name = "estlab",
+    version,
+    about = "Kalman filtering and EKF localization, taught and graded"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    Serve(serve::Args),
+    Run(run::Args),
+    Simulate(simulate::Args),
+    Car(car::Args),
+    Cases(cases::Args),
+    Grade(grade::Args),
+    Course(course::Args),
+    Backup(backup::Args),
+    /// The sandbox's worker process (started by `grade` and `serve`).
+    #[command(hide = true)]
+    SandboxWorker,
+}
+
+/// Runs the command the command line names; prints its error, if any, on stderr.
+pub fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Serve(args) => serve::run(&args),
+        Command::Run(args) => run::run(&args),
+        Command::Simulate(args) => simulate::run(&args),
+        Command::Car(args) => car::run(&args),
+        Command::Cases(args) => cases::run(&args),
+        Command::Grade(args) => grade::run(&args),
+        Command::Course(args) => course::run(&args),
+        Command::Backup(args) => backup::run(&args),
+        Command::SandboxWorker => sandbox_worker::run(),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(err) => {
+            eprintln!("estlab: {err}");
+            ExitCode::FAILURE
+        }
+    }
+}
 
 /// A comma-separated list of exactly `N` numbers, for flags such as `--R 1e-4,1e-4,3e-4`.
 pub fn numbers<const N: usize>(text: &str) -> Result<[f64; N], String> {

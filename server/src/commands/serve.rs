@@ -1,9 +1,11 @@
 //! `estlab serve`: the web application.
 
+use crate::clock::SystemClock;
 use crate::error::Error;
 use crate::sandbox::Sandbox;
-use crate::submissions::{Grader, Secret, Store};
-use crate::web::{self, AppState, Assets};
+use crate::store::Store;
+use crate::submissions::{Grader, Secret};
+use crate::web::{self, AppState, Assets, SignInLimiter};
 use std::net::SocketAddr;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -25,7 +27,20 @@ pub struct Args {
     /// engines run at once than there are cores.
     #[arg(long, default_value_t = default_parallel())]
     parallel: usize,
+    /// The server is reached through a TLS reverse proxy: session cookies are marked
+    /// Secure, and the client's address (for the sign-in limits) is the last one the
+    /// proxy adds to X-Forwarded-For.
+    #[arg(long)]
+    behind_https: bool,
+    /// The address people reach the server at, for the sign-in links that `estlab
+    /// course` prints (default: the address it listens on, with https:// when
+    /// --behind-https).
+    #[arg(long, value_name = "URL")]
+    public_url: Option<String>,
 }
+
+/// The setting under which the server records its public address for `estlab course`.
+pub const PUBLIC_URL: &str = "public_url";
 
 /// The cores this process may use.
 pub fn cores() -> usize {
@@ -42,39 +57,84 @@ fn default_parallel() -> usize {
 const DEFAULT_STATIC_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../target/web/dist");
 
 pub fn run(args: &Args) -> Result<(), Error> {
+    init_logging();
     let runtime = tokio::runtime::Runtime::new().map_err(Error::io("the async runtime"))?;
     runtime.block_on(serve(args))
 }
 
 async fn serve(args: &Args) -> Result<(), Error> {
     let assets = Assets::load(&args.static_dir)?;
-    let store = Store::open(&args.data_dir).map_err(web::Error::from)?;
-    let secret = Secret::load_or_create(&args.data_dir).map_err(web::Error::from)?;
+    let store = Store::open(&args.data_dir)?;
+    let secret = Secret::load_or_create(&args.data_dir)?;
     let parallel = args.parallel.clamp(1, cores());
     let sandbox =
         Sandbox::current(cores() / parallel).map_err(Error::io("the estlab executable"))?;
-    let grader = Grader::new(store, sandbox, secret, parallel);
-    let resumed = grader.resume().map_err(web::Error::from)?;
-    if resumed > 0 {
-        println!(
-            "estlab: resuming the grading of {resumed} submission(s) cut off by the last stop"
-        );
-    }
-    let app = web::router(Arc::new(AppState { assets, grader }));
     let listener = tokio::net::TcpListener::bind(args.addr)
         .await
         .map_err(Error::io(args.addr.to_string()))?;
     let addr = listener
         .local_addr()
         .map_err(Error::io(args.addr.to_string()))?;
+    let scheme = if args.behind_https { "https" } else { "http" };
+    let public_url = args
+        .public_url
+        .clone()
+        .unwrap_or_else(|| format!("{scheme}://{addr}"));
+    store.set_setting(PUBLIC_URL, public_url.trim_end_matches('/'))?;
+    let grader = Grader::new(store, sandbox, secret, parallel);
+    let resumed = grader.resume()?;
+    if resumed > 0 {
+        println!(
+            "estlab: resuming the grading of {resumed} submission(s) cut off by the last stop"
+        );
+    }
+    let app = web::router(Arc::new(AppState {
+        assets,
+        grader,
+        clock: Arc::new(SystemClock),
+        limiter: SignInLimiter::default(),
+        behind_https: args.behind_https,
+    }));
     println!(
         "estlab is serving on http://{addr}/ (submissions in {})",
         args.data_dir.display()
     );
-    axum::serve(listener, app)
-        .with_graceful_shutdown(async {
+    axum::serve(
+        listener,
+        app.into_make_service_with_connect_info::<SocketAddr>(),
+    )
+    .with_graceful_shutdown(stop_asked())
+    .await
+    .map_err(Error::io(addr.to_string()))
+}
+
+/// Ctrl-C, or SIGTERM from a service manager: answer what is in flight, then stop.
+/// Gradings cut off by the stop resume at the next start.
+async fn stop_asked() {
+    use tokio::signal::unix::{SignalKind, signal};
+    match signal(SignalKind::terminate()) {
+        Ok(mut terminate) => {
+            tokio::select! {
+                _ = tokio::signal::ctrl_c() => {}
+                _ = terminate.recv() => {}
+            }
+        }
+        Err(_) => {
             let _ = tokio::signal::ctrl_c().await;
-        })
-        .await
-        .map_err(Error::io(addr.to_string()))
+        }
+    }
+}
+
+/// Logs on stderr, one line per event, at the level `RUST_LOG` asks (default: info for
+/// estlab and the requests it answers, warnings for the rest).
+fn init_logging() {
+    use tracing_subscriber::EnvFilter;
+    let filter = EnvFilter::try_from_default_env()
+        .unwrap_or_else(|_| EnvFilter::new("warn,estlab=info,tower_http=info"));
+    tracing_subscriber::fmt()
+        .with_env_filter(filter)
+        .with_writer(std::io::stderr)
+        .with_ansi(std::io::IsTerminal::is_terminal(&std::io::stderr()))
+        .with_target(false)
+        .init();
 }

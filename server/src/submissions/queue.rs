@@ -2,9 +2,11 @@
 //! for its sandbox worker process, at most `parallel` at once, so that the server's
 //! other requests are answered meanwhile.
 
-use super::{Error, NewSubmission, Secret, Store};
+use super::Secret;
 use crate::sandbox::Sandbox;
+use crate::store::{Error, NewSubmission, Store};
 use std::sync::Arc;
+use std::time::Instant;
 use tokio::sync::Semaphore;
 
 /// Stores submissions and grades them.
@@ -62,7 +64,7 @@ impl Grader {
                 Ok(Err(err)) => format!("grading submission {id}: {err}"),
                 Err(err) => format!("grading submission {id} stopped: {err}"),
             };
-            eprintln!("estlab: {failure}");
+            tracing::error!("{failure}");
             // The submission is not left waiting, which would refuse the student's next
             // one: it ends "not gradable", which costs them nothing.
             let store = Arc::clone(&grader);
@@ -73,15 +75,26 @@ impl Grader {
             })
             .await;
             if let Ok(Err(err)) = ended {
-                eprintln!("estlab: submission {id} could not be marked as not gradable: {err}");
+                tracing::error!("submission {id} could not be marked as not gradable: {err}");
             }
         });
     }
 
     fn grade(&self, id: i64) -> Result<(), Error> {
-        let (source, seed) = self.store.start_grading(id)?;
+        let started = Instant::now();
+        let job = self.store.start_grading(id)?;
         let hidden = self.secret.hidden_seed(id);
-        let result = self.sandbox.grade(&source, seed, Some(hidden));
-        self.store.finish_grading(id, &result.stored())
+        let result = self.sandbox.grade(&job.source, job.seed, Some(hidden));
+        let score = result.gradable.then_some(result.score);
+        self.store.finish_grading(id, &result.stored())?;
+        tracing::info!(
+            submission = id,
+            course = job.course,
+            student = job.student,
+            duration_ms = started.elapsed().as_millis() as u64,
+            score,
+            "graded"
+        );
+        Ok(())
     }
 }

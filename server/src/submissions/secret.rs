@@ -4,7 +4,7 @@
 //! cannot know them in advance, every submission gets new ones, and grading the same
 //! submission again draws the same ones.
 
-use super::Error;
+use crate::store::Error;
 use sha2::{Digest, Sha256};
 use std::io::Write;
 use std::os::unix::fs::OpenOptionsExt;

@@ -1,48 +1,75 @@
-//! The JSON API: submitting code for grading and reading the result.
+//! The JSON API: submitting code for grading, reading a submission, and (for a course's
+//! staff) its people and their submissions.
+//!
+//! On a server without courses anyone may submit under any student id and read any
+//! submission's result (a quick demo; the pages say so). Once a course exists, only a
+//! signed-in student submits, as themselves, to an exercise their course has opened; a
+//! submission is read by its student and their course's staff, and by nobody else:
+//! someone else's submission answers 404 exactly as one that does not exist.
 
-use super::{AppState, Error};
+use super::viewer::Viewer;
+use super::{AppState, Error, blocking};
+use crate::courses::deadline::Timing;
 use crate::sandbox::check_size;
-use crate::submissions::NewSubmission;
+use crate::store::{Assignment, Course, Member, NewSubmission};
 use axum::Json;
 use axum::body::Bytes;
-use axum::extract::{Path, State};
+use axum::extract::{Path, Query, State};
 use axum::http::StatusCode;
 use axum::response::{IntoResponse, Response};
 use labs::grading::{DEFAULT_COURSE, LAB, student_seed};
-use serde::Deserialize;
-use serde_json::json;
+use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
 /// The longest student or course id accepted.
 const MAX_ID: usize = 100;
 
-/// The body of `POST /api/submissions`.
+/// The body of `POST /api/submissions`. `student` and `course` are for a server without
+/// courses only: with courses, the signed-in student is who submits.
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct Submit {
-    student: String,
-    #[serde(default = "default_course")]
-    course: String,
+    student: Option<String>,
+    course: Option<String>,
     #[serde(default = "default_lab")]
     lab: String,
     source: String,
-}
-
-fn default_course() -> String {
-    DEFAULT_COURSE.into()
 }
 
 fn default_lab() -> String {
     LAB.into()
 }
 
+/// The answer to a submission taken.
+#[derive(Serialize)]
+struct Accepted {
+    id: i64,
+    seed: u64,
+    status: &'static str,
+    url: String,
+    /// Late by this much (0: on time), and the share of the score that costs.
+    late_seconds: i64,
+    penalty: f64,
+}
+
+/// Who submits, once the request and the viewer are checked.
+struct Submitter {
+    course: String,
+    student: String,
+    member: Option<i64>,
+    late_seconds: i64,
+    penalty: f64,
+}
+
 /// `POST /api/submissions`: stores the submission, queues its grading and answers at once
 /// with 202 and where to find the result.
-pub async fn submit(State(state): State<Arc<AppState>>, body: Bytes) -> Result<Response, Error> {
+pub async fn submit(
+    State(state): State<Arc<AppState>>,
+    viewer: Viewer,
+    body: Bytes,
+) -> Result<Response, Error> {
     let submit: Submit = serde_json::from_slice(&body)
         .map_err(|e| Error::BadRequest(format!("the submission body: {e}")))?;
-    let student = id_field("student", &submit.student)?;
-    let course = id_field("course", &submit.course)?;
     if submit.lab != LAB {
         return Err(Error::BadRequest(format!(
             "field `lab`: unknown exercise {:?}; the exercise graded here is {LAB:?}",
@@ -51,41 +78,209 @@ pub async fn submit(State(state): State<Arc<AppState>>, body: Bytes) -> Result<R
     }
     check_size(&submit.source)
         .map_err(|problem| Error::TooLarge(format!("field `source`: {problem}")))?;
-    let seed = student_seed(course, student);
-    let new = NewSubmission {
-        course,
-        student,
-        lab: LAB,
-        seed,
-        source: &submit.source,
+    let now = state.clock.now();
+    let courses = blocking(&state, |store| store.any_course()).await?;
+    let submitter = if courses {
+        let member = signed_in_student(&viewer, &submit)?;
+        let lab = submit.lab.clone();
+        let course = member.course.clone();
+        let assignment = blocking(&state, move |store| store.assignment(&course, &lab))
+            .await?
+            .ok_or_else(|| {
+                Error::Forbidden(format!(
+                    "your course has not opened the exercise {:?}",
+                    submit.lab
+                ))
+            })?;
+        let (late_seconds, penalty) = match assignment.policy.timing(now) {
+            Timing::OnTime => (0, 0.0),
+            Timing::Late { seconds, penalty } => (seconds, penalty),
+            Timing::Closed => {
+                return Err(Error::Forbidden(format!(
+                    "the cutoff of this exercise was {}: no more submissions are taken. Your file is still in the editor; keep a copy with Download.",
+                    assignment.policy.cutoff.strftime("%Y-%m-%d %H:%M UTC")
+                )));
+            }
+        };
+        Submitter {
+            course: member.course.clone(),
+            student: member.login.clone(),
+            member: Some(member.id),
+            late_seconds,
+            penalty,
+        }
+    } else {
+        let student = submit.student.as_deref().ok_or_else(|| {
+            Error::BadRequest(
+                "missing field `student` (this server has no courses: say who submits)".into(),
+            )
+        })?;
+        Submitter {
+            course: id_field("course", submit.course.as_deref().unwrap_or(DEFAULT_COURSE))?
+                .to_string(),
+            student: id_field("student", student)?.to_string(),
+            member: None,
+            late_seconds: 0,
+            penalty: 0.0,
+        }
     };
-    let id = state.grader.submit(&new).map_err(|error| match error {
-        busy @ crate::submissions::Error::Busy(_) => Error::Conflict(busy.to_string()),
-        other => other.into(),
-    })?;
-    let location = format!("/api/submissions/{id}");
+    let seed = student_seed(&submitter.course, &submitter.student);
+    let grader = Arc::clone(&state.grader);
+    let source = submit.source;
+    let (late_seconds, penalty) = (submitter.late_seconds, submitter.penalty);
+    let id = tokio::task::spawn_blocking(move || {
+        grader.submit(&NewSubmission {
+            course: &submitter.course,
+            student: &submitter.student,
+            member: submitter.member,
+            lab: LAB,
+            seed,
+            source: &source,
+            submitted_at: now,
+            late_seconds,
+            penalty,
+        })
+    })
+    .await
+    .map_err(|e| crate::store::Error::Task(e.to_string()))??;
+    tracing::info!(submission = id, late_seconds, "submitted");
+    let url = format!("/api/submissions/{id}");
     Ok((
         StatusCode::ACCEPTED,
-        [(axum::http::header::LOCATION, location.clone())],
-        Json(json!({ "id": id, "seed": seed, "status": "queued", "url": location })),
+        [(axum::http::header::LOCATION, url.clone())],
+        Json(Accepted {
+            id,
+            seed,
+            status: "queued",
+            url,
+            late_seconds,
+            penalty,
+        }),
     )
         .into_response())
 }
 
-/// `GET /api/submissions/{id}`: the submission's status and, once graded, its result.
+/// The signed-in student who may submit, or why not.
+fn signed_in_student<'a>(viewer: &'a Viewer, submit: &Submit) -> Result<&'a Member, Error> {
+    let member = match viewer {
+        Viewer::Anonymous => {
+            return Err(Error::Unauthorized(
+                "sign in to submit: this server runs courses, and a submission counts for the signed-in student".into(),
+            ));
+        }
+        Viewer::Token(_) => {
+            return Err(Error::Forbidden(
+                "an API token reads a course; students submit for themselves".into(),
+            ));
+        }
+        Viewer::Member(member) => member,
+    };
+    if member.role.is_staff() {
+        return Err(Error::Forbidden(format!(
+            "you are signed in as {} of {}: staff do not submit (try a file with Run tests, or estlab grade)",
+            member.role.as_str(),
+            member.course
+        )));
+    }
+    if member.dropped {
+        return Err(Error::Forbidden(format!(
+            "you are no longer on the roster of {}: ask your teacher",
+            member.course
+        )));
+    }
+    for (field, given) in [("student", &submit.student), ("course", &submit.course)] {
+        if given.is_some() {
+            return Err(Error::BadRequest(format!(
+                "field `{field}`: you submit as the signed-in student; leave it out"
+            )));
+        }
+    }
+    Ok(member)
+}
+
+/// `GET /api/submissions/{id}`: the submission's status and, once graded, its result;
+/// with courses, its source too (for its student and their course's staff).
 pub async fn submission(
     State(state): State<Arc<AppState>>,
+    viewer: Viewer,
     Path(id): Path<String>,
 ) -> Result<Response, Error> {
     let missing = || Error::NotFound(format!("there is no submission {id:?}"));
     let number: i64 = id.parse().map_err(|_| missing())?;
-    // Off the async executor: a stored result is read and parsed on a blocking thread.
-    let grader = Arc::clone(&state.grader);
-    let submission = tokio::task::spawn_blocking(move || grader.store().get(number))
-        .await
-        .map_err(|e| crate::submissions::Error::Task(e.to_string()))??
-        .ok_or_else(missing)?;
+    let (courses, submission) = blocking(&state, move |store| {
+        Ok((store.any_course()?, store.get(number, true)?))
+    })
+    .await?;
+    let mut submission = submission.ok_or_else(missing)?;
+    if courses {
+        let own = viewer
+            .member()
+            .is_some_and(|member| Some(member.id) == submission.member);
+        let staff = submission.member.is_some() && viewer.is_staff_of(&submission.summary.course);
+        if !(own || staff) {
+            return Err(missing());
+        }
+    } else {
+        // Open to anyone: results only, nobody's code.
+        submission.source = None;
+    }
     Ok(Json(submission).into_response())
+}
+
+/// `GET /api/courses/{course}`: for its staff, the course, its people and assignments.
+#[derive(Serialize)]
+struct CourseView {
+    course: Course,
+    assignments: Vec<Assignment>,
+    members: Vec<Member>,
+}
+
+fn staff_only(viewer: &Viewer, course: &str) -> Result<(), Error> {
+    if viewer.is_staff_of(course) {
+        Ok(())
+    } else {
+        Err(Error::NotFound(format!("there is no course {course:?}")))
+    }
+}
+
+pub async fn course(
+    State(state): State<Arc<AppState>>,
+    viewer: Viewer,
+    Path(name): Path<String>,
+) -> Result<Response, Error> {
+    staff_only(&viewer, &name)?;
+    let view = blocking(&state, move |store| {
+        Ok(CourseView {
+            course: store.course(&name)?,
+            assignments: store.assignments(&name)?,
+            members: store.members(&name)?,
+        })
+    })
+    .await?;
+    Ok(Json(view).into_response())
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LabQuery {
+    #[serde(default = "default_lab")]
+    lab: String,
+}
+
+/// `GET /api/courses/{course}/submissions?lab=...`: for its staff, every submission of
+/// the course's people to an exercise (no sources; each is read on its own).
+pub async fn course_submissions(
+    State(state): State<Arc<AppState>>,
+    viewer: Viewer,
+    Path(name): Path<String>,
+    Query(query): Query<LabQuery>,
+) -> Result<Response, Error> {
+    staff_only(&viewer, &name)?;
+    let list = blocking(&state, move |store| {
+        store.course_submissions(&name, &query.lab)
+    })
+    .await?;
+    Ok(Json(list).into_response())
 }
 
 /// A student or course id: trimmed, not empty, short, printable.

@@ -1,7 +1,8 @@
+use crate::store;
 use axum::Json;
 use axum::http::StatusCode;
 use axum::response::{IntoResponse, Response};
-use serde_json::json;
+use serde::Serialize;
 
 /// What can go wrong while answering a request.
 #[derive(Debug, thiserror::Error)]
@@ -12,28 +13,47 @@ pub enum Error {
     #[error("{0}")]
     Assets(String),
     #[error(transparent)]
-    Submissions(#[from] crate::submissions::Error),
+    Store(#[from] store::Error),
     /// A request the client should correct; the message names the field.
     #[error("{0}")]
     BadRequest(String),
     #[error("{0}")]
     TooLarge(String),
+    /// Not there, or not the asker's to see: the two answer alike.
     #[error("{0}")]
     NotFound(String),
     /// The request conflicts with what is stored (a submission still being graded).
     #[error("{0}")]
     Conflict(String),
+    /// Signing in is needed, or the credentials given are not valid.
+    #[error("{0}")]
+    Unauthorized(String),
+    /// Signed in, but not allowed (a member of staff submitting, a cutoff passed, a
+    /// request from another site).
+    #[error("{0}")]
+    Forbidden(String),
+    #[error("{0}")]
+    TooManyRequests(String),
+}
+
+/// The body of every error answer of the API.
+#[derive(Serialize)]
+struct ErrorBody {
+    error: String,
 }
 
 impl IntoResponse for Error {
     fn into_response(self) -> Response {
-        let status = match self {
+        let status = match &self {
             Error::BadRequest(_) => StatusCode::BAD_REQUEST,
             Error::TooLarge(_) => StatusCode::PAYLOAD_TOO_LARGE,
             Error::NotFound(_) => StatusCode::NOT_FOUND,
-            Error::Conflict(_) => StatusCode::CONFLICT,
-            Error::Template(_) | Error::Assets(_) | Error::Submissions(_) => {
-                eprintln!("estlab: {self}");
+            Error::Conflict(_) | Error::Store(store::Error::Busy(_)) => StatusCode::CONFLICT,
+            Error::Unauthorized(_) => StatusCode::UNAUTHORIZED,
+            Error::Forbidden(_) => StatusCode::FORBIDDEN,
+            Error::TooManyRequests(_) => StatusCode::TOO_MANY_REQUESTS,
+            Error::Template(_) | Error::Assets(_) | Error::Store(_) => {
+                tracing::error!("{self}");
                 return (
                     StatusCode::INTERNAL_SERVER_ERROR,
                     "estlab could not answer this request; the server log says why.\n",
@@ -41,6 +61,12 @@ impl IntoResponse for Error {
                     .into_response();
             }
         };
-        (status, Json(json!({ "error": self.to_string() }))).into_response()
+        (
+            status,
+            Json(ErrorBody {
+                error: self.to_string(),
+            }),
+        )
+            .into_response()
     }
 }

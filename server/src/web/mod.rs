@@ -1,26 +1,45 @@
-//! The web application: the pages, rendered with askama, and the built browser assets.
+//! The web application: the pages, rendered with askama, the JSON API, signing in, and
+//! the built browser assets. Every route checks on the server who may see or change what
+//! it serves (see `viewer`); changes are taken from estlab's own pages only (`origin`).
 
 mod api;
 mod assets;
 mod error;
+mod limiter;
+mod me;
+mod origin;
 mod pages;
+mod signin;
+mod viewer;
 
 pub use assets::Assets;
 pub use error::Error;
+pub use limiter::SignInLimiter;
+pub use viewer::SESSION_COOKIE;
 
+use crate::clock::Clock;
+use crate::store::{self, Store};
 use crate::submissions::Grader;
 use axum::Router;
-use axum::extract::DefaultBodyLimit;
+use axum::extract::{DefaultBodyLimit, MatchedPath, Request};
 use axum::http::{HeaderValue, header};
 use axum::routing::{get, post};
 use std::sync::Arc;
+use std::time::Duration;
 use tower_http::compression::CompressionLayer;
 use tower_http::set_header::SetResponseHeaderLayer;
+use tower_http::trace::TraceLayer;
+use tracing::Span;
 
 /// What every request handler can reach.
 pub struct AppState {
     pub assets: Assets,
     pub grader: Arc<Grader>,
+    pub clock: Arc<dyn Clock>,
+    pub limiter: SignInLimiter,
+    /// Behind a TLS reverse proxy: cookies are `Secure`, and the client's address is the
+    /// last one the proxy added to `X-Forwarded-For`.
+    pub behind_https: bool,
 }
 
 /// The largest request body: a submission of the largest source, JSON-escaped.
@@ -30,7 +49,7 @@ const MAX_BODY: usize = 4 << 20;
 /// inline, as the plotting and formula libraries set them on elements.
 const CONTENT_SECURITY_POLICY: &str = "default-src 'self'; script-src 'self' 'wasm-unsafe-eval'; \
     style-src 'self' 'unsafe-inline'; img-src 'self' data: blob:; font-src 'self'; \
-    object-src 'none'; base-uri 'none'; frame-ancestors 'none'";
+    object-src 'none'; base-uri 'none'; frame-ancestors 'none'; form-action 'self'";
 
 pub fn router(state: Arc<AppState>) -> Router {
     let static_files = assets::service(state.assets.dir());
@@ -40,13 +59,24 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/ekf", get(pages::ekf))
         .route("/ekf/code", get(pages::code))
         .route("/ekf/starter.js", get(pages::starter))
+        .route("/signin", get(signin::page).post(signin::sign_in))
+        .route("/signout", post(signin::sign_out))
+        .route("/me", get(me::page))
+        .route("/api/me", get(me::about))
+        .route("/api/me/submissions", get(me::history))
         .route("/api/submissions", post(api::submit))
         .route("/api/submissions/{id}", get(api::submission))
+        .route("/api/courses/{course}", get(api::course))
+        .route(
+            "/api/courses/{course}/submissions",
+            get(api::course_submissions),
+        )
         .route("/healthz", get(|| async { "ok" }))
         .route("/favicon.svg", get(pages::icon))
         .route("/favicon.ico", get(pages::icon))
         .nest_service("/static", static_files)
         .fallback(pages::not_found)
+        .layer(axum::middleware::from_fn(origin::same_origin_only))
         .layer(DefaultBodyLimit::max(MAX_BODY))
         .layer(CompressionLayer::new())
         .layer(SetResponseHeaderLayer::if_not_present(
@@ -57,5 +87,45 @@ pub fn router(state: Arc<AppState>) -> Router {
             header::X_CONTENT_TYPE_OPTIONS,
             HeaderValue::from_static("nosniff"),
         ))
+        .layer(SetResponseHeaderLayer::if_not_present(
+            header::REFERRER_POLICY,
+            HeaderValue::from_static("same-origin"),
+        ))
+        .layer(
+            TraceLayer::new_for_http()
+                .make_span_with(request_span)
+                .on_request(())
+                .on_response(
+                    |response: &axum::response::Response, latency: Duration, _: &Span| {
+                        tracing::info!(
+                            status = response.status().as_u16(),
+                            ms = latency.as_millis() as u64,
+                            "answered"
+                        );
+                    },
+                ),
+        )
         .with_state(state)
+}
+
+/// A request's span names its method and its route's pattern (`/api/submissions/{id}`),
+/// never the path or query as sent: nothing a person typed reaches the log.
+fn request_span(request: &Request) -> Span {
+    let route = request
+        .extensions()
+        .get::<MatchedPath>()
+        .map_or("(no route)", MatchedPath::as_str);
+    tracing::info_span!("request", method = %request.method(), route)
+}
+
+/// Runs `work` on the database on a blocking thread, off the async executor.
+pub async fn blocking<T: Send + 'static>(
+    state: &AppState,
+    work: impl FnOnce(&Store) -> Result<T, store::Error> + Send + 'static,
+) -> Result<T, Error> {
+    let grader = Arc::clone(&state.grader);
+    tokio::task::spawn_blocking(move || work(grader.store()))
+        .await
+        .map_err(|e| store::Error::Task(e.to_string()))?
+        .map_err(Error::from)
 }

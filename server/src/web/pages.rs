@@ -1,7 +1,8 @@
 //! The pages, each an askama template over the base layout.
 
 use super::assets::PageAssets;
-use super::{AppState, Error};
+use super::viewer::Viewer;
+use super::{AppState, Error, blocking};
 use askama::Template;
 use axum::extract::State;
 use axum::http::{StatusCode, Uri, header};
@@ -13,6 +14,7 @@ use std::sync::Arc;
 struct Home<'a> {
     page: &'a str,
     assets: PageAssets<'a>,
+    nav: Nav,
 }
 
 #[derive(Template)]
@@ -20,6 +22,7 @@ struct Home<'a> {
 struct Car<'a> {
     page: &'a str,
     assets: PageAssets<'a>,
+    nav: Nav,
 }
 
 #[derive(Template)]
@@ -27,6 +30,7 @@ struct Car<'a> {
 struct Ekf<'a> {
     page: &'a str,
     assets: PageAssets<'a>,
+    nav: Nav,
 }
 
 #[derive(Template)]
@@ -34,6 +38,7 @@ struct Ekf<'a> {
 struct Code<'a> {
     page: &'a str,
     assets: PageAssets<'a>,
+    nav: Nav,
     worker: &'a str,
     starter: &'a str,
 }
@@ -47,11 +52,40 @@ const STARTER: &str = include_str!("../../../static/src/ekf/starter.js");
 struct NotFound<'a> {
     page: &'a str,
     assets: PageAssets<'a>,
+    nav: Nav,
     path: &'a str,
 }
 
+/// What the header shows of who is signed in.
+pub struct Nav {
+    /// Whether the server runs courses (else submitting is open to anyone).
+    pub courses: bool,
+    /// The signed-in person's name (or id) and course.
+    pub member: Option<(String, String)>,
+}
+
+impl Nav {
+    pub async fn of(state: &AppState, viewer: &Viewer) -> Result<Nav, Error> {
+        if let Some(member) = viewer.member() {
+            let name = if member.name.is_empty() {
+                member.login.clone()
+            } else {
+                member.name.clone()
+            };
+            return Ok(Nav {
+                courses: true,
+                member: Some((name, member.course.clone())),
+            });
+        }
+        Ok(Nav {
+            courses: blocking(state, |store| store.any_course()).await?,
+            member: None,
+        })
+    }
+}
+
 /// A rendered page that browsers revalidate before they reuse it.
-fn html(template: &impl Template) -> Result<Response, Error> {
+pub fn html(template: &impl Template) -> Result<Response, Error> {
     Ok((
         [(header::CACHE_CONTROL, "no-cache")],
         Html(template.render()?),
@@ -59,31 +93,35 @@ fn html(template: &impl Template) -> Result<Response, Error> {
         .into_response())
 }
 
-pub async fn home(State(state): State<Arc<AppState>>) -> Result<Response, Error> {
+pub async fn home(State(state): State<Arc<AppState>>, viewer: Viewer) -> Result<Response, Error> {
     html(&Home {
         page: "home",
         assets: state.assets.page("home"),
+        nav: Nav::of(&state, &viewer).await?,
     })
 }
 
-pub async fn car(State(state): State<Arc<AppState>>) -> Result<Response, Error> {
+pub async fn car(State(state): State<Arc<AppState>>, viewer: Viewer) -> Result<Response, Error> {
     html(&Car {
         page: "car",
         assets: state.assets.page("car"),
+        nav: Nav::of(&state, &viewer).await?,
     })
 }
 
-pub async fn ekf(State(state): State<Arc<AppState>>) -> Result<Response, Error> {
+pub async fn ekf(State(state): State<Arc<AppState>>, viewer: Viewer) -> Result<Response, Error> {
     html(&Ekf {
         page: "ekf",
         assets: state.assets.page("ekf"),
+        nav: Nav::of(&state, &viewer).await?,
     })
 }
 
-pub async fn code(State(state): State<Arc<AppState>>) -> Result<Response, Error> {
+pub async fn code(State(state): State<Arc<AppState>>, viewer: Viewer) -> Result<Response, Error> {
     html(&Code {
         page: "code",
         assets: state.assets.page("code"),
+        nav: Nav::of(&state, &viewer).await?,
         worker: state.assets.worker(),
         starter: STARTER,
     })
@@ -101,10 +139,15 @@ pub async fn starter() -> Response {
         .into_response()
 }
 
-pub async fn not_found(State(state): State<Arc<AppState>>, uri: Uri) -> Result<Response, Error> {
+pub async fn not_found(
+    State(state): State<Arc<AppState>>,
+    viewer: Viewer,
+    uri: Uri,
+) -> Result<Response, Error> {
     let page = NotFound {
         page: "",
         assets: state.assets.page("home"),
+        nav: Nav::of(&state, &viewer).await?,
         path: uri.path(),
     };
     Ok((StatusCode::NOT_FOUND, html(&page)?).into_response())

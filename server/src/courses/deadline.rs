@@ -1,0 +1,204 @@
+//! An assignment's deadline and late policy, and what they make of a submission made
+//! at a given time: on time, late (with its penalty), or refused after the cutoff.
+
+use jiff::{SignedDuration, Timestamp};
+use serde::Serialize;
+
+/// Which of a student's graded submissions gives their score.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, clap::ValueEnum)]
+#[serde(rename_all = "snake_case")]
+pub enum Counts {
+    /// The best score, after each submission's late penalty.
+    Best,
+    /// The score of the latest graded submission.
+    Last,
+}
+
+impl Counts {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Counts::Best => "best",
+            Counts::Last => "last",
+        }
+    }
+
+    pub fn parse(text: &str) -> Counts {
+        if text == "last" {
+            Counts::Last
+        } else {
+            Counts::Best
+        }
+    }
+
+    /// The score that counts among `scores` (final scores after penalties, oldest first;
+    /// `None` for a submission not graded yet or not gradable, which never counts).
+    pub fn pick(self, scores: impl IntoIterator<Item = Option<f64>>) -> Option<f64> {
+        let graded = scores.into_iter().flatten();
+        match self {
+            Counts::Best => graded.reduce(f64::max),
+            Counts::Last => graded.last(),
+        }
+    }
+}
+
+/// An assignment's dates and late policy.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Policy {
+    pub due: Timestamp,
+    /// The last moment a submission is taken (the due date when there is no grace).
+    pub cutoff: Timestamp,
+    /// The share of the score lost per day, or part of a day, after the due date.
+    pub penalty_per_day: f64,
+    pub counts: Counts,
+}
+
+/// What the policy makes of a submission at some moment.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Timing {
+    OnTime,
+    /// Taken, and marked late by `seconds`; `penalty` is the share of the score lost.
+    Late {
+        seconds: i64,
+        penalty: f64,
+    },
+    /// Refused: the cutoff has passed.
+    Closed,
+}
+
+const DAY_SECONDS: i64 = 24 * 3600;
+
+impl Policy {
+    /// Late by `t − due`: the penalty counts every day begun, ⌈(t − due) / 1 day⌉ ×
+    /// penalty, and takes at most the whole score.
+    pub fn timing(&self, at: Timestamp) -> Timing {
+        if at > self.cutoff {
+            return Timing::Closed;
+        }
+        let late = at.duration_since(self.due);
+        if late <= SignedDuration::ZERO {
+            return Timing::OnTime;
+        }
+        let seconds = late.as_secs().max(1);
+        let days = (seconds + DAY_SECONDS - 1) / DAY_SECONDS;
+        Timing::Late {
+            seconds,
+            penalty: (days as f64 * self.penalty_per_day).min(1.0),
+        }
+    }
+}
+
+/// A penalty as `10%/day` (or `10%`, or `0.1`): the share lost per day late.
+pub fn parse_penalty(text: &str) -> Result<f64, String> {
+    let bad =
+        || format!("{text:?} is not a late penalty: write the share lost per day late, as 10%/day");
+    let amount = text.trim().trim_end_matches("/day").trim();
+    let share = match amount.strip_suffix('%') {
+        Some(percent) => percent.trim().parse::<f64>().map_err(|_| bad())? / 100.0,
+        None => amount.parse::<f64>().map_err(|_| bad())?,
+    };
+    if (0.0..=1.0).contains(&share) {
+        Ok(share)
+    } else {
+        Err(format!(
+            "{text:?}: a late penalty is between 0% and 100% per day"
+        ))
+    }
+}
+
+/// A moment with its time zone, as `2026-12-15T23:59+01:00` or `2026-12-15T22:59Z`; a
+/// moment without one is refused, since the server's zone is not the course's.
+pub fn parse_moment(text: &str) -> Result<Timestamp, String> {
+    text.trim().parse::<Timestamp>().map_err(|_| {
+        let has_time = text.contains('T');
+        if has_time {
+            format!(
+                "{text:?} is not a moment with a time zone: write it as 2026-12-15T23:59+01:00 (or ...Z for UTC)"
+            )
+        } else {
+            format!(
+                "{text:?} has no time: write the date, the time and the zone, as 2026-12-15T23:59+01:00"
+            )
+        }
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn at(text: &str) -> Timestamp {
+        parse_moment(text).unwrap()
+    }
+
+    fn policy() -> Policy {
+        Policy {
+            due: at("2026-12-15T23:59+01:00"),
+            cutoff: at("2026-12-18T23:59+01:00"),
+            penalty_per_day: 0.1,
+            counts: Counts::Best,
+        }
+    }
+
+    #[test]
+    fn on_time_late_by_days_begun_and_closed_after_the_cutoff() {
+        let policy = policy();
+        assert_eq!(policy.timing(at("2026-12-15T23:59+01:00")), Timing::OnTime);
+        assert_eq!(policy.timing(at("2026-12-01T08:00Z")), Timing::OnTime);
+        assert_eq!(
+            policy.timing(at("2026-12-16T00:00+01:00")),
+            Timing::Late {
+                seconds: 60,
+                penalty: 0.1
+            }
+        );
+        let Timing::Late { seconds, penalty } = policy.timing(at("2026-12-17T00:00+01:00")) else {
+            panic!("late")
+        };
+        assert_eq!(seconds, 24 * 3600 + 60);
+        assert!((penalty - 0.2).abs() < 1e-12);
+        assert!(matches!(
+            policy.timing(at("2026-12-18T23:59+01:00")),
+            Timing::Late { .. }
+        ));
+        assert_eq!(
+            policy.timing(at("2026-12-18T23:59:01+01:00")),
+            Timing::Closed
+        );
+    }
+
+    #[test]
+    fn the_penalty_takes_at_most_the_whole_score() {
+        let policy = Policy {
+            penalty_per_day: 0.6,
+            ..policy()
+        };
+        let Timing::Late { penalty, .. } = policy.timing(at("2026-12-18T12:00Z")) else {
+            panic!("late")
+        };
+        assert_eq!(penalty, 1.0);
+    }
+
+    #[test]
+    fn penalties_and_moments_are_read_or_refused_with_the_reason() {
+        assert_eq!(parse_penalty("10%/day"), Ok(0.1));
+        assert_eq!(parse_penalty("25%"), Ok(0.25));
+        assert_eq!(parse_penalty("0.05"), Ok(0.05));
+        assert!(parse_penalty("ten").unwrap_err().contains("10%/day"));
+        assert!(parse_penalty("150%/day").unwrap_err().contains("between"));
+        assert!(
+            parse_moment("2026-12-15T23:59")
+                .unwrap_err()
+                .contains("time zone")
+        );
+        assert!(parse_moment("2026-12-15").unwrap_err().contains("no time"));
+        assert_eq!(at("2026-12-15T23:59+01:00"), at("2026-12-15T22:59:00Z"));
+    }
+
+    #[test]
+    fn the_score_that_counts_is_the_best_or_the_last_graded() {
+        let scores = [Some(0.5), Some(0.9), Some(0.7), None];
+        assert_eq!(Counts::Best.pick(scores), Some(0.9));
+        assert_eq!(Counts::Last.pick(scores), Some(0.7));
+        assert_eq!(Counts::Best.pick([None, None]), None);
+    }
+}

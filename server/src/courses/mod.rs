@@ -1,0 +1,24 @@
+//! What a course is made of, apart from its storage: the deadline and late policy of an
+//! assignment, the sign-in codes and tokens (made here, kept only as hashes), and the
+//! roster file an instructor imports.
+
+pub mod codes;
+pub mod deadline;
+pub mod roster;
+
+/// A course's short name (`el2320`): what `estlab course` and the database call it.
+/// Letters, digits, `-`, `_` and `.`, at most 40.
+pub fn check_course_name(name: &str) -> Result<(), String> {
+    let valid = !name.is_empty()
+        && name.len() <= 40
+        && name
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.'));
+    if valid {
+        Ok(())
+    } else {
+        Err(format!(
+            "{name:?} is not a course name: use 1 to 40 letters, digits, '-', '_' or '.'"
+        ))
+    }
+}

@@ -1,0 +1,374 @@
+//! Courses, their people (students of the roster and staff) and their assignments.
+
+use super::{Error, Store};
+use crate::courses::deadline::{Counts, Policy};
+use crate::courses::roster;
+use jiff::Timestamp;
+use rusqlite::{Connection, OptionalExtension, Row, params};
+use serde::Serialize;
+
+/// A course as set up with `estlab course create`.
+#[derive(Clone, Debug, Serialize)]
+pub struct Course {
+    pub name: String,
+    pub title: String,
+}
+
+/// What someone is in a course.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize, clap::ValueEnum)]
+#[serde(rename_all = "snake_case")]
+pub enum Role {
+    Student,
+    Assistant,
+    Instructor,
+}
+
+impl Role {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Role::Student => "student",
+            Role::Assistant => "assistant",
+            Role::Instructor => "instructor",
+        }
+    }
+
+    pub(super) fn parse(text: &str) -> Role {
+        match text {
+            "instructor" => Role::Instructor,
+            "assistant" => Role::Assistant,
+            _ => Role::Student,
+        }
+    }
+
+    /// Assistants and instructors: they read everything in their course.
+    pub fn is_staff(self) -> bool {
+        self != Role::Student
+    }
+}
+
+/// Someone in a course: a student of the roster (`login` is their id there) or a member
+/// of staff (`login` is their email).
+#[derive(Clone, Debug, Serialize)]
+pub struct Member {
+    pub id: i64,
+    pub course: String,
+    pub login: String,
+    pub name: String,
+    pub email: String,
+    pub role: Role,
+    /// No longer on the roster: their submissions stay, they may not submit.
+    pub dropped: bool,
+}
+
+/// Someone about to be added to a course.
+pub struct NewMember<'a> {
+    pub login: &'a str,
+    pub name: &'a str,
+    pub email: &'a str,
+    pub role: Role,
+}
+
+/// What an import of the roster changed.
+#[derive(Debug, Default)]
+pub struct RosterChange {
+    /// Students new to the course (they need a code).
+    pub added: Vec<Member>,
+    /// Students whose name or email changed, or who were dropped and are back.
+    pub updated: usize,
+    pub unchanged: usize,
+    /// Students on the course's roster but not in the file: marked dropped.
+    pub dropped: Vec<String>,
+}
+
+/// An exercise opened for a course.
+#[derive(Clone, Debug, Serialize)]
+pub struct Assignment {
+    pub course: String,
+    pub lab: String,
+    #[serde(flatten)]
+    pub policy: Policy,
+}
+
+const MEMBER_COLUMNS: &str = "id, course, login, name, email, role, dropped";
+
+fn member(row: &Row) -> rusqlite::Result<Member> {
+    Ok(Member {
+        id: row.get(0)?,
+        course: row.get(1)?,
+        login: row.get(2)?,
+        name: row.get(3)?,
+        email: row.get(4)?,
+        role: Role::parse(&row.get::<_, String>(5)?),
+        dropped: row.get(6)?,
+    })
+}
+
+fn timestamp(seconds: i64) -> Timestamp {
+    Timestamp::from_second(seconds).unwrap_or(Timestamp::MAX)
+}
+
+fn assignment(row: &Row) -> rusqlite::Result<Assignment> {
+    Ok(Assignment {
+        course: row.get(0)?,
+        lab: row.get(1)?,
+        policy: Policy {
+            due: timestamp(row.get(2)?),
+            cutoff: timestamp(row.get(3)?),
+            penalty_per_day: row.get(4)?,
+            counts: Counts::parse(&row.get::<_, String>(5)?),
+        },
+    })
+}
+
+const ASSIGNMENT_COLUMNS: &str = "course, lab, due, cutoff, late_penalty, counts";
+
+fn find_member(
+    connection: &Connection,
+    course: &str,
+    login: &str,
+) -> rusqlite::Result<Option<Member>> {
+    connection
+        .query_row(
+            &format!("SELECT {MEMBER_COLUMNS} FROM members WHERE course = ?1 AND login = ?2"),
+            params![course, login],
+            member,
+        )
+        .optional()
+}
+
+impl Store {
+    /// Whether any course is set up: until one is, the server is open to anyone.
+    pub fn any_course(&self) -> Result<bool, Error> {
+        Ok(self
+            .connection()
+            .query_row("SELECT EXISTS (SELECT 1 FROM courses)", [], |row| {
+                row.get(0)
+            })?)
+    }
+
+    /// Creates a course, or gives an existing one a new title; true when it is new.
+    pub fn create_course(&self, name: &str, title: &str, now: Timestamp) -> Result<bool, Error> {
+        let connection = self.connection();
+        let updated = connection.execute(
+            "UPDATE courses SET title = ?2 WHERE name = ?1",
+            params![name, title],
+        )?;
+        if updated == 0 {
+            connection.execute(
+                "INSERT INTO courses (name, title, created_at) VALUES (?1, ?2, ?3)",
+                params![name, title, now.as_second()],
+            )?;
+        }
+        Ok(updated == 0)
+    }
+
+    pub fn courses(&self) -> Result<Vec<Course>, Error> {
+        let connection = self.connection();
+        let mut statement = connection.prepare("SELECT name, title FROM courses ORDER BY name")?;
+        let courses = statement
+            .query_map([], |row| {
+                Ok(Course {
+                    name: row.get(0)?,
+                    title: row.get(1)?,
+                })
+            })?
+            .collect::<Result<_, _>>()?;
+        Ok(courses)
+    }
+
+    /// The course of that name, or an error listing those there are.
+    pub fn course(&self, name: &str) -> Result<Course, Error> {
+        let courses = self.courses()?;
+        let known = courses.iter().map(|c| c.name.clone()).collect();
+        courses
+            .into_iter()
+            .find(|c| c.name == name)
+            .ok_or_else(|| Error::UnknownCourse {
+                name: name.to_string(),
+                known,
+            })
+    }
+
+    /// Adds someone to a course, or updates their name, email and role; staff are never
+    /// marked dropped. Refuses to turn a student into staff or back: their submissions
+    /// would change hands.
+    pub fn add_member(&self, course: &str, new: &NewMember) -> Result<Member, Error> {
+        let connection = self.connection();
+        if let Some(existing) = find_member(&connection, course, new.login)? {
+            if existing.role.is_staff() != new.role.is_staff() {
+                return Err(Error::Conflict(format!(
+                    "{:?} is already a {} of {course}; staff and students need different ids",
+                    new.login,
+                    existing.role.as_str()
+                )));
+            }
+            connection.execute(
+                "UPDATE members SET name = ?2, email = ?3, role = ?4, dropped = 0 WHERE id = ?1",
+                params![existing.id, new.name, new.email, new.role.as_str()],
+            )?;
+        } else {
+            connection.execute(
+                "INSERT INTO members (course, login, name, email, role) VALUES (?1, ?2, ?3, ?4, ?5)",
+                params![course, new.login, new.name, new.email, new.role.as_str()],
+            )?;
+        }
+        Ok(find_member(&connection, course, new.login)?.expect("just written"))
+    }
+
+    /// Imports a roster in one transaction: new students are added, known ones updated
+    /// (and back if they had been dropped), those missing from the file marked dropped.
+    /// Nobody and no submission is deleted.
+    pub fn import_roster(
+        &self,
+        course: &str,
+        students: &[roster::Student],
+    ) -> Result<RosterChange, Error> {
+        let mut connection = self.connection();
+        let transaction = connection.transaction()?;
+        let mut change = RosterChange::default();
+        for student in students {
+            match find_member(&transaction, course, &student.id)? {
+                Some(existing) if existing.role.is_staff() => {
+                    return Err(Error::Conflict(format!(
+                        "the roster's id {:?} is a {} of {course}; staff and students need different ids",
+                        student.id,
+                        existing.role.as_str()
+                    )));
+                }
+                Some(existing) => {
+                    if existing.name == student.name
+                        && existing.email == student.email
+                        && !existing.dropped
+                    {
+                        change.unchanged += 1;
+                    } else {
+                        transaction.execute(
+                            "UPDATE members SET name = ?2, email = ?3, dropped = 0 WHERE id = ?1",
+                            params![existing.id, student.name, student.email],
+                        )?;
+                        change.updated += 1;
+                    }
+                }
+                None => {
+                    transaction.execute(
+                        "INSERT INTO members (course, login, name, email, role)
+                         VALUES (?1, ?2, ?3, ?4, 'student')",
+                        params![course, student.id, student.name, student.email],
+                    )?;
+                    change.added.push(
+                        find_member(&transaction, course, &student.id)?.expect("just written"),
+                    );
+                }
+            }
+        }
+        let listed: std::collections::HashSet<&str> =
+            students.iter().map(|s| s.id.as_str()).collect();
+        let current: Vec<(i64, String)> = {
+            let mut statement = transaction.prepare(
+                "SELECT id, login FROM members WHERE course = ?1 AND role = 'student' AND dropped = 0",
+            )?;
+            statement
+                .query_map([course], |row| Ok((row.get(0)?, row.get(1)?)))?
+                .collect::<Result<_, _>>()?
+        };
+        for (id, login) in current {
+            if !listed.contains(login.as_str()) {
+                transaction.execute("UPDATE members SET dropped = 1 WHERE id = ?1", [id])?;
+                change.dropped.push(login);
+            }
+        }
+        transaction.commit()?;
+        Ok(change)
+    }
+
+    /// Everyone in a course: staff first, then students by id.
+    pub fn members(&self, course: &str) -> Result<Vec<Member>, Error> {
+        let connection = self.connection();
+        let mut statement = connection.prepare(&format!(
+            "SELECT {MEMBER_COLUMNS} FROM members WHERE course = ?1
+             ORDER BY role = 'student', login"
+        ))?;
+        let members = statement
+            .query_map([course], member)?
+            .collect::<Result<_, _>>()?;
+        Ok(members)
+    }
+
+    /// Someone in a course by their id (students) or email (staff).
+    pub fn member(&self, course: &str, login: &str) -> Result<Member, Error> {
+        find_member(&self.connection(), course, login)?.ok_or_else(|| Error::UnknownMember {
+            course: course.to_string(),
+            login: login.to_string(),
+        })
+    }
+
+    pub(super) fn member_by_id(connection: &Connection, id: i64) -> rusqlite::Result<Member> {
+        connection.query_row(
+            &format!("SELECT {MEMBER_COLUMNS} FROM members WHERE id = ?1"),
+            [id],
+            member,
+        )
+    }
+
+    /// Opens an exercise for a course, or changes its dates and policy.
+    pub fn assign(&self, course: &str, lab: &str, policy: &Policy) -> Result<(), Error> {
+        self.connection().execute(
+            "INSERT INTO assignments (course, lab, due, cutoff, late_penalty, counts)
+             VALUES (?1, ?2, ?3, ?4, ?5, ?6)
+             ON CONFLICT (course, lab) DO UPDATE SET due = ?3, cutoff = ?4, late_penalty = ?5, counts = ?6",
+            params![
+                course,
+                lab,
+                policy.due.as_second(),
+                policy.cutoff.as_second(),
+                policy.penalty_per_day,
+                policy.counts.as_str()
+            ],
+        )?;
+        Ok(())
+    }
+
+    /// A course's assignments, by due date.
+    pub fn assignments(&self, course: &str) -> Result<Vec<Assignment>, Error> {
+        let connection = self.connection();
+        let mut statement = connection.prepare(&format!(
+            "SELECT {ASSIGNMENT_COLUMNS} FROM assignments WHERE course = ?1 ORDER BY due, lab"
+        ))?;
+        let assignments = statement
+            .query_map([course], assignment)?
+            .collect::<Result<_, _>>()?;
+        Ok(assignments)
+    }
+
+    pub fn assignment(&self, course: &str, lab: &str) -> Result<Option<Assignment>, Error> {
+        Ok(self
+            .connection()
+            .query_row(
+                &format!(
+                    "SELECT {ASSIGNMENT_COLUMNS} FROM assignments WHERE course = ?1 AND lab = ?2"
+                ),
+                params![course, lab],
+                assignment,
+            )
+            .optional()?)
+    }
+
+    /// A setting the server keeps for the command line (the address it is reached at).
+    pub fn setting(&self, key: &str) -> Result<Option<String>, Error> {
+        Ok(self
+            .connection()
+            .query_row("SELECT value FROM settings WHERE key = ?1", [key], |row| {
+                row.get(0)
+            })
+            .optional()?)
+    }
+
+    pub fn set_setting(&self, key: &str, value: &str) -> Result<(), Error> {
+        self.connection().execute(
+            "INSERT INTO settings (key, value) VALUES (?1, ?2)
+             ON CONFLICT (key) DO UPDATE SET value = ?2",
+            params![key, value],
+        )?;
+        Ok(())
+    }
+}

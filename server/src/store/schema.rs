@@ -1,0 +1,94 @@
+//! The schema, as migrations: each takes it from version `i` to `i + 1` (`PRAGMA
+//! user_version`), in one transaction. A database of any earlier release opens and is
+//! brought forward; nothing already stored is dropped.
+
+use rusqlite::Connection;
+
+const MIGRATIONS: &[&str] = &[
+    // 1 (estlab 0.1.0): the submissions of an open server.
+    "CREATE TABLE submissions (
+        id INTEGER PRIMARY KEY,
+        course TEXT NOT NULL,
+        student TEXT NOT NULL,
+        lab TEXT NOT NULL,
+        seed INTEGER NOT NULL,
+        source TEXT NOT NULL,
+        status TEXT NOT NULL CHECK (status IN ('queued', 'grading', 'graded')),
+        submitted_at TEXT NOT NULL DEFAULT (strftime('%Y-%m-%dT%H:%M:%fZ', 'now')),
+        graded_at TEXT,
+        score REAL,
+        result TEXT
+    );
+    CREATE INDEX submissions_by_student ON submissions (course, student, id);",
+    // 2: courses, their people and assignments, and what signs people in. Times that are
+    // compared are Unix seconds; codes and tokens are kept as hashes only. A submission
+    // made by a signed-in student names them (`member`); those of an open server name
+    // nobody and belong to no course's people.
+    "CREATE TABLE courses (
+        name TEXT PRIMARY KEY,
+        title TEXT NOT NULL,
+        created_at INTEGER NOT NULL
+    );
+    CREATE TABLE members (
+        id INTEGER PRIMARY KEY,
+        course TEXT NOT NULL REFERENCES courses (name),
+        login TEXT NOT NULL,
+        name TEXT NOT NULL,
+        email TEXT NOT NULL,
+        role TEXT NOT NULL CHECK (role IN ('student', 'assistant', 'instructor')),
+        dropped INTEGER NOT NULL DEFAULT 0,
+        UNIQUE (course, login)
+    );
+    CREATE TABLE codes (
+        selector TEXT PRIMARY KEY,
+        member INTEGER NOT NULL REFERENCES members (id),
+        hash TEXT NOT NULL,
+        once INTEGER NOT NULL,
+        expires_at INTEGER,
+        created_at INTEGER NOT NULL
+    );
+    CREATE INDEX codes_by_member ON codes (member);
+    CREATE TABLE sessions (
+        hash TEXT PRIMARY KEY,
+        member INTEGER NOT NULL REFERENCES members (id),
+        created_at INTEGER NOT NULL,
+        expires_at INTEGER NOT NULL
+    );
+    CREATE TABLE tokens (
+        id INTEGER PRIMARY KEY,
+        course TEXT NOT NULL REFERENCES courses (name),
+        role TEXT NOT NULL CHECK (role IN ('assistant', 'instructor')),
+        hash TEXT NOT NULL UNIQUE,
+        created_at INTEGER NOT NULL,
+        revoked_at INTEGER
+    );
+    CREATE TABLE assignments (
+        course TEXT NOT NULL REFERENCES courses (name),
+        lab TEXT NOT NULL,
+        due INTEGER NOT NULL,
+        cutoff INTEGER NOT NULL,
+        late_penalty REAL NOT NULL,
+        counts TEXT NOT NULL CHECK (counts IN ('best', 'last')),
+        PRIMARY KEY (course, lab)
+    );
+    CREATE TABLE settings (
+        key TEXT PRIMARY KEY,
+        value TEXT NOT NULL
+    );
+    ALTER TABLE submissions ADD COLUMN member INTEGER REFERENCES members (id);
+    ALTER TABLE submissions ADD COLUMN late_seconds INTEGER NOT NULL DEFAULT 0;
+    ALTER TABLE submissions ADD COLUMN penalty REAL NOT NULL DEFAULT 0;
+    CREATE INDEX submissions_by_member ON submissions (member, lab, id);",
+];
+
+/// Brings the schema up to the newest version, one migration per transaction.
+pub fn migrate(connection: &Connection) -> rusqlite::Result<()> {
+    let version: i64 = connection.query_row("PRAGMA user_version", [], |row| row.get(0))?;
+    for (i, migration) in MIGRATIONS.iter().enumerate().skip(version as usize) {
+        connection.execute_batch(&format!(
+            "BEGIN; {migration}; PRAGMA user_version = {}; COMMIT;",
+            i + 1
+        ))?;
+    }
+    Ok(())
+}

@@ -1,0 +1,343 @@
+//! The submissions: each written before it is graded, its result written when grading
+//! ends. A signed-in student's submission names them (`member`) and records how late it
+//! came and the penalty that costs.
+
+use super::{Error, Store};
+use jiff::Timestamp;
+use labs::grading::GradeResult;
+use rusqlite::{OptionalExtension, Row, params};
+use serde::Serialize;
+
+/// Where a submission is on its way to a result.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Status {
+    Queued,
+    Grading,
+    Graded,
+}
+
+impl Status {
+    fn as_str(self) -> &'static str {
+        match self {
+            Status::Queued => "queued",
+            Status::Grading => "grading",
+            Status::Graded => "graded",
+        }
+    }
+
+    fn parse(text: &str) -> Status {
+        match text {
+            "queued" => Status::Queued,
+            "grading" => Status::Grading,
+            _ => Status::Graded,
+        }
+    }
+}
+
+/// A submission as it is about to be stored.
+pub struct NewSubmission<'a> {
+    pub course: &'a str,
+    pub student: &'a str,
+    /// The signed-in student, on a server with courses.
+    pub member: Option<i64>,
+    pub lab: &'a str,
+    pub seed: u64,
+    pub source: &'a str,
+    pub submitted_at: Timestamp,
+    /// After the due date by this much (0: on time).
+    pub late_seconds: i64,
+    /// The share of the score the lateness costs.
+    pub penalty: f64,
+}
+
+/// What grading a submission needs (and names in the log).
+pub struct ToGrade {
+    pub source: String,
+    pub seed: u64,
+    pub course: String,
+    pub student: String,
+}
+
+/// A submission in a list: when, how late, how it did; no source, no result.
+#[derive(Debug, Serialize)]
+pub struct SubmissionSummary {
+    pub id: i64,
+    pub course: String,
+    pub student: String,
+    pub lab: String,
+    pub status: Status,
+    pub submitted_at: String,
+    pub late_seconds: i64,
+    pub penalty: f64,
+    /// The grader's score, once graded (none when not gradable).
+    pub score: Option<f64>,
+    /// The score after the late penalty: what counts.
+    pub final_score: Option<f64>,
+}
+
+/// A stored submission with its result; its source only for those who may read it.
+#[derive(Debug, Serialize)]
+pub struct Submission {
+    #[serde(flatten)]
+    pub summary: SubmissionSummary,
+    pub seed: u64,
+    pub graded_at: Option<String>,
+    #[serde(skip)]
+    pub member: Option<i64>,
+    pub result: Option<GradeResult>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub source: Option<String>,
+}
+
+/// How submission times are written: UTC to the millisecond, as estlab 0.1.0 wrote them.
+fn moment(at: Timestamp) -> String {
+    at.strftime("%Y-%m-%dT%H:%M:%S%.3fZ").to_string()
+}
+
+const SUMMARY_COLUMNS: &str =
+    "id, course, student, lab, status, submitted_at, late_seconds, penalty, score";
+
+fn summary(row: &Row) -> rusqlite::Result<SubmissionSummary> {
+    let score: Option<f64> = row.get(8)?;
+    let penalty: f64 = row.get(7)?;
+    Ok(SubmissionSummary {
+        id: row.get(0)?,
+        course: row.get(1)?,
+        student: row.get(2)?,
+        lab: row.get(3)?,
+        status: Status::parse(&row.get::<_, String>(4)?),
+        submitted_at: row.get(5)?,
+        late_seconds: row.get(6)?,
+        penalty,
+        score,
+        final_score: score.map(|s| s * (1.0 - penalty)),
+    })
+}
+
+impl Store {
+    /// Stores a new submission as queued and returns its id; refuses it when the student
+    /// already has one waiting or being graded in the same course and exercise.
+    pub fn insert(&self, new: &NewSubmission) -> Result<i64, Error> {
+        let connection = self.connection();
+        let busy: Option<i64> = connection
+            .query_row(
+                "SELECT id FROM submissions WHERE course = ?1 AND student = ?2 AND lab = ?3
+                 AND status != 'graded' ORDER BY id LIMIT 1",
+                params![new.course, new.student, new.lab],
+                |row| row.get(0),
+            )
+            .optional()?;
+        if let Some(id) = busy {
+            return Err(Error::Busy(id));
+        }
+        connection.execute(
+            "INSERT INTO submissions (course, student, member, lab, seed, source, status,
+                 submitted_at, late_seconds, penalty)
+             VALUES (?1, ?2, ?3, ?4, ?5, ?6, 'queued', ?7, ?8, ?9)",
+            params![
+                new.course,
+                new.student,
+                new.member,
+                new.lab,
+                new.seed as i64,
+                new.source,
+                moment(new.submitted_at),
+                new.late_seconds,
+                new.penalty
+            ],
+        )?;
+        Ok(connection.last_insert_rowid())
+    }
+
+    /// Marks a submission as being graded and returns what grading needs.
+    pub fn start_grading(&self, id: i64) -> Result<ToGrade, Error> {
+        let connection = self.connection();
+        connection.execute(
+            "UPDATE submissions SET status = ?2 WHERE id = ?1",
+            params![id, Status::Grading.as_str()],
+        )?;
+        Ok(connection.query_row(
+            "SELECT source, seed, course, student FROM submissions WHERE id = ?1",
+            [id],
+            |row| {
+                Ok(ToGrade {
+                    source: row.get(0)?,
+                    seed: row.get::<_, i64>(1)? as u64,
+                    course: row.get(2)?,
+                    student: row.get(3)?,
+                })
+            },
+        )?)
+    }
+
+    /// Stores the result of a grading.
+    pub fn finish_grading(&self, id: i64, result: &GradeResult) -> Result<(), Error> {
+        let text = serde_json::to_string(result).expect("results serialise");
+        self.connection().execute(
+            "UPDATE submissions SET status = 'graded', result = ?2, score = ?3,
+             graded_at = strftime('%Y-%m-%dT%H:%M:%fZ', 'now') WHERE id = ?1",
+            params![id, text, result.gradable.then_some(result.score)],
+        )?;
+        Ok(())
+    }
+
+    /// Ends a submission whose grading failed as not gradable, with the reason.
+    pub fn give_up(&self, id: i64, reason: &str) -> Result<(), Error> {
+        let (lab, seed): (String, i64) = self.connection().query_row(
+            "SELECT lab, seed FROM submissions WHERE id = ?1",
+            [id],
+            |row| Ok((row.get(0)?, row.get(1)?)),
+        )?;
+        self.finish_grading(id, &GradeResult::not_gradable(&lab, seed as u64, reason))
+    }
+
+    /// The submissions whose grading has not finished (queued, or cut off by a stop), oldest first.
+    pub fn unfinished(&self) -> Result<Vec<i64>, Error> {
+        let connection = self.connection();
+        let mut statement = connection
+            .prepare("SELECT id FROM submissions WHERE status != 'graded' ORDER BY id")?;
+        let ids = statement
+            .query_map([], |row| row.get(0))?
+            .collect::<Result<_, _>>()?;
+        Ok(ids)
+    }
+
+    /// One submission, if it exists, with its source when `with_source`. The result is
+    /// parsed after the lock is released.
+    pub fn get(&self, id: i64, with_source: bool) -> Result<Option<Submission>, Error> {
+        let row = self
+            .connection()
+            .query_row(
+                &format!(
+                    "SELECT {SUMMARY_COLUMNS}, seed, graded_at, member, result,
+                     CASE WHEN ?2 THEN source END FROM submissions WHERE id = ?1"
+                ),
+                params![id, with_source],
+                |row| {
+                    Ok((
+                        Submission {
+                            summary: summary(row)?,
+                            seed: row.get::<_, i64>(9)? as u64,
+                            graded_at: row.get(10)?,
+                            member: row.get(11)?,
+                            result: None,
+                            source: row.get(13)?,
+                        },
+                        row.get::<_, Option<String>>(12)?,
+                    ))
+                },
+            )
+            .optional()?;
+        row.map(|(submission, result)| {
+            let result = result
+                .map(|text| serde_json::from_str(&text).map_err(Error::StoredResult))
+                .transpose()?;
+            Ok(Submission {
+                result,
+                ..submission
+            })
+        })
+        .transpose()
+    }
+
+    /// A student's own submissions to an exercise, oldest first.
+    pub fn history(&self, member: i64, lab: &str) -> Result<Vec<SubmissionSummary>, Error> {
+        let connection = self.connection();
+        let mut statement = connection.prepare(&format!(
+            "SELECT {SUMMARY_COLUMNS} FROM submissions WHERE member = ?1 AND lab = ?2 ORDER BY id"
+        ))?;
+        let list = statement
+            .query_map(params![member, lab], summary)?
+            .collect::<Result<_, _>>()?;
+        Ok(list)
+    }
+
+    /// Every submission of a course's people to an exercise, by student then oldest first.
+    pub fn course_submissions(
+        &self,
+        course: &str,
+        lab: &str,
+    ) -> Result<Vec<SubmissionSummary>, Error> {
+        let connection = self.connection();
+        let mut statement = connection.prepare(&format!(
+            "SELECT {SUMMARY_COLUMNS} FROM submissions
+             WHERE member IN (SELECT id FROM members WHERE course = ?1) AND lab = ?2
+             ORDER BY student, id"
+        ))?;
+        let list = statement
+            .query_map(params![course, lab], summary)?
+            .collect::<Result<_, _>>()?;
+        Ok(list)
+    }
+
+    /// Every submission in the database, oldest first (for the checks after a migration
+    /// or a restart).
+    pub fn all_submissions(&self) -> Result<Vec<SubmissionSummary>, Error> {
+        let connection = self.connection();
+        let mut statement = connection.prepare(&format!(
+            "SELECT {SUMMARY_COLUMNS} FROM submissions ORDER BY id"
+        ))?;
+        let list = statement
+            .query_map([], summary)?
+            .collect::<Result<_, _>>()?;
+        Ok(list)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn new<'a>(student: &'a str, source: &'a str) -> NewSubmission<'a> {
+        NewSubmission {
+            course: "el2320",
+            student,
+            member: None,
+            lab: "ekf-localization",
+            seed: 7,
+            source,
+            submitted_at: Timestamp::UNIX_EPOCH,
+            late_seconds: 0,
+            penalty: 0.0,
+        }
+    }
+
+    #[test]
+    fn a_student_has_one_submission_waiting_and_a_failed_grading_frees_the_next() {
+        let dir = tempfile::tempdir().unwrap();
+        let store = Store::open(dir.path()).unwrap();
+        let first = store.insert(&new("ada", "// one")).unwrap();
+        // Another student is not held up; the same student is, while the first waits.
+        store.insert(&new("grace", "// other")).unwrap();
+        assert!(matches!(store.insert(&new("ada", "// two")), Err(Error::Busy(id)) if id == first));
+        store.start_grading(first).unwrap();
+        assert!(matches!(
+            store.insert(&new("ada", "// two")),
+            Err(Error::Busy(_))
+        ));
+
+        // Grading failed on the server's side: the submission ends not gradable, the
+        // student may submit again, and nothing is lost.
+        store
+            .give_up(first, "the server could not grade it")
+            .unwrap();
+        let ended = store.get(first, false).unwrap().unwrap();
+        assert_eq!(ended.summary.status, Status::Graded);
+        assert_eq!(ended.source, None);
+        let result = ended.result.unwrap();
+        assert!(!result.gradable);
+        assert_eq!(
+            result.reason.as_deref(),
+            Some("the server could not grade it")
+        );
+        assert_eq!(result.seed, 7);
+        let second = store.insert(&new("ada", "// two")).unwrap();
+        assert!(second > first);
+        assert_eq!(store.start_grading(first).unwrap().source, "// one");
+        assert_eq!(
+            store.get(first, true).unwrap().unwrap().source.as_deref(),
+            Some("// one")
+        );
+    }
+}

@@ -1,0 +1,283 @@
+//! The signed-in person's side: `/me` (a student's assignments with their deadlines,
+//! scores and history; a member of staff's course at a glance) and the API behind it.
+
+use super::pages::{Nav, html};
+use super::viewer::Viewer;
+use super::{AppState, Error, blocking};
+use crate::courses::deadline::{Policy, Timing};
+use crate::store::{Assignment, Course, Member, Status, Store, Submission, SubmissionSummary};
+use askama::Template;
+use axum::Json;
+use axum::extract::{Query, State};
+use axum::response::{IntoResponse, Redirect, Response};
+use jiff::Timestamp;
+use labs::grading::{LAB, student_seed};
+use serde::{Deserialize, Serialize};
+use std::collections::HashSet;
+use std::sync::Arc;
+
+/// Where an assignment stands at the moment of asking.
+#[derive(Serialize)]
+#[serde(rename_all = "snake_case", tag = "state")]
+pub enum Standing {
+    /// Before the due date.
+    Open {
+        seconds_left: i64,
+    },
+    /// After the due date, before the cutoff: a submission now is late by
+    /// `late_seconds` and loses `penalty` of its score.
+    Late {
+        late_seconds: i64,
+        penalty: f64,
+        seconds_to_cutoff: i64,
+    },
+    Closed,
+}
+
+impl Standing {
+    pub fn of(policy: &Policy, now: Timestamp) -> Standing {
+        match policy.timing(now) {
+            Timing::OnTime => Standing::Open {
+                seconds_left: policy.due.duration_since(now).as_secs(),
+            },
+            Timing::Late { seconds, penalty } => Standing::Late {
+                late_seconds: seconds,
+                penalty,
+                seconds_to_cutoff: policy.cutoff.duration_since(now).as_secs(),
+            },
+            Timing::Closed => Standing::Closed,
+        }
+    }
+
+    /// The standing in words, for the page.
+    pub fn describe(&self) -> String {
+        match self {
+            Standing::Open { seconds_left } => format!("due in {}", span(*seconds_left)),
+            Standing::Late {
+                late_seconds,
+                penalty,
+                seconds_to_cutoff,
+            } => format!(
+                "{} late: a submission now loses {:.0} % of its score; closes in {}",
+                span(*late_seconds),
+                penalty * 100.0,
+                span(*seconds_to_cutoff)
+            ),
+            Standing::Closed => "closed: no more submissions are taken".into(),
+        }
+    }
+}
+
+/// A length of time in words: `3 days 4 h`, `5 h 12 min`, `40 min`.
+pub fn span(seconds: i64) -> String {
+    let minutes = seconds.max(0) / 60;
+    let (days, hours, minutes) = (minutes / 1440, minutes / 60 % 24, minutes % 60);
+    match (days, hours) {
+        (0, 0) => format!("{minutes} min"),
+        (0, _) => format!("{hours} h {minutes} min"),
+        (1, _) => format!("1 day {hours} h"),
+        _ => format!("{days} days {hours} h"),
+    }
+}
+
+/// A student's view of one assignment.
+#[derive(Serialize)]
+pub struct StudentAssignment {
+    #[serde(flatten)]
+    pub assignment: Assignment,
+    pub standing: Standing,
+    /// Their submissions, oldest first.
+    pub history: Vec<SubmissionSummary>,
+    /// The score that counts (best or last, after late penalties).
+    pub counting_score: Option<f64>,
+    /// Their latest submission with its full result.
+    pub latest: Option<Submission>,
+}
+
+/// A member of staff's view of one assignment.
+#[derive(Serialize)]
+pub struct StaffAssignment {
+    #[serde(flatten)]
+    pub assignment: Assignment,
+    pub standing: Standing,
+    /// Students on the roster (not dropped).
+    pub students: usize,
+    /// Of them, those who have submitted at least once.
+    pub submitted: usize,
+    pub submissions: usize,
+}
+
+/// `GET /api/me`: who is signed in and what they have to do.
+#[derive(Serialize)]
+pub struct About {
+    /// Whether the server has courses (without, submitting is open to anyone).
+    pub courses: bool,
+    pub member: Option<Member>,
+    pub course: Option<Course>,
+    /// A student's variant.
+    pub seed: Option<u64>,
+    pub assignments: Vec<StudentAssignment>,
+    pub staff_assignments: Vec<StaffAssignment>,
+}
+
+fn gather(
+    store: &Store,
+    viewer_member: Option<Member>,
+    now: Timestamp,
+) -> Result<About, crate::store::Error> {
+    let courses = store.any_course()?;
+    let Some(member) = viewer_member else {
+        return Ok(About {
+            courses,
+            member: None,
+            course: None,
+            seed: None,
+            assignments: Vec::new(),
+            staff_assignments: Vec::new(),
+        });
+    };
+    let course = store.course(&member.course)?;
+    let mut assignments = Vec::new();
+    let mut staff_assignments = Vec::new();
+    for assignment in store.assignments(&member.course)? {
+        let standing = Standing::of(&assignment.policy, now);
+        if member.role.is_staff() {
+            let members = store.members(&member.course)?;
+            let roster: HashSet<&str> = members
+                .iter()
+                .filter(|m| !m.role.is_staff() && !m.dropped)
+                .map(|m| m.login.as_str())
+                .collect();
+            let submissions = store.course_submissions(&member.course, &assignment.lab)?;
+            let submitted: HashSet<&str> = submissions
+                .iter()
+                .map(|s| s.student.as_str())
+                .filter(|s| roster.contains(s))
+                .collect();
+            staff_assignments.push(StaffAssignment {
+                standing,
+                students: roster.len(),
+                submitted: submitted.len(),
+                submissions: submissions.len(),
+                assignment,
+            });
+        } else {
+            let history = store.history(member.id, &assignment.lab)?;
+            let counting_score = assignment
+                .policy
+                .counts
+                .pick(history.iter().map(|s| s.final_score));
+            let latest = match history.last() {
+                Some(last) => store.get(last.id, false)?,
+                None => None,
+            };
+            assignments.push(StudentAssignment {
+                assignment,
+                standing,
+                history,
+                counting_score,
+                latest,
+            });
+        }
+    }
+    Ok(About {
+        courses,
+        seed: (!member.role.is_staff()).then(|| student_seed(&member.course, &member.login)),
+        member: Some(member),
+        course: Some(course),
+        assignments,
+        staff_assignments,
+    })
+}
+
+async fn load(state: &AppState, viewer: &Viewer) -> Result<About, Error> {
+    let member = viewer.member().cloned();
+    let now = state.clock.now();
+    blocking(state, move |store| gather(store, member, now)).await
+}
+
+/// `GET /api/me`.
+pub async fn about(State(state): State<Arc<AppState>>, viewer: Viewer) -> Result<Response, Error> {
+    Ok(Json(load(&state, &viewer).await?).into_response())
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HistoryQuery {
+    #[serde(default = "default_lab")]
+    lab: String,
+}
+
+fn default_lab() -> String {
+    LAB.into()
+}
+
+/// `GET /api/me/submissions?lab=...`: the signed-in student's own submissions.
+pub async fn history(
+    State(state): State<Arc<AppState>>,
+    viewer: Viewer,
+    Query(query): Query<HistoryQuery>,
+) -> Result<Response, Error> {
+    let Some(member) = viewer.member().cloned() else {
+        return Err(Error::Unauthorized(
+            "sign in to see your submissions".into(),
+        ));
+    };
+    let list = blocking(&state, move |store| store.history(member.id, &query.lab)).await?;
+    Ok(Json(list).into_response())
+}
+
+#[derive(Template)]
+#[template(path = "me.html")]
+struct MePage<'a> {
+    page: &'a str,
+    assets: super::assets::PageAssets<'a>,
+    nav: Nav,
+    about: About,
+    member: Member,
+}
+
+impl MePage<'_> {
+    fn standing(&self, standing: &Standing) -> String {
+        standing.describe()
+    }
+
+    fn score(&self, score: &Option<f64>) -> String {
+        score.map_or_else(|| "–".into(), |s| format!("{:.0} %", s * 100.0))
+    }
+
+    fn percent(&self, share: &f64) -> String {
+        format!("{:.0} %", share * 100.0)
+    }
+
+    fn moment(&self, at: &Timestamp) -> String {
+        at.strftime("%Y-%m-%d %H:%M UTC").to_string()
+    }
+
+    fn late(&self, seconds: &i64) -> String {
+        span(*seconds)
+    }
+
+    fn status(&self, status: &Status) -> &'static str {
+        match status {
+            Status::Queued => "waiting",
+            Status::Grading => "being graded",
+            Status::Graded => "graded",
+        }
+    }
+}
+
+/// `GET /me`: the signed-in person's page; anyone else is sent to sign in.
+pub async fn page(State(state): State<Arc<AppState>>, viewer: Viewer) -> Result<Response, Error> {
+    let Some(member) = viewer.member().cloned() else {
+        return Ok(Redirect::to("/signin").into_response());
+    };
+    let about = load(&state, &viewer).await?;
+    html(&MePage {
+        page: "me",
+        assets: state.assets.page("me"),
+        nav: Nav::of(&state, &viewer).await?,
+        about,
+        member,
+    })
+}

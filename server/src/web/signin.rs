@@ -1,0 +1,170 @@
+//! Signing in with a personal code (or the link that carries it) and signing out. A
+//! session lives in the database, so a restart signs nobody out; its key is in an
+//! HttpOnly, SameSite=Lax cookie, `Secure` behind HTTPS.
+
+use super::limiter::Refusal;
+use super::pages::{Nav, html};
+use super::viewer::{Viewer, session_key};
+use super::{AppState, Error, SESSION_COOKIE, blocking};
+use crate::store::CodeCheck;
+use askama::Template;
+use axum::Form;
+use axum::extract::{ConnectInfo, State};
+use axum::http::request::Parts;
+use axum::http::{StatusCode, header};
+use axum::response::{IntoResponse, Redirect, Response};
+use jiff::SignedDuration;
+use serde::Deserialize;
+use std::net::{IpAddr, Ipv4Addr, SocketAddr};
+use std::sync::Arc;
+
+/// How long a session lasts.
+const SESSION: SignedDuration = SignedDuration::from_hours(30 * 24);
+
+#[derive(Template)]
+#[template(path = "signin.html")]
+struct SignIn<'a> {
+    page: &'a str,
+    assets: super::assets::PageAssets<'a>,
+    nav: Nav,
+    problem: Option<String>,
+}
+
+#[derive(Deserialize)]
+pub struct CodeForm {
+    code: String,
+}
+
+pub async fn page(State(state): State<Arc<AppState>>, viewer: Viewer) -> Result<Response, Error> {
+    render(&state, &viewer, StatusCode::OK, None).await
+}
+
+async fn render(
+    state: &Arc<AppState>,
+    viewer: &Viewer,
+    status: StatusCode,
+    problem: Option<String>,
+) -> Result<Response, Error> {
+    let page = SignIn {
+        page: "signin",
+        assets: state.assets.page("signin"),
+        nav: Nav::of(state, viewer).await?,
+        problem,
+    };
+    Ok((status, html(&page)?).into_response())
+}
+
+/// The client's address: the peer's, or behind a proxy the last address it added.
+fn client_address(parts: &Parts, behind_https: bool) -> IpAddr {
+    let forwarded = behind_https
+        .then(|| {
+            parts
+                .headers
+                .get_all("x-forwarded-for")
+                .iter()
+                .filter_map(|v| v.to_str().ok())
+                .flat_map(|v| v.split(','))
+                .next_back()
+                .and_then(|last| last.trim().parse().ok())
+        })
+        .flatten();
+    forwarded.unwrap_or_else(|| {
+        parts
+            .extensions
+            .get::<ConnectInfo<SocketAddr>>()
+            .map_or(IpAddr::V4(Ipv4Addr::UNSPECIFIED), |info| info.0.ip())
+    })
+}
+
+fn too_many(refusal: &Refusal) -> String {
+    let whose = if refusal.per_course {
+        "for this course"
+    } else {
+        "from your address"
+    };
+    format!(
+        "Too many wrong codes {whose}: signing in is refused for {} more minute(s). Check the code you were given, then try again.",
+        refusal.minutes
+    )
+}
+
+const WRONG_CODE: &str = "This code is not valid: it may be mistyped, replaced by a newer one, or (for a one-time link) used or expired. Ask your teacher for a new one if it keeps failing.";
+
+pub async fn sign_in(
+    State(state): State<Arc<AppState>>,
+    parts: Parts,
+    Form(form): Form<CodeForm>,
+) -> Result<Response, Error> {
+    let viewer = Viewer::Anonymous;
+    let now = state.clock.now();
+    let address = client_address(&parts, state.behind_https);
+    if let Err(refusal) = state.limiter.check_address(address, now) {
+        let message = too_many(&refusal);
+        return render(
+            &state,
+            &viewer,
+            StatusCode::TOO_MANY_REQUESTS,
+            Some(message),
+        )
+        .await;
+    }
+    let code = form.code;
+    let Some(found) = blocking(&state, move |store| store.find_code(&code)).await? else {
+        state.limiter.failed(address, None, now);
+        return render(
+            &state,
+            &viewer,
+            StatusCode::UNAUTHORIZED,
+            Some(WRONG_CODE.into()),
+        )
+        .await;
+    };
+    let course = found.member.course.clone();
+    if let Err(refusal) = state.limiter.check_course(&course, now) {
+        let message = too_many(&refusal);
+        return render(
+            &state,
+            &viewer,
+            StatusCode::TOO_MANY_REQUESTS,
+            Some(message),
+        )
+        .await;
+    }
+    let check = blocking(&state, move |store| store.use_code(found, now)).await?;
+    let CodeCheck::Valid(member) = check else {
+        state.limiter.failed(address, Some(&course), now);
+        return render(
+            &state,
+            &viewer,
+            StatusCode::UNAUTHORIZED,
+            Some(WRONG_CODE.into()),
+        )
+        .await;
+    };
+    let earlier = session_key(&parts);
+    let key = blocking(&state, move |store| {
+        if let Some(earlier) = earlier {
+            store.end_session(&earlier)?;
+        }
+        store.start_session(member.id, now, now + SESSION)
+    })
+    .await?;
+    tracing::info!(course, "signed in");
+    let cookie = format!(
+        "{SESSION_COOKIE}={key}; Path=/; HttpOnly; SameSite=Lax; Max-Age={}{}",
+        SESSION.as_secs(),
+        if state.behind_https { "; Secure" } else { "" }
+    );
+    Ok(([(header::SET_COOKIE, cookie)], Redirect::to("/me")).into_response())
+}
+
+pub async fn sign_out(State(state): State<Arc<AppState>>, parts: Parts) -> Result<Response, Error> {
+    if let Some(key) = session_key(&parts) {
+        blocking(&state, move |store| store.end_session(&key)).await?;
+    }
+    let cookie = format!(
+        "{SESSION_COOKIE}=; Path=/; HttpOnly; SameSite=Lax; Max-Age=0{}",
+        if state.behind_https { "; Secure" } else { "" }
+    );
+    Ok(([(header::SET_COOKIE, cookie)], Redirect::to("/")).into_response())
+}

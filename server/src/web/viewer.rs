@@ -1,0 +1,90 @@
+//! Who is asking: nobody, a signed-in member of a course (the session cookie), or a
+//! script with a course's API token (`Authorization: Bearer ...`). Every handler that
+//! reads or changes anything a course owns takes a `Viewer` and asks it.
+
+use super::{AppState, Error, blocking};
+use crate::store::{Member, TokenInfo};
+use axum::extract::FromRequestParts;
+use axum::http::header;
+use axum::http::request::Parts;
+use std::sync::Arc;
+
+/// The session cookie's name.
+pub const SESSION_COOKIE: &str = "estlab_session";
+
+pub enum Viewer {
+    Anonymous,
+    Member(Member),
+    Token(TokenInfo),
+}
+
+impl Viewer {
+    /// The signed-in member, if any.
+    pub fn member(&self) -> Option<&Member> {
+        match self {
+            Viewer::Member(member) => Some(member),
+            _ => None,
+        }
+    }
+
+    /// Whether the viewer reads and acts for the staff of `course`.
+    pub fn is_staff_of(&self, course: &str) -> bool {
+        match self {
+            Viewer::Member(member) => member.role.is_staff() && member.course == course,
+            Viewer::Token(token) => token.course == course,
+            Viewer::Anonymous => false,
+        }
+    }
+}
+
+/// The value of the session cookie in a `Cookie` header, if there is one.
+pub fn session_key(parts: &Parts) -> Option<String> {
+    parts
+        .headers
+        .get_all(header::COOKIE)
+        .iter()
+        .filter_map(|value| value.to_str().ok())
+        .flat_map(|value| value.split(';'))
+        .filter_map(|pair| pair.trim().split_once('='))
+        .find(|(name, _)| *name == SESSION_COOKIE)
+        .map(|(_, value)| value.to_string())
+        .filter(|value| value.len() == 64 && value.bytes().all(|b| b.is_ascii_hexdigit()))
+}
+
+/// An API token in an `Authorization: Bearer` header: `Ok(None)` when there is none,
+/// an error when the header is there but is not a bearer token.
+fn bearer(parts: &Parts) -> Result<Option<String>, Error> {
+    let Some(value) = parts.headers.get(header::AUTHORIZATION) else {
+        return Ok(None);
+    };
+    value
+        .to_str()
+        .ok()
+        .and_then(|text| text.strip_prefix("Bearer "))
+        .map(|token| Some(token.trim().to_string()))
+        .ok_or_else(|| {
+            Error::Unauthorized(
+                "header `Authorization`: expected `Bearer` and an API token (estlab course token)"
+                    .into(),
+            )
+        })
+}
+
+impl FromRequestParts<Arc<AppState>> for Viewer {
+    type Rejection = Error;
+
+    async fn from_request_parts(parts: &mut Parts, state: &Arc<AppState>) -> Result<Viewer, Error> {
+        let now = state.clock.now();
+        if let Some(token) = bearer(parts)? {
+            let found = blocking(state, move |store| store.token(&token)).await?;
+            return found.map(Viewer::Token).ok_or_else(|| {
+                Error::Unauthorized("the API token is unknown or has been revoked".into())
+            });
+        }
+        let Some(key) = session_key(parts) else {
+            return Ok(Viewer::Anonymous);
+        };
+        let member = blocking(state, move |store| store.session(&key, now)).await?;
+        Ok(member.map_or(Viewer::Anonymous, Viewer::Member))
+    }
+}
