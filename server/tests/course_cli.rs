@@ -1,0 +1,459 @@
+//! `estlab course` and `estlab backup`, run as an instructor runs them on the server's
+//! machine: set-up from scratch, re-runs that change only what they should, and bad
+//! input refused with a message naming the file's line, the flag or the course.
+
+use estlab::store::{NewSubmission, Store};
+use jiff::Timestamp;
+use std::os::unix::fs::PermissionsExt;
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn estlab(data: &Path, args: &[&str]) -> Output {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_estlab"));
+    command.args(args).args(["--data", data.to_str().unwrap()]);
+    if args[0] == "course" {
+        command.args(["--url", "https://estlab.example"]);
+    }
+    command.output().unwrap()
+}
+
+/// Standard output of a command that must succeed.
+fn ok(data: &Path, args: &[&str]) -> String {
+    let out = estlab(data, args);
+    assert!(
+        out.status.success(),
+        "estlab {args:?} failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).unwrap()
+}
+
+/// Standard error of a command that must fail.
+fn refused(data: &Path, args: &[&str]) -> String {
+    let out = estlab(data, args);
+    assert!(!out.status.success(), "estlab {args:?} succeeded");
+    String::from_utf8(out.stderr).unwrap()
+}
+
+/// The sign-in link a command printed.
+fn link(text: &str) -> &str {
+    text.lines()
+        .find(|l| l.starts_with("https://estlab.example/signin#"))
+        .unwrap_or_else(|| panic!("no sign-in link in:\n{text}"))
+}
+
+/// The rows of a codes file: id, name, email, code, link.
+fn codes(path: &Path) -> Vec<Vec<String>> {
+    let mut reader = csv::Reader::from_path(path).unwrap();
+    assert_eq!(
+        reader.headers().unwrap().iter().collect::<Vec<_>>(),
+        ["id", "name", "email", "code", "link"]
+    );
+    reader
+        .records()
+        .map(|r| r.unwrap().iter().map(String::from).collect())
+        .collect()
+}
+
+#[test]
+fn a_course_is_set_up_from_scratch_and_re_imports_change_only_what_changed() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("data");
+    assert!(ok(&data, &["course", "list"]).contains("No course yet"));
+
+    let created = ok(
+        &data,
+        &[
+            "course",
+            "create",
+            "el2320",
+            "--title",
+            "Applied Estimation",
+        ],
+    );
+    assert!(created.starts_with("Created course el2320 (Applied Estimation)."));
+    let first_link = link(&created).to_string();
+    // Again: the same course with a new title, and a new link (the first one ends).
+    let again = ok(
+        &data,
+        &[
+            "course",
+            "create",
+            "el2320",
+            "--title",
+            "Applied Estimation HT26",
+        ],
+    );
+    assert!(again.starts_with("Updated course el2320"));
+    assert_ne!(link(&again), first_link);
+    let staff = ok(
+        &data,
+        &[
+            "course",
+            "staff",
+            "el2320",
+            "ta@kth.se",
+            "--role",
+            "assistant",
+        ],
+    );
+    assert!(staff.contains("ta@kth.se is assistant of el2320"));
+    link(&staff);
+
+    let roster = dir.path().join("roster.csv");
+    std::fs::write(
+        &roster,
+        "id,name,email\nu1,Ada Lovelace,ada@kth.se\nu2,Grace Hopper,grace@kth.se\nu3,Alan Turing,alan@kth.se\n",
+    )
+    .unwrap();
+    let imported = ok(
+        &data,
+        &["course", "roster", "el2320", roster.to_str().unwrap()],
+    );
+    assert!(imported.contains("3 students; 3 new, 0 updated, 0 unchanged, 0 marked dropped"));
+    let first_codes = dir.path().join("roster-codes.csv");
+    let rows = codes(&first_codes);
+    assert_eq!(
+        rows.iter().map(|r| r[0].as_str()).collect::<Vec<_>>(),
+        ["u1", "u2", "u3"]
+    );
+    for row in &rows {
+        assert_eq!(row[4], format!("https://estlab.example/signin#{}", row[3]));
+    }
+    let mode = std::fs::metadata(&first_codes)
+        .unwrap()
+        .permissions()
+        .mode();
+    assert_eq!(
+        mode & 0o777,
+        0o600,
+        "the codes file is the instructor's only"
+    );
+    // Codes are shown once: the file is never overwritten.
+    assert!(
+        refused(
+            &data,
+            &["course", "roster", "el2320", roster.to_str().unwrap()]
+        )
+        .contains("exists already")
+    );
+
+    // u3 has a submission; the next roster drops u3, renames u2 and adds u4.
+    let store = Store::open(&data).unwrap();
+    let u3 = store.member("el2320", "u3").unwrap();
+    let kept = store
+        .insert(&NewSubmission {
+            course: "el2320",
+            student: "u3",
+            member: Some(u3.id),
+            lab: "ekf-localization",
+            seed: 1,
+            source: "// u3's work",
+            submitted_at: Timestamp::now(),
+            late_seconds: 0,
+            penalty: 0.0,
+        })
+        .unwrap();
+    std::fs::write(
+        &roster,
+        "email,name,id\nada@kth.se,Ada Lovelace,u1\ngrace@kth.se,Grace B. Hopper,u2\nkatherine@kth.se,Katherine Johnson,u4\n",
+    )
+    .unwrap();
+    let second_codes = dir.path().join("second.csv");
+    let reimported = ok(
+        &data,
+        &[
+            "course",
+            "roster",
+            "el2320",
+            roster.to_str().unwrap(),
+            "--out",
+            second_codes.to_str().unwrap(),
+        ],
+    );
+    assert!(
+        reimported.contains("3 students; 1 new, 1 updated, 1 unchanged, 1 marked dropped (u3)"),
+        "{reimported}"
+    );
+    assert_eq!(
+        codes(&second_codes).len(),
+        1,
+        "a code for the new student only"
+    );
+    assert_eq!(codes(&second_codes)[0][0], "u4");
+    assert!(store.member("el2320", "u3").unwrap().dropped);
+    assert_eq!(
+        store.member("el2320", "u2").unwrap().name,
+        "Grace B. Hopper"
+    );
+    assert_eq!(
+        store.get(kept, true).unwrap().unwrap().source.as_deref(),
+        Some("// u3's work"),
+        "a dropped student's submission stays"
+    );
+
+    // A lost code: --reissue gives a new one; the old one stops working.
+    let reissued = dir.path().join("reissued.csv");
+    ok(
+        &data,
+        &[
+            "course",
+            "roster",
+            "el2320",
+            "--reissue",
+            "u1",
+            "--out",
+            reissued.to_str().unwrap(),
+        ],
+    );
+    let new_code = &codes(&reissued)[0];
+    assert_eq!(new_code[0], "u1");
+    let old_code = &rows[0][3];
+    assert!(store.find_code(old_code).unwrap().is_none());
+    assert!(store.find_code(&new_code[3]).unwrap().is_some());
+
+    let assigned = ok(
+        &data,
+        &[
+            "course",
+            "assign",
+            "el2320",
+            "ekf-localization",
+            "--due",
+            "2026-12-15T23:59+01:00",
+            "--late-penalty",
+            "10%/day",
+            "--cutoff",
+            "2026-12-18T23:59+01:00",
+            "--counts",
+            "last",
+        ],
+    );
+    assert!(assigned.contains("due 2026-12-15T22:59:00Z"), "{assigned}");
+    let token = ok(
+        &data,
+        &["course", "token", "el2320", "--role", "instructor"],
+    );
+    assert!(
+        token
+            .lines()
+            .any(|l| l.starts_with("estlab_") && l.len() == 71)
+    );
+    let shown = ok(&data, &["course", "show", "el2320"]);
+    for expected in [
+        "el2320 (Applied Estimation HT26)",
+        "  instructor (instructor)",
+        "  ta@kth.se (assistant)",
+        "Students: 3 on the roster, 1 dropped",
+        "ekf-localization: due 2026-12-15T22:59:00Z, cutoff 2026-12-18T22:59:00Z, 10 %/day late, counts last; 1 submission(s)",
+        "  1 (instructor, made ",
+    ] {
+        assert!(shown.contains(expected), "no {expected:?} in:\n{shown}");
+    }
+    assert!(ok(&data, &["course", "token", "el2320", "--revoke", "1"]).contains("revoked"));
+    assert!(ok(&data, &["course", "show", "el2320"]).contains(", revoked"));
+    assert_eq!(
+        ok(&data, &["course", "list"]),
+        "el2320\tApplied Estimation HT26\n"
+    );
+}
+
+#[test]
+fn bad_input_is_refused_naming_the_line_the_flag_or_the_course() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("data");
+    assert!(
+        refused(&data, &["course", "show", "el2320"])
+            .contains("there is no course \"el2320\"; no course is set up yet")
+    );
+    assert!(
+        refused(&data, &["course", "create", "EL 2320", "--title", "x"])
+            .contains("not a course name")
+    );
+    ok(
+        &data,
+        &[
+            "course",
+            "create",
+            "el2320",
+            "--title",
+            "Applied Estimation",
+        ],
+    );
+    assert!(
+        refused(
+            &data,
+            &[
+                "course",
+                "assign",
+                "el2321",
+                "ekf-localization",
+                "--due",
+                "2026-12-15T23:59Z"
+            ]
+        )
+        .contains("there is no course \"el2321\"; the courses are: el2320")
+    );
+    let no_zone = refused(
+        &data,
+        &[
+            "course",
+            "assign",
+            "el2320",
+            "ekf-localization",
+            "--due",
+            "2026-12-15T23:59",
+        ],
+    );
+    assert!(
+        no_zone.contains("is not a moment with a time zone"),
+        "{no_zone}"
+    );
+    assert!(
+        refused(
+            &data,
+            &[
+                "course",
+                "assign",
+                "el2320",
+                "ekf-localization",
+                "--due",
+                "2026-12-15"
+            ]
+        )
+        .contains("has no time")
+    );
+    assert!(
+        refused(
+            &data,
+            &[
+                "course",
+                "assign",
+                "el2320",
+                "ekf-localization",
+                "--due",
+                "2026-12-15T23:59Z",
+                "--cutoff",
+                "2026-12-14T23:59Z"
+            ]
+        )
+        .contains("is before --due")
+    );
+    assert!(
+        refused(
+            &data,
+            &[
+                "course",
+                "assign",
+                "el2320",
+                "ekf-localization",
+                "--due",
+                "2026-12-15T23:59Z",
+                "--late-penalty",
+                "lots"
+            ]
+        )
+        .contains("10%/day")
+    );
+    assert!(
+        refused(
+            &data,
+            &[
+                "course",
+                "assign",
+                "el2320",
+                "particle-filter",
+                "--due",
+                "2026-12-15T23:59Z"
+            ]
+        )
+        .contains("ekf-localization")
+    );
+
+    let roster = dir.path().join("roster.csv");
+    std::fs::write(&roster, "id,name,email\nu1,Ada,ada@kth.se\nu2,Grace\n").unwrap();
+    let message = refused(
+        &data,
+        &["course", "roster", "el2320", roster.to_str().unwrap()],
+    );
+    assert!(message.contains("roster.csv: line 3"), "{message}");
+    std::fs::write(&roster, "id,name,mail\nu1,Ada,ada@kth.se\n").unwrap();
+    assert!(
+        refused(
+            &data,
+            &["course", "roster", "el2320", roster.to_str().unwrap()]
+        )
+        .contains("line 1 (the header): no column \"email\"")
+    );
+    assert!(
+        !dir.path().join("roster-codes.csv").exists(),
+        "nothing written for a refused roster"
+    );
+    assert!(
+        refused(
+            &data,
+            &[
+                "course",
+                "roster",
+                "el2320",
+                "--reissue",
+                "nobody",
+                "--out",
+                "x.csv"
+            ]
+        )
+        .contains("course \"el2320\" has nobody with the id or email \"nobody\"")
+    );
+    assert!(
+        refused(&data, &["course", "token", "el2320", "--revoke", "7"]).contains("has no token 7")
+    );
+}
+
+#[test]
+fn a_backup_taken_while_the_database_is_in_use_restores_every_submission() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("data");
+    // The server's connection stays open (as a running server's does) throughout.
+    let store = Store::open(&data).unwrap();
+    for i in 0..25 {
+        store
+            .insert(&NewSubmission {
+                course: "el2320",
+                student: &format!("s{i}"),
+                member: None,
+                lab: "ekf-localization",
+                seed: i,
+                source: &format!("// file {i}"),
+                submitted_at: Timestamp::now(),
+                late_seconds: 0,
+                penalty: 0.0,
+            })
+            .unwrap();
+    }
+    let copy = dir.path().join("backup.sqlite3");
+    let printed = ok(&data, &["backup", copy.to_str().unwrap()]);
+    assert!(printed.contains("(25 submissions)"), "{printed}");
+    assert!(refused(&data, &["backup", copy.to_str().unwrap()]).contains("exists already"));
+    assert!(
+        refused(
+            &dir.path().join("nowhere"),
+            &["backup", dir.path().join("b2").to_str().unwrap()]
+        )
+        .contains("there is no database")
+    );
+
+    // Restoring: the copy as the database of a new data directory.
+    let restored = dir.path().join("restored");
+    std::fs::create_dir(&restored).unwrap();
+    std::fs::copy(&copy, restored.join(estlab::store::FILE)).unwrap();
+    let reopened = Store::open(&restored).unwrap();
+    let all = reopened.all_submissions().unwrap();
+    assert_eq!(all.len(), 25);
+    for (i, s) in all.iter().enumerate() {
+        assert_eq!(s.student, format!("s{i}"));
+        assert_eq!(
+            reopened.get(s.id, true).unwrap().unwrap().source.unwrap(),
+            format!("// file {i}")
+        );
+    }
+}
