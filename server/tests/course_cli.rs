@@ -262,150 +262,124 @@ fn a_course_is_set_up_from_scratch_and_re_imports_change_only_what_changed() {
 fn bad_input_is_refused_naming_the_line_the_flag_or_the_course() {
     let dir = tempfile::tempdir().unwrap();
     let data = dir.path().join("data");
-    assert!(
-        refused(&data, &["course", "show", "el2320"])
-            .contains("there is no course \"el2320\"; no course is set up yet")
-    );
-    assert!(
-        refused(&data, &["course", "create", "EL 2320", "--title", "x"])
-            .contains("not a course name")
-    );
-    ok(
-        &data,
-        &[
-            "course",
-            "create",
-            "el2320",
-            "--title",
-            "Applied Estimation",
-        ],
-    );
-    assert!(
-        refused(
-            &data,
-            &[
+    let roster = dir.path().join("roster.csv");
+    let roster = roster.to_str().unwrap();
+    let assign = |extra: &[&'static str]| -> Vec<&'static str> {
+        let mut args = vec!["course", "assign", "el2320", "ekf-localization"];
+        args.extend_from_slice(extra);
+        args
+    };
+    // Each command, the roster file's text (if it reads one), and what the error says.
+    let cases: Vec<(Vec<&str>, Option<&str>, &str)> = vec![
+        (
+            vec!["course", "show", "el2320"],
+            None,
+            "there is no course \"el2320\"; no course is set up yet",
+        ),
+        (
+            vec!["course", "create", "EL 2320", "--title", "x"],
+            None,
+            "not a course name",
+        ),
+        (
+            vec![
+                "course",
+                "create",
+                "el2320",
+                "--title",
+                "Applied Estimation",
+            ],
+            None,
+            "",
+        ),
+        (
+            vec![
                 "course",
                 "assign",
                 "el2321",
                 "ekf-localization",
                 "--due",
-                "2026-12-15T23:59Z"
-            ]
-        )
-        .contains("there is no course \"el2321\"; the courses are: el2320")
-    );
-    let no_zone = refused(
-        &data,
-        &[
-            "course",
-            "assign",
-            "el2320",
-            "ekf-localization",
-            "--due",
-            "2026-12-15T23:59",
-        ],
-    );
-    assert!(
-        no_zone.contains("is not a moment with a time zone"),
-        "{no_zone}"
-    );
-    assert!(
-        refused(
-            &data,
-            &[
-                "course",
-                "assign",
-                "el2320",
-                "ekf-localization",
-                "--due",
-                "2026-12-15"
-            ]
-        )
-        .contains("has no time")
-    );
-    assert!(
-        refused(
-            &data,
-            &[
-                "course",
-                "assign",
-                "el2320",
-                "ekf-localization",
+                "2026-12-15T23:59Z",
+            ],
+            None,
+            "there is no course \"el2321\"; the courses are: el2320",
+        ),
+        (
+            assign(&["--due", "2026-12-15T23:59"]),
+            None,
+            "is not a moment with a time zone",
+        ),
+        (assign(&["--due", "2026-12-15"]), None, "has no time"),
+        (
+            assign(&[
                 "--due",
                 "2026-12-15T23:59Z",
                 "--cutoff",
-                "2026-12-14T23:59Z"
-            ]
-        )
-        .contains("is before --due")
-    );
-    assert!(
-        refused(
-            &data,
-            &[
-                "course",
-                "assign",
-                "el2320",
-                "ekf-localization",
-                "--due",
-                "2026-12-15T23:59Z",
-                "--late-penalty",
-                "lots"
-            ]
-        )
-        .contains("10%/day")
-    );
-    assert!(
-        refused(
-            &data,
-            &[
+                "2026-12-14T23:59Z",
+            ]),
+            None,
+            "is before --due",
+        ),
+        (
+            assign(&["--due", "2026-12-15T23:59Z", "--late-penalty", "lots"]),
+            None,
+            "10%/day",
+        ),
+        (
+            vec![
                 "course",
                 "assign",
                 "el2320",
                 "particle-filter",
                 "--due",
-                "2026-12-15T23:59Z"
-            ]
-        )
-        .contains("ekf-localization")
-    );
-
-    let roster = dir.path().join("roster.csv");
-    std::fs::write(&roster, "id,name,email\nu1,Ada,ada@kth.se\nu2,Grace\n").unwrap();
-    let message = refused(
-        &data,
-        &["course", "roster", "el2320", roster.to_str().unwrap()],
-    );
-    assert!(message.contains("roster.csv: line 3"), "{message}");
-    std::fs::write(&roster, "id,name,mail\nu1,Ada,ada@kth.se\n").unwrap();
-    assert!(
-        refused(
-            &data,
-            &["course", "roster", "el2320", roster.to_str().unwrap()]
-        )
-        .contains("line 1 (the header): no column \"email\"")
-    );
-    assert!(
-        !dir.path().join("roster-codes.csv").exists(),
-        "nothing written for a refused roster"
-    );
-    assert!(
-        refused(
-            &data,
-            &[
+                "2026-12-15T23:59Z",
+            ],
+            None,
+            "ekf-localization",
+        ),
+        (
+            vec!["course", "roster", "el2320", roster],
+            Some("id,name,email\nu1,Ada,ada@kth.se\nu2,Grace\n"),
+            "roster.csv: line 3",
+        ),
+        (
+            vec!["course", "roster", "el2320", roster],
+            Some("id,name,mail\nu1,Ada,ada@kth.se\n"),
+            "line 1 (the header): no column \"email\"",
+        ),
+        (
+            vec![
                 "course",
                 "roster",
                 "el2320",
                 "--reissue",
                 "nobody",
                 "--out",
-                "x.csv"
-            ]
-        )
-        .contains("course \"el2320\" has nobody with the id or email \"nobody\"")
-    );
+                "x.csv",
+            ],
+            None,
+            "course \"el2320\" has nobody with the id or email \"nobody\"",
+        ),
+        (
+            vec!["course", "token", "el2320", "--revoke", "7"],
+            None,
+            "has no token 7",
+        ),
+    ];
+    for (args, file, expected) in cases {
+        if let Some(text) = file {
+            std::fs::write(roster, text).unwrap();
+        }
+        if expected.is_empty() {
+            ok(&data, &args);
+            continue;
+        }
+        let message = refused(&data, &args);
+        assert!(message.contains(expected), "estlab {args:?}: {message}");
+    }
     assert!(
-        refused(&data, &["course", "token", "el2320", "--revoke", "7"]).contains("has no token 7")
+        !dir.path().join("roster-codes.csv").exists(),
+        "nothing written for a refused roster"
     );
 }
 

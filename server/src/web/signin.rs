@@ -6,14 +6,14 @@ use super::limiter::Refusal;
 use super::pages::{Nav, html};
 use super::viewer::{Viewer, session_key};
 use super::{AppState, Error, SESSION_COOKIE, blocking};
-use crate::store::CodeCheck;
+use crate::store::{CodeCheck, Member};
 use askama::Template;
 use axum::Form;
 use axum::extract::{ConnectInfo, State};
 use axum::http::request::Parts;
 use axum::http::{StatusCode, header};
 use axum::response::{IntoResponse, Redirect, Response};
-use jiff::SignedDuration;
+use jiff::{SignedDuration, Timestamp};
 use serde::Deserialize;
 use std::net::{IpAddr, Ipv4Addr, SocketAddr};
 use std::sync::Arc;
@@ -76,71 +76,73 @@ fn client_address(parts: &Parts, behind_https: bool) -> IpAddr {
     })
 }
 
-fn too_many(refusal: &Refusal) -> String {
-    let whose = if refusal.per_course {
-        "for this course"
-    } else {
-        "from your address"
-    };
-    format!(
-        "Too many wrong codes {whose}: signing in is refused for {} more minute(s). Check the code you were given, then try again.",
-        refusal.minutes
-    )
+const WRONG_CODE: &str = "This code is not valid: it may be mistyped, replaced by a newer one, or (for a one-time link) used or expired. Ask your teacher for a new one if it keeps failing.";
+
+/// Why a sign-in was refused: the answer's status and what the page says.
+struct Refused(StatusCode, String);
+
+impl Refused {
+    fn too_many(refusal: &Refusal) -> Refused {
+        let whose = if refusal.per_course {
+            "for this course"
+        } else {
+            "from your address"
+        };
+        Refused(
+            StatusCode::TOO_MANY_REQUESTS,
+            format!(
+                "Too many wrong codes {whose}: signing in is refused for {} more minute(s). Check the code you were given, then try again.",
+                refusal.minutes
+            ),
+        )
+    }
+
+    fn wrong_code() -> Refused {
+        Refused(StatusCode::UNAUTHORIZED, WRONG_CODE.into())
+    }
 }
 
-const WRONG_CODE: &str = "This code is not valid: it may be mistyped, replaced by a newer one, or (for a one-time link) used or expired. Ask your teacher for a new one if it keeps failing.";
+/// Checks a typed code within the limits; counts a failure against them.
+async fn check(
+    state: &Arc<AppState>,
+    address: IpAddr,
+    code: String,
+    now: Timestamp,
+) -> Result<Result<Member, Refused>, Error> {
+    if let Err(refusal) = state.limiter.check_address(address, now) {
+        return Ok(Err(Refused::too_many(&refusal)));
+    }
+    let Some(found) = blocking(state, move |store| store.find_code(&code)).await? else {
+        state.limiter.failed(address, None, now);
+        return Ok(Err(Refused::wrong_code()));
+    };
+    let course = found.member.course.clone();
+    if let Err(refusal) = state.limiter.check_course(&course, now) {
+        return Ok(Err(Refused::too_many(&refusal)));
+    }
+    match blocking(state, move |store| store.use_code(found, now)).await? {
+        CodeCheck::Valid(member) => Ok(Ok(member)),
+        CodeCheck::Refused => {
+            state.limiter.failed(address, Some(&course), now);
+            Ok(Err(Refused::wrong_code()))
+        }
+    }
+}
 
 pub async fn sign_in(
     State(state): State<Arc<AppState>>,
     parts: Parts,
     Form(form): Form<CodeForm>,
 ) -> Result<Response, Error> {
-    let viewer = Viewer::Anonymous;
     let now = state.clock.now();
     let address = client_address(&parts, state.behind_https);
-    if let Err(refusal) = state.limiter.check_address(address, now) {
-        let message = too_many(&refusal);
-        return render(
-            &state,
-            &viewer,
-            StatusCode::TOO_MANY_REQUESTS,
-            Some(message),
-        )
-        .await;
-    }
-    let code = form.code;
-    let Some(found) = blocking(&state, move |store| store.find_code(&code)).await? else {
-        state.limiter.failed(address, None, now);
-        return render(
-            &state,
-            &viewer,
-            StatusCode::UNAUTHORIZED,
-            Some(WRONG_CODE.into()),
-        )
-        .await;
+    let member = match check(&state, address, form.code, now).await? {
+        Ok(member) => member,
+        Err(Refused(status, message)) => {
+            return render(&state, &Viewer::Anonymous, status, Some(message)).await;
+        }
     };
-    let course = found.member.course.clone();
-    if let Err(refusal) = state.limiter.check_course(&course, now) {
-        let message = too_many(&refusal);
-        return render(
-            &state,
-            &viewer,
-            StatusCode::TOO_MANY_REQUESTS,
-            Some(message),
-        )
-        .await;
-    }
-    let check = blocking(&state, move |store| store.use_code(found, now)).await?;
-    let CodeCheck::Valid(member) = check else {
-        state.limiter.failed(address, Some(&course), now);
-        return render(
-            &state,
-            &viewer,
-            StatusCode::UNAUTHORIZED,
-            Some(WRONG_CODE.into()),
-        )
-        .await;
-    };
+    let course = member.course.clone();
     let earlier = session_key(&parts);
     let key = blocking(&state, move |store| {
         if let Some(earlier) = earlier {
