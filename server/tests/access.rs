@@ -1,0 +1,1249 @@
+//! Who may see and change what: the real web application, built in-process over a
+//! database in a temporary directory, with a clock the tests set, asked as each kind of
+//! person (and program) there is.
+//!
+//! - `access_matrix`: every route as anonymous, two students, the course's assistant and
+//!   instructor, another course's instructor, an API token, a revoked and a made-up one;
+//!   a student never receives anything of another student;
+//! - `open_mode_until_a_course_exists`: without courses anyone submits and reads results
+//!   (never sources); the first course closes that;
+//! - `changes_from_other_sites_are_refused`: submitting, signing in and out only from
+//!   estlab's own pages;
+//! - `sign_in_limits_and_codes`: failed sign-ins limited per address and per course,
+//!   one-time and expired codes;
+//! - `deadlines_penalties_and_the_roster`: due date, late penalty and cutoff by the
+//!   injected clock, a dropped student, a course without the exercise;
+//! - `secrets_are_not_stored_in_clear`: codes, session keys and API tokens are not in
+//!   the database files;
+//! - `a_database_of_estlab_0_1_0_migrates_forward`: nothing of an 0.1.0 database is lost.
+//!
+//! The server grades submissions on tasks of its own; a test waits for a result by
+//! polling the database, for at most `GRADING_BOUND`.
+
+use axum::Router;
+use axum::body::Body;
+use axum::extract::ConnectInfo;
+use axum::http::{HeaderMap, Method, Request, StatusCode, header};
+use estlab::clock::{Clock, FixedClock};
+use estlab::courses::codes::new_code;
+use estlab::courses::deadline::{Counts, Policy};
+use estlab::courses::roster;
+use estlab::sandbox::Sandbox;
+use estlab::store::{Member, NewMember, Role, Status, Store, Submission};
+use estlab::submissions::{Grader, Secret};
+use estlab::web::{AppState, Assets, SESSION_COOKIE, SignInLimiter};
+use jiff::{SignedDuration, Timestamp};
+use labs::grading::LAB;
+use serde_json::{Value, json};
+use std::net::SocketAddr;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+use tower::ServiceExt;
+
+/// The correct solution: scores 1.
+const CORRECT: &str = include_str!("../../tests/student/correct.js");
+
+/// How long a test waits for one grading before it gives up.
+const GRADING_BOUND: Duration = Duration::from_secs(120);
+
+/// A source that grades at once (every function throws), marked so that it can be
+/// looked for in answers.
+fn quick_source(marker: &str) -> String {
+    format!("function init(){{ throw new Error(\"not implemented\") }} // {marker}\n")
+}
+
+fn at(text: &str) -> Timestamp {
+    text.parse()
+        .unwrap_or_else(|e| panic!("{text:?} is not a moment: {e}"))
+}
+
+fn peer(a: u8, b: u8, c: u8, d: u8) -> SocketAddr {
+    SocketAddr::from(([a, b, c, d], 9))
+}
+
+// ---- the application ----
+
+/// The built browser assets: the pages link to them, so the router needs them.
+fn assets() -> Assets {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/web/dist");
+    if !dir.join("manifest.json").is_file() {
+        panic!(
+            "the browser assets are not built at {}: run scripts/build-web first (scripts/test does)",
+            dir.display()
+        );
+    }
+    Assets::load(&dir).unwrap_or_else(|e| panic!("{e} (run scripts/build-web)"))
+}
+
+/// The web application over a fresh data directory, with a clock of its own.
+struct App {
+    dir: tempfile::TempDir,
+    clock: Arc<FixedClock>,
+    state: Arc<AppState>,
+    router: Router,
+}
+
+impl App {
+    fn new() -> App {
+        let dir = tempfile::tempdir().unwrap();
+        let store = Store::open(dir.path()).unwrap();
+        let secret = Secret::load_or_create(dir.path()).unwrap();
+        let sandbox = Sandbox::new(PathBuf::from(env!("CARGO_BIN_EXE_estlab")), 1);
+        let grader = Grader::new(store, sandbox, secret, 1);
+        let clock = Arc::new(FixedClock::new(at("2026-12-01T10:00:00Z")));
+        let state = Arc::new(AppState {
+            assets: assets(),
+            grader,
+            clock: Arc::clone(&clock) as Arc<dyn Clock>,
+            limiter: SignInLimiter::default(),
+            behind_https: false,
+        });
+        let router = estlab::web::router(Arc::clone(&state));
+        App {
+            dir,
+            clock,
+            state,
+            router,
+        }
+    }
+
+    fn store(&self) -> &Store {
+        self.state.grader.store()
+    }
+
+    fn now(&self) -> Timestamp {
+        self.clock.now()
+    }
+
+    async fn send(&self, request: Req) -> Answer {
+        let response = self
+            .router
+            .clone()
+            .oneshot(request.build())
+            .await
+            .expect("the router answers every request");
+        let (parts, body) = response.into_parts();
+        let bytes = axum::body::to_bytes(body, usize::MAX).await.unwrap();
+        Answer {
+            status: parts.status,
+            headers: parts.headers,
+            body: String::from_utf8_lossy(&bytes).into_owned(),
+        }
+    }
+
+    /// Waits until a submission is graded; panics after `GRADING_BOUND`.
+    async fn graded(&self, id: i64) -> Submission {
+        let give_up = Instant::now() + GRADING_BOUND;
+        loop {
+            let submission = self
+                .store()
+                .get(id, false)
+                .unwrap()
+                .unwrap_or_else(|| panic!("submission {id} is not stored"));
+            if submission.summary.status == Status::Graded {
+                return submission;
+            }
+            assert!(
+                Instant::now() < give_up,
+                "submission {id} was not graded within {GRADING_BOUND:?} (status {:?})",
+                submission.summary.status
+            );
+            tokio::time::sleep(Duration::from_millis(25)).await;
+        }
+    }
+
+    /// Submits `source` as `who`, expecting 202; waits for the grading; returns the id
+    /// and the 202's body.
+    async fn submit_graded(&self, who: &Who, source: &str) -> (i64, Value) {
+        let answer = self
+            .send(
+                Req::post("/api/submissions")
+                    .who(who)
+                    .json(json!({ "source": source })),
+            )
+            .await;
+        assert_eq!(answer.status, StatusCode::ACCEPTED, "{}", answer.body);
+        let accepted = answer.json();
+        let id = accepted["id"].as_i64().expect("an id");
+        self.graded(id).await;
+        (id, accepted)
+    }
+
+    /// Adds a student to a course's roster (keeping those already on it).
+    fn enrol(&self, course: &str, id: &str) -> Member {
+        let mut students: Vec<roster::Student> = self
+            .store()
+            .members(course)
+            .unwrap()
+            .into_iter()
+            .filter(|m| !m.role.is_staff() && !m.dropped)
+            .map(|m| roster_line(&m.login, &m.name, &m.email))
+            .collect();
+        students.push(roster_line(id, &format!("Student {id}"), ""));
+        self.store().import_roster(course, &students).unwrap();
+        self.store().member(course, id).unwrap()
+    }
+
+    fn staff(&self, course: &str, email: &str, role: Role) -> Member {
+        self.store()
+            .add_member(
+                course,
+                &NewMember {
+                    login: email,
+                    name: "Staff Person",
+                    email,
+                    role,
+                },
+            )
+            .unwrap()
+    }
+
+    /// A new sign-in code for a member (not one-time, no expiry); its text.
+    fn code(&self, member: &Member) -> String {
+        let code = new_code();
+        self.store()
+            .add_code(member.id, &code, false, None, self.now())
+            .unwrap();
+        code.text
+    }
+
+    /// Signs in with `code` from `from`, expecting success; the session.
+    async fn sign_in(&self, code: &str, from: SocketAddr) -> Who {
+        let answer = self.send(Req::sign_in(code).sent_from(from)).await;
+        assert_eq!(
+            answer.status,
+            StatusCode::SEE_OTHER,
+            "signing in: {}",
+            answer.body
+        );
+        assert_eq!(answer.location(), Some("/me"));
+        Who::Session(answer.session().expect("a session cookie"))
+    }
+
+    /// A member signed in with a code of their own.
+    async fn signed_in(&self, member: &Member) -> Who {
+        let code = self.code(member);
+        self.sign_in(&code, peer(127, 0, 0, 1)).await
+    }
+
+    fn count(&self) -> usize {
+        self.store().all_submissions().unwrap().len()
+    }
+}
+
+fn roster_line(id: &str, name: &str, email: &str) -> roster::Student {
+    roster::Student {
+        id: id.into(),
+        name: name.into(),
+        email: email.into(),
+    }
+}
+
+/// An assignment of the exercise due well after the clock's start.
+fn open_policy(now: Timestamp) -> Policy {
+    Policy {
+        due: now + SignedDuration::from_hours(30 * 24),
+        cutoff: now + SignedDuration::from_hours(31 * 24),
+        penalty_per_day: 0.1,
+        counts: Counts::Best,
+    }
+}
+
+/// Who asks.
+#[derive(Clone, Debug)]
+enum Who {
+    Anonymous,
+    /// The value of the session cookie.
+    Session(String),
+    /// An API token, sent as `Authorization: Bearer`.
+    Token(String),
+}
+
+/// A request about to be sent.
+struct Req {
+    method: Method,
+    uri: String,
+    headers: Vec<(String, String)>,
+    body: Option<(&'static str, String)>,
+    peer: SocketAddr,
+}
+
+impl Req {
+    fn new(method: Method, uri: &str) -> Req {
+        Req {
+            method,
+            uri: uri.into(),
+            headers: Vec::new(),
+            body: None,
+            peer: peer(127, 0, 0, 9),
+        }
+    }
+
+    fn get(uri: &str) -> Req {
+        Req::new(Method::GET, uri)
+    }
+
+    fn post(uri: &str) -> Req {
+        Req::new(Method::POST, uri)
+    }
+
+    /// `POST /signin` with a code, as the sign-in form sends it.
+    fn sign_in(code: &str) -> Req {
+        Req::post("/signin").form(&format!("code={code}"))
+    }
+
+    fn header(mut self, name: &str, value: &str) -> Req {
+        self.headers.push((name.into(), value.into()));
+        self
+    }
+
+    fn who(self, who: &Who) -> Req {
+        match who {
+            Who::Anonymous => self,
+            Who::Session(key) => self.header("cookie", &format!("{SESSION_COOKIE}={key}")),
+            Who::Token(token) => self.header("authorization", &format!("Bearer {token}")),
+        }
+    }
+
+    fn json(mut self, value: Value) -> Req {
+        self.body = Some(("application/json", value.to_string()));
+        self
+    }
+
+    fn form(mut self, text: &str) -> Req {
+        self.body = Some(("application/x-www-form-urlencoded", text.into()));
+        self
+    }
+
+    /// The client's address (what the sign-in limiter counts by).
+    fn sent_from(mut self, peer: SocketAddr) -> Req {
+        self.peer = peer;
+        self
+    }
+
+    fn build(self) -> Request<Body> {
+        let mut builder = Request::builder().method(self.method).uri(self.uri);
+        for (name, value) in &self.headers {
+            builder = builder.header(name, value);
+        }
+        let body = match self.body {
+            Some((content_type, text)) => {
+                builder = builder.header(header::CONTENT_TYPE, content_type);
+                Body::from(text)
+            }
+            None => Body::empty(),
+        };
+        let mut request = builder.body(body).unwrap();
+        request.extensions_mut().insert(ConnectInfo(self.peer));
+        request
+    }
+}
+
+/// A response, read whole.
+struct Answer {
+    status: StatusCode,
+    headers: HeaderMap,
+    body: String,
+}
+
+impl Answer {
+    fn json(&self) -> Value {
+        serde_json::from_str(&self.body).unwrap_or_else(|e| panic!("not JSON ({e}): {}", self.body))
+    }
+
+    fn location(&self) -> Option<&str> {
+        self.headers
+            .get(header::LOCATION)
+            .and_then(|v| v.to_str().ok())
+    }
+
+    /// The session key a `Set-Cookie` header sets (not the empty one of signing out).
+    fn session(&self) -> Option<String> {
+        self.headers
+            .get_all(header::SET_COOKIE)
+            .iter()
+            .filter_map(|v| v.to_str().ok())
+            .filter_map(|v| v.split(';').next())
+            .filter_map(|pair| pair.trim().split_once('='))
+            .find(|(name, value)| *name == SESSION_COOKIE && !value.is_empty())
+            .map(|(_, value)| value.to_string())
+    }
+
+    /// The `error` of a JSON error body.
+    fn error(&self) -> String {
+        self.json()["error"]
+            .as_str()
+            .unwrap_or_else(|| panic!("no `error` in {}", self.body))
+            .to_string()
+    }
+}
+
+// ---- 1. the access-control matrix ----
+
+/// The principals, in the order of the matrix's columns.
+const PRINCIPALS: [&str; 9] = [
+    "anonymous",
+    "student A",
+    "student B",
+    "el2320's assistant",
+    "el2320's instructor",
+    "other's instructor",
+    "el2320 API token",
+    "revoked token",
+    "made-up token",
+];
+
+/// The status each principal gets: `{A}` and `{B}` stand for the students' submissions.
+/// Routes that look at who asks answer a token that is revoked or unknown with 401,
+/// pages included (a browser never sends one); the rest ignore it.
+#[rustfmt::skip]
+const MATRIX: &[(&str, &str, [u16; 9])] = &[
+    //                                        anon  A    B    TA   inst other token rev  bad
+    ("GET",  "/",                              [200, 200, 200, 200, 200, 200, 200, 401, 401]),
+    ("GET",  "/car",                           [200, 200, 200, 200, 200, 200, 200, 401, 401]),
+    ("GET",  "/ekf",                           [200, 200, 200, 200, 200, 200, 200, 401, 401]),
+    ("GET",  "/ekf/code",                      [200, 200, 200, 200, 200, 200, 200, 401, 401]),
+    ("GET",  "/ekf/starter.js",                [200, 200, 200, 200, 200, 200, 200, 200, 200]),
+    ("GET",  "/signin",                        [200, 200, 200, 200, 200, 200, 200, 401, 401]),
+    // Only a signed-in person has a page of their own; the rest are sent to sign in.
+    ("GET",  "/me",                            [303, 200, 200, 200, 200, 200, 303, 401, 401]),
+    ("GET",  "/healthz",                       [200, 200, 200, 200, 200, 200, 200, 200, 200]),
+    // A token is nobody: courses true, member null (like anonymous).
+    ("GET",  "/api/me",                        [200, 200, 200, 200, 200, 200, 200, 401, 401]),
+    ("GET",  "/api/me/submissions",            [401, 200, 200, 200, 200, 200, 401, 401, 401]),
+    // A submission: its student and their course's staff; anyone else 404, as if absent.
+    ("GET",  "/api/submissions/{A}",           [404, 200, 404, 200, 200, 404, 200, 401, 401]),
+    ("GET",  "/api/submissions/{B}",           [404, 404, 200, 200, 200, 404, 200, 401, 401]),
+    ("GET",  "/api/submissions/999999",        [404, 404, 404, 404, 404, 404, 404, 401, 401]),
+    // A course: its staff only; anyone else 404, as if there were no such course.
+    ("GET",  "/api/courses/el2320",            [404, 404, 404, 200, 200, 404, 200, 401, 401]),
+    ("GET",  "/api/courses/el2320/submissions",[404, 404, 404, 200, 200, 404, 200, 401, 401]),
+    ("GET",  "/api/courses/other",             [404, 404, 404, 404, 404, 200, 404, 401, 401]),
+    ("GET",  "/api/courses/other/submissions", [404, 404, 404, 404, 404, 200, 404, 401, 401]),
+    // Students submit for themselves; staff and tokens do not; nobody anonymously.
+    ("POST", "/api/submissions",               [401, 202, 202, 403, 403, 403, 403, 401, 401]),
+    // Last: it ends the sessions.
+    ("POST", "/signout",                       [303, 303, 303, 303, 303, 303, 303, 303, 303]),
+];
+
+const A_ID: &str = "u-alpha-7731";
+const A_NAME: &str = "Ada Alphaworth";
+const A_EMAIL: &str = "alpha7731@student.example";
+const A_MARKER: &str = "marker-A-5e1f0c";
+const B_ID: &str = "u-bravo-4412";
+const B_NAME: &str = "Bob Bravington";
+const B_EMAIL: &str = "bravo4412@student.example";
+const B_MARKER: &str = "marker-B-9c3d27";
+
+/// A 404 for a submission that exists, with its id written as N: identical to the 404
+/// for one that does not.
+fn not_found_shape(answer: &Answer, id: &str) -> Value {
+    let mut body: Value =
+        serde_json::from_str(&answer.body).unwrap_or_else(|_| Value::String(answer.body.clone()));
+    if let Some(error) = body.get("error").and_then(Value::as_str) {
+        body["error"] = Value::String(error.replace(id, "N"));
+    }
+    json!({
+        "status": answer.status.as_u16(),
+        "content-type": answer.headers.get(header::CONTENT_TYPE).and_then(|v| v.to_str().ok()),
+        "body": body,
+    })
+}
+
+/// Proves that every route answers each kind of asker as the matrix says; that a
+/// student reads their own submission with its source, and another student's is a 404
+/// indistinguishable from a submission that does not exist; that staff read their
+/// course's submissions with sources and another course's staff cannot; and that
+/// nothing a student receives anywhere names the other student or shows their code.
+#[tokio::test(flavor = "multi_thread")]
+async fn access_matrix() {
+    let app = App::new();
+    let store = app.store();
+    let now = app.now();
+    store
+        .create_course("el2320", "Applied Estimation", now)
+        .unwrap();
+    store.create_course("other", "Another Course", now).unwrap();
+    store
+        .import_roster(
+            "el2320",
+            &[
+                roster_line(A_ID, A_NAME, A_EMAIL),
+                roster_line(B_ID, B_NAME, B_EMAIL),
+            ],
+        )
+        .unwrap();
+    store.assign("el2320", LAB, &open_policy(now)).unwrap();
+    store.assign("other", LAB, &open_policy(now)).unwrap();
+    let student_a = store.member("el2320", A_ID).unwrap();
+    let student_b = store.member("el2320", B_ID).unwrap();
+    let assistant = app.staff("el2320", "ta@kth.example", Role::Assistant);
+    let instructor = app.staff("el2320", "teacher@kth.example", Role::Instructor);
+    let other = app.staff("other", "prof@other.example", Role::Instructor);
+    let (_, token) = store.create_token("el2320", Role::Instructor, now).unwrap();
+    let (revoked_id, revoked) = store.create_token("el2320", Role::Instructor, now).unwrap();
+    assert!(store.revoke_token("el2320", revoked_id, now).unwrap());
+    let made_up = format!("estlab_{}", "0".repeat(64));
+
+    let principals = [
+        Who::Anonymous,
+        app.signed_in(&student_a).await,
+        app.signed_in(&student_b).await,
+        app.signed_in(&assistant).await,
+        app.signed_in(&instructor).await,
+        app.signed_in(&other).await,
+        Who::Token(token),
+        Who::Token(revoked),
+        Who::Token(made_up),
+    ];
+    let logins = [
+        None,
+        Some(A_ID),
+        Some(B_ID),
+        Some("ta@kth.example"),
+        Some("teacher@kth.example"),
+        Some("prof@other.example"),
+        None,
+        None,
+        None,
+    ];
+    // What each would submit: the students their marked code, the rest a file of their
+    // own (it must not be taken).
+    let sources = [
+        quick_source("anonymous-try"),
+        quick_source(A_MARKER),
+        quick_source(B_MARKER),
+        quick_source("staff-try"),
+        quick_source("staff-try"),
+        quick_source("staff-try"),
+        quick_source("token-try"),
+        quick_source("token-try"),
+        quick_source("token-try"),
+    ];
+
+    let (a_submission, _) = app.submit_graded(&principals[1], &sources[1]).await;
+    let (b_submission, _) = app.submit_graded(&principals[2], &sources[2]).await;
+    let (a_id, b_id) = (a_submission.to_string(), b_submission.to_string());
+    let missing = app.send(Req::get("/api/submissions/999999")).await;
+    assert_eq!(missing.status, StatusCode::NOT_FOUND, "{}", missing.body);
+    let missing_shape = not_found_shape(&missing, "999999");
+
+    let mut problems = Vec::new();
+    // Every body each principal received, to look for what they must not see.
+    let mut received: Vec<Vec<String>> = vec![Vec::new(); PRINCIPALS.len()];
+    for (method, pattern, expected) in MATRIX {
+        let path = pattern.replace("{A}", &a_id).replace("{B}", &b_id);
+        for (i, who) in principals.iter().enumerate() {
+            let mut request = if *method == "GET" {
+                Req::get(&path)
+            } else {
+                Req::post(&path)
+            };
+            if path == "/api/submissions" {
+                request = request.json(json!({ "source": sources[i] }));
+            }
+            let answer = app.send(request.who(who)).await;
+            let asked = format!("{method} {path} as {}", PRINCIPALS[i]);
+            let mut problem = |what: String| problems.push(format!("{asked}: {what}"));
+            if answer.status.as_u16() != expected[i] {
+                problem(format!(
+                    "expected {}, got {}: {}",
+                    expected[i],
+                    answer.status.as_u16(),
+                    answer.body.chars().take(300).collect::<String>()
+                ));
+            }
+            let ok = answer.status == StatusCode::OK;
+
+            // A submission read: with its student's code; refused: as if absent.
+            for (id, marker, student) in [(&a_id, A_MARKER, A_ID), (&b_id, B_MARKER, B_ID)] {
+                if path != format!("/api/submissions/{id}") {
+                    continue;
+                }
+                if ok {
+                    let body = answer.json();
+                    if !body["source"].as_str().is_some_and(|s| s.contains(marker)) {
+                        problem("200 without the student's source".into());
+                    }
+                    if body["student"] != student {
+                        problem(format!("the student is {}", body["student"]));
+                    }
+                } else if answer.status == StatusCode::NOT_FOUND {
+                    let shape = not_found_shape(&answer, id);
+                    if shape != missing_shape {
+                        problem(format!(
+                            "this 404 differs from a missing submission's: {shape} vs {missing_shape}"
+                        ));
+                    }
+                }
+            }
+            if path == "/api/me" && ok {
+                let body = answer.json();
+                if body["courses"] != true {
+                    problem(format!("courses is {}", body["courses"]));
+                }
+                let login = body["member"]["login"].as_str();
+                if login != logins[i] {
+                    problem(format!("the member is {}", body["member"]));
+                }
+            }
+            if path == "/me"
+                && answer.status == StatusCode::SEE_OTHER
+                && answer.location() != Some("/signin")
+            {
+                problem(format!("sent to {:?}", answer.location()));
+            }
+            if path == "/signout" && answer.session().is_some() {
+                problem("signing out set a session".into());
+            }
+            if path == "/api/courses/el2320/submissions" && ok {
+                let list = answer.json();
+                let students: Vec<&str> = list
+                    .as_array()
+                    .map(|list| list.iter().filter_map(|s| s["student"].as_str()).collect())
+                    .unwrap_or_default();
+                if !(students.contains(&A_ID) && students.contains(&B_ID)) {
+                    problem(format!("the list names {students:?}"));
+                }
+            }
+            if path == "/api/submissions" && answer.status == StatusCode::ACCEPTED {
+                app.graded(answer.json()["id"].as_i64().unwrap()).await;
+            }
+            received[i].push(format!("{asked}: {}", answer.body));
+        }
+    }
+
+    // Nothing of one student reaches the other, nor anyone outside el2320's staff.
+    let a_things = [A_MARKER, A_ID, A_NAME, A_EMAIL];
+    let b_things = [B_MARKER, B_ID, B_NAME, B_EMAIL];
+    // Anonymous, the other course's instructor, the revoked and the made-up token.
+    let outsiders = [0, 5, 7, 8];
+    for (i, bodies) in received.iter().enumerate() {
+        let forbidden: Vec<&str> = match i {
+            1 => b_things.to_vec(),
+            2 => a_things.to_vec(),
+            i if outsiders.contains(&i) => a_things.iter().chain(&b_things).copied().collect(),
+            _ => continue,
+        };
+        for body in bodies {
+            for thing in &forbidden {
+                if body.contains(thing) {
+                    problems.push(format!(
+                        "{} received {thing:?} in {}",
+                        PRINCIPALS[i],
+                        body.chars().take(300).collect::<String>()
+                    ));
+                }
+            }
+        }
+    }
+
+    // Signing out ended the sessions (of the principals signed in: columns 1 to 5).
+    for (i, who) in principals.iter().enumerate().take(6).skip(1) {
+        let answer = app.send(Req::get("/api/me").who(who)).await;
+        if answer.status != StatusCode::OK || !answer.json()["member"].is_null() {
+            problems.push(format!(
+                "{} is still signed in after signing out: {} {}",
+                PRINCIPALS[i], answer.status, answer.body
+            ));
+        }
+    }
+
+    assert!(
+        problems.is_empty(),
+        "{} problem(s):\n{}",
+        problems.len(),
+        problems.join("\n")
+    );
+}
+
+// ---- 2. open mode ----
+
+/// Proves that a server without courses takes a submission from anyone under any id and
+/// shows its result, never its code; and that the first course ends this: anonymous
+/// submissions are refused and the open-mode submission is no longer anyone's to read.
+#[tokio::test(flavor = "multi_thread")]
+async fn open_mode_until_a_course_exists() {
+    let app = App::new();
+    let body = json!({ "student": "x", "source": quick_source("open-mode") });
+    let answer = app
+        .send(Req::post("/api/submissions").json(body.clone()))
+        .await;
+    assert_eq!(answer.status, StatusCode::ACCEPTED, "{}", answer.body);
+    let id = answer.json()["id"].as_i64().unwrap();
+    assert_eq!(
+        answer.location(),
+        Some(format!("/api/submissions/{id}").as_str())
+    );
+    app.graded(id).await;
+
+    let read = app.send(Req::get(&format!("/api/submissions/{id}"))).await;
+    assert_eq!(read.status, StatusCode::OK, "{}", read.body);
+    let read = read.json();
+    assert_eq!(read["student"], "x");
+    assert_eq!(read["status"], "graded");
+    assert!(read["result"].is_object(), "{read}");
+    assert!(read.get("source").is_none(), "open mode shows code: {read}");
+
+    app.store()
+        .create_course("el2320", "Applied Estimation", app.now())
+        .unwrap();
+    let refused = app.send(Req::post("/api/submissions").json(body)).await;
+    assert_eq!(refused.status, StatusCode::UNAUTHORIZED, "{}", refused.body);
+    assert!(refused.error().contains("sign in"), "{}", refused.body);
+    let gone = app.send(Req::get(&format!("/api/submissions/{id}"))).await;
+    assert_eq!(gone.status, StatusCode::NOT_FOUND, "{}", gone.body);
+    // Nor does the new course's staff read it: it belongs to none of its people.
+    let instructor = app.staff("el2320", "teacher@kth.example", Role::Instructor);
+    let instructor = app.signed_in(&instructor).await;
+    let staff = app
+        .send(Req::get(&format!("/api/submissions/{id}")).who(&instructor))
+        .await;
+    assert_eq!(staff.status, StatusCode::NOT_FOUND, "{}", staff.body);
+    assert_eq!(app.count(), 1);
+}
+
+// ---- 3. other sites ----
+
+/// Proves that a page on another site cannot submit, sign out or sign in in a signed-in
+/// student's name (by `Origin` or by `Sec-Fetch-Site`), that nothing is stored then,
+/// and that a request from estlab's own origin passes.
+#[tokio::test(flavor = "multi_thread")]
+async fn changes_from_other_sites_are_refused() {
+    let app = App::new();
+    let now = app.now();
+    app.store()
+        .create_course("el2320", "Applied Estimation", now)
+        .unwrap();
+    app.store()
+        .assign("el2320", LAB, &open_policy(now))
+        .unwrap();
+    let student = app.enrol("el2320", "u-cross-1");
+    let code = app.code(&student);
+    // The session cookie itself is out of other sites' and scripts' reach.
+    let answer = app.send(Req::sign_in(&code)).await;
+    assert_eq!(answer.status, StatusCode::SEE_OTHER, "{}", answer.body);
+    let cookie = answer.headers[header::SET_COOKIE].to_str().unwrap();
+    for attribute in ["HttpOnly", "SameSite=Lax", "Path=/"] {
+        assert!(cookie.contains(attribute), "{cookie}");
+    }
+    assert!(!cookie.contains("Secure"), "Secure without HTTPS: {cookie}");
+    let who = Who::Session(answer.session().unwrap());
+    let submit = || {
+        Req::post("/api/submissions")
+            .who(&who)
+            .header("host", "estlab.test")
+            .json(json!({ "source": quick_source("cross-site") }))
+    };
+
+    for (name, value) in [
+        ("origin", "http://evil.example"),
+        ("sec-fetch-site", "cross-site"),
+    ] {
+        let answer = app.send(submit().header(name, value)).await;
+        assert_eq!(
+            answer.status,
+            StatusCode::FORBIDDEN,
+            "{name}: {}",
+            answer.body
+        );
+        assert!(answer.error().contains("another site"), "{}", answer.body);
+        assert_eq!(
+            app.count(),
+            0,
+            "stored a submission from another site ({name})"
+        );
+    }
+
+    // From estlab's own page (Origin is the Host it was asked at): taken.
+    let answer = app
+        .send(submit().header("origin", "http://estlab.test"))
+        .await;
+    assert_eq!(answer.status, StatusCode::ACCEPTED, "{}", answer.body);
+    assert_eq!(app.count(), 1);
+    app.graded(answer.json()["id"].as_i64().unwrap()).await;
+
+    // Signing out from another site: refused, and the session goes on.
+    let answer = app
+        .send(
+            Req::post("/signout")
+                .who(&who)
+                .header("origin", "http://evil.example"),
+        )
+        .await;
+    assert_eq!(answer.status, StatusCode::FORBIDDEN, "{}", answer.body);
+    assert!(answer.error().contains("another site"), "{}", answer.body);
+    let me = app.send(Req::get("/api/me").who(&who)).await.json();
+    assert_eq!(me["member"]["login"], "u-cross-1", "{me}");
+
+    // Signing in from another site, even with the right code: refused, no session.
+    for (name, value) in [
+        ("origin", "http://evil.example"),
+        ("sec-fetch-site", "cross-site"),
+    ] {
+        let answer = app.send(Req::sign_in(&code).header(name, value)).await;
+        assert_eq!(
+            answer.status,
+            StatusCode::FORBIDDEN,
+            "{name}: {}",
+            answer.body
+        );
+        assert!(answer.error().contains("another site"), "{}", answer.body);
+        assert_eq!(answer.session(), None);
+    }
+}
+
+// ---- 4. sign-in limits and codes ----
+
+/// A well-formed code no one was given.
+fn unknown_code() -> String {
+    new_code().text
+}
+
+/// A code with a real selector and a wrong secret: its last characters changed.
+fn wrong_secret(code: &str) -> String {
+    let (head, tail) = code.split_at(code.len() - 4);
+    let wrong = if tail == "0000" { "1111" } else { "0000" };
+    format!("{head}{wrong}")
+}
+
+/// Proves that an address is refused after 10 wrong codes (even with the right one)
+/// while another address signs in; that a course is refused after 50 wrong secrets for
+/// its people from 50 addresses; that both end when the window has passed; that a
+/// one-time code works once; and that an expired code does not work.
+#[tokio::test(flavor = "multi_thread")]
+async fn sign_in_limits_and_codes() {
+    let app = App::new();
+    let now = app.now();
+    app.store()
+        .create_course("el2320", "Applied Estimation", now)
+        .unwrap();
+    let student = app.enrol("el2320", "u-limit-1");
+    let code = app.code(&student);
+
+    // Per address: 10 wrong codes, then even the right one is refused.
+    let guesser = peer(192, 0, 2, 1);
+    for i in 0..10 {
+        let answer = app
+            .send(Req::sign_in(&unknown_code()).sent_from(guesser))
+            .await;
+        assert_eq!(answer.status, StatusCode::UNAUTHORIZED, "wrong code {i}");
+        assert_eq!(answer.session(), None);
+    }
+    let answer = app.send(Req::sign_in(&code).sent_from(guesser)).await;
+    assert_eq!(
+        answer.status,
+        StatusCode::TOO_MANY_REQUESTS,
+        "{}",
+        answer.body
+    );
+    assert!(answer.body.contains("Too many"), "{}", answer.body);
+    assert!(answer.body.contains("from your address"), "{}", answer.body);
+    assert_eq!(answer.session(), None);
+    // Not behind a proxy, `X-Forwarded-For` is the client's word only: it changes nothing.
+    let answer = app
+        .send(
+            Req::sign_in(&code)
+                .sent_from(guesser)
+                .header("x-forwarded-for", "203.0.113.99"),
+        )
+        .await;
+    assert_eq!(
+        answer.status,
+        StatusCode::TOO_MANY_REQUESTS,
+        "{}",
+        answer.body
+    );
+    // Another address is not held up.
+    app.sign_in(&code, peer(192, 0, 2, 2)).await;
+
+    // Per course: wrong secrets for a real person's code from 50 addresses.
+    let wrong = wrong_secret(&code);
+    assert_ne!(wrong, code);
+    for i in 0..50u8 {
+        let answer = app
+            .send(Req::sign_in(&wrong).sent_from(peer(198, 51, 100, i)))
+            .await;
+        assert_eq!(answer.status, StatusCode::UNAUTHORIZED, "wrong secret {i}");
+    }
+    let fresh = peer(203, 0, 113, 1);
+    let answer = app.send(Req::sign_in(&code).sent_from(fresh)).await;
+    assert_eq!(
+        answer.status,
+        StatusCode::TOO_MANY_REQUESTS,
+        "{}",
+        answer.body
+    );
+    assert!(answer.body.contains("Too many"), "{}", answer.body);
+    assert!(answer.body.contains("for this course"), "{}", answer.body);
+    assert_eq!(answer.session(), None);
+
+    // Once the window has passed, the right code works again, from either address.
+    app.clock
+        .set(now + SignedDuration::from_mins(15) + SignedDuration::from_secs(1));
+    app.sign_in(&code, fresh).await;
+    app.sign_in(&code, guesser).await;
+
+    // A one-time code of a member of staff: once.
+    let assistant = app.staff("el2320", "ta@kth.example", Role::Assistant);
+    let once = new_code();
+    app.store()
+        .add_code(assistant.id, &once, true, None, app.now())
+        .unwrap();
+    let from = peer(203, 0, 113, 2);
+    app.sign_in(&once.text, from).await;
+    let again = app.send(Req::sign_in(&once.text).sent_from(from)).await;
+    assert_eq!(again.status, StatusCode::UNAUTHORIZED, "{}", again.body);
+    assert_eq!(again.session(), None);
+
+    // A code that expired before now.
+    let late = app.enrol("el2320", "u-limit-2");
+    let expired = new_code();
+    app.store()
+        .add_code(
+            late.id,
+            &expired,
+            false,
+            Some(app.now() - SignedDuration::from_hours(1)),
+            now,
+        )
+        .unwrap();
+    let answer = app.send(Req::sign_in(&expired.text).sent_from(from)).await;
+    assert_eq!(answer.status, StatusCode::UNAUTHORIZED, "{}", answer.body);
+    assert_eq!(answer.session(), None);
+
+    // A session lasts 30 days, by the server's clock.
+    let session = app.sign_in(&code, from).await;
+    let signed_in_at = app.now();
+    app.clock
+        .set(signed_in_at + SignedDuration::from_hours(30 * 24));
+    let me = app.send(Req::get("/api/me").who(&session)).await.json();
+    assert_eq!(me["member"]["login"], "u-limit-1", "{me}");
+    app.clock
+        .set(signed_in_at + SignedDuration::from_hours(30 * 24) + SignedDuration::from_secs(1));
+    let me = app.send(Req::get("/api/me").who(&session)).await.json();
+    assert!(me["member"].is_null(), "the session outlived 30 days: {me}");
+}
+
+// ---- 5. deadlines ----
+
+/// Proves, with the clock set around an assignment's dates, that a submission before
+/// the due date is on time, one a day and a minute late is taken with two days'
+/// penalty (and its score, and the score that counts, are cut by it), and one after the
+/// cutoff is refused and not stored; that a student dropped from the roster may no
+/// longer submit but still reads what they submitted; and that a course that has not
+/// opened the exercise takes nothing.
+#[tokio::test(flavor = "multi_thread")]
+async fn deadlines_penalties_and_the_roster() {
+    let app = App::new();
+    let store = app.store();
+    let due = at("2026-12-15T22:59:00Z");
+    let cutoff = due + SignedDuration::from_hours(3 * 24);
+    app.clock.set(due - SignedDuration::from_hours(1));
+    store
+        .create_course("el2320", "Applied Estimation", app.now())
+        .unwrap();
+    store
+        .assign(
+            "el2320",
+            LAB,
+            &Policy {
+                due,
+                cutoff,
+                penalty_per_day: 0.1,
+                counts: Counts::Best,
+            },
+        )
+        .unwrap();
+    let student = app.enrol("el2320", "u-late-1");
+    app.enrol("el2320", "u-late-2");
+    let who = app.signed_in(&student).await;
+
+    // An hour before the due date: on time.
+    let (on_time, accepted) = app.submit_graded(&who, &quick_source("on time")).await;
+    assert_eq!(accepted["late_seconds"], 0, "{accepted}");
+    assert_eq!(accepted["penalty"], 0.0, "{accepted}");
+
+    // A day and a minute late: two days begun, 20 % off the score.
+    app.clock
+        .set(due + SignedDuration::from_hours(24) + SignedDuration::from_mins(1));
+    let (late, accepted) = app.submit_graded(&who, CORRECT).await;
+    assert_eq!(accepted["late_seconds"], 24 * 3600 + 60, "{accepted}");
+    let penalty = accepted["penalty"].as_f64().unwrap();
+    assert!((penalty - 0.2).abs() < 1e-9, "{accepted}");
+    let read = app
+        .send(Req::get(&format!("/api/submissions/{late}")).who(&who))
+        .await;
+    assert_eq!(read.status, StatusCode::OK, "{}", read.body);
+    let read = read.json();
+    assert_eq!(read["score"], 1.0, "the correct file scores 1: {read}");
+    let final_score = read["final_score"].as_f64().unwrap();
+    assert!((final_score - 0.8).abs() < 1e-9, "{read}");
+    let me = app.send(Req::get("/api/me").who(&who)).await.json();
+    let assignment = &me["assignments"][0];
+    assert_eq!(
+        assignment["history"].as_array().map(Vec::len),
+        Some(2),
+        "{me}"
+    );
+    let counting = assignment["counting_score"].as_f64().unwrap();
+    assert!((counting - 0.8).abs() < 1e-9, "the best counts: {me}");
+
+    // A second past the cutoff: refused, nothing stored.
+    app.clock.set(cutoff + SignedDuration::from_secs(1));
+    let before = app.count();
+    let answer = app
+        .send(
+            Req::post("/api/submissions")
+                .who(&who)
+                .json(json!({ "source": quick_source("too late") })),
+        )
+        .await;
+    assert_eq!(answer.status, StatusCode::FORBIDDEN, "{}", answer.body);
+    assert!(answer.error().contains("cutoff"), "{}", answer.body);
+    assert_eq!(app.count(), before);
+
+    // Dropped from the roster (while the exercise is open again): no more submitting,
+    // but what they submitted is still theirs to read.
+    app.clock.set(due - SignedDuration::from_hours(1));
+    store
+        .import_roster("el2320", &[roster_line("u-late-2", "Student u-late-2", "")])
+        .unwrap();
+    let answer = app
+        .send(
+            Req::post("/api/submissions")
+                .who(&who)
+                .json(json!({ "source": quick_source("dropped") })),
+        )
+        .await;
+    assert_eq!(answer.status, StatusCode::FORBIDDEN, "{}", answer.body);
+    assert!(answer.error().contains("roster"), "{}", answer.body);
+    assert_eq!(app.count(), before);
+    for id in [on_time, late] {
+        let read = app
+            .send(Req::get(&format!("/api/submissions/{id}")).who(&who))
+            .await;
+        assert_eq!(read.status, StatusCode::OK, "{}", read.body);
+        assert!(read.json()["source"].is_string(), "{}", read.body);
+    }
+
+    // A course that has not opened the exercise.
+    store
+        .create_course("closed", "No Assignment", app.now())
+        .unwrap();
+    let other = app.enrol("closed", "u-closed-1");
+    let other = app.signed_in(&other).await;
+    let answer = app
+        .send(
+            Req::post("/api/submissions")
+                .who(&other)
+                .json(json!({ "source": quick_source("not opened") })),
+        )
+        .await;
+    assert_eq!(answer.status, StatusCode::FORBIDDEN, "{}", answer.body);
+    assert!(answer.error().contains("not opened"), "{}", answer.body);
+    assert_eq!(app.count(), before);
+}
+
+// ---- 6. secrets at rest ----
+
+fn contains(haystack: &[u8], needle: &str) -> bool {
+    haystack
+        .windows(needle.len())
+        .any(|window| window == needle.as_bytes())
+}
+
+/// Proves that the database files hold no sign-in code (as handed out, without its
+/// dashes, or its secret part), no session key and no API token: only their hashes.
+#[tokio::test(flavor = "multi_thread")]
+async fn secrets_are_not_stored_in_clear() {
+    let app = App::new();
+    let now = app.now();
+    app.store()
+        .create_course("el2320", "Applied Estimation", now)
+        .unwrap();
+    let student = app.enrol("el2320", "u-secret-1");
+    let instructor = app.staff("el2320", "teacher@kth.example", Role::Instructor);
+    let student_code = app.code(&student);
+    let once = new_code();
+    app.store()
+        .add_code(instructor.id, &once, true, None, now)
+        .unwrap();
+    let Who::Session(session) = app.sign_in(&student_code, peer(127, 0, 0, 1)).await else {
+        unreachable!()
+    };
+    let (_, token) = app
+        .store()
+        .create_token("el2320", Role::Instructor, now)
+        .unwrap();
+
+    let mut secrets = vec![session.clone(), token.clone()];
+    secrets.push(token.trim_start_matches("estlab_").to_string());
+    for code in [&student_code, &once.text] {
+        let plain = code.replace('-', "");
+        secrets.push(code.clone());
+        secrets.push(plain[8..].to_string());
+        secrets.push(plain);
+    }
+
+    let mut files = Vec::new();
+    for entry in std::fs::read_dir(app.dir.path()).unwrap() {
+        let path = entry.unwrap().path();
+        let name = path.file_name().unwrap().to_string_lossy().into_owned();
+        if name.starts_with(estlab::store::FILE) {
+            files.push((name, std::fs::read(&path).unwrap()));
+        }
+    }
+    assert!(
+        files.iter().any(|(name, _)| name == estlab::store::FILE),
+        "no database file in {:?}",
+        files.iter().map(|(name, _)| name).collect::<Vec<_>>()
+    );
+    for (name, bytes) in &files {
+        for secret in &secrets {
+            assert!(!contains(bytes, secret), "{name} holds {secret:?} in clear");
+        }
+    }
+}
+
+// ---- 7. migration ----
+
+/// Every row of every table, as text: what a second opening must not change.
+fn dump(path: &Path) -> (i64, String) {
+    let connection = rusqlite::Connection::open(path).unwrap();
+    let version: i64 = connection
+        .query_row("PRAGMA user_version", [], |row| row.get(0))
+        .unwrap();
+    let mut text = String::new();
+    let tables: Vec<(String, String)> = {
+        let mut statement = connection
+            .prepare("SELECT name, sql FROM sqlite_master WHERE sql IS NOT NULL ORDER BY name")
+            .unwrap();
+        statement
+            .query_map([], |row| Ok((row.get(0)?, row.get(1)?)))
+            .unwrap()
+            .collect::<Result<_, _>>()
+            .unwrap()
+    };
+    for (name, sql) in &tables {
+        text.push_str(&format!("{sql}\n"));
+        if !sql.starts_with("CREATE TABLE") {
+            continue;
+        }
+        let mut statement = connection
+            .prepare(&format!("SELECT * FROM \"{name}\" ORDER BY rowid"))
+            .unwrap();
+        let columns = statement.column_count();
+        let rows = statement
+            .query_map([], |row| {
+                (0..columns)
+                    .map(|i| row.get::<_, rusqlite::types::Value>(i))
+                    .collect::<Result<Vec<_>, _>>()
+            })
+            .unwrap();
+        for row in rows {
+            text.push_str(&format!("  {:?}\n", row.unwrap()));
+        }
+    }
+    (version, text)
+}
+
+/// The columns estlab 0.1.0 wrote, row by row.
+fn original_columns(path: &Path) -> Vec<Vec<rusqlite::types::Value>> {
+    let connection = rusqlite::Connection::open(path).unwrap();
+    let mut statement = connection
+        .prepare(
+            "SELECT id, course, student, lab, seed, source, status, submitted_at, graded_at,
+             score, result FROM submissions ORDER BY id",
+        )
+        .unwrap();
+    statement
+        .query_map([], |row| {
+            (0..11)
+                .map(|i| row.get::<_, rusqlite::types::Value>(i))
+                .collect::<Result<Vec<_>, _>>()
+        })
+        .unwrap()
+        .collect::<Result<_, _>>()
+        .unwrap()
+}
+
+/// Proves that a database written by estlab 0.1.0 opens: its schema is brought to the
+/// newest version, every submission is still there as it was (student, status, score,
+/// a readable result and the source), and opening it again changes nothing.
+#[test]
+fn a_database_of_estlab_0_1_0_migrates_forward() {
+    let fixture = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/estlab-0.1.0.sqlite3");
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join(estlab::store::FILE);
+    std::fs::copy(&fixture, &path).unwrap();
+    let before = original_columns(&path);
+    assert_eq!(before.len(), 3, "the fixture holds three submissions");
+
+    let newest = {
+        let fresh = tempfile::tempdir().unwrap();
+        drop(Store::open(fresh.path()).unwrap());
+        dump(&fresh.path().join(estlab::store::FILE)).0
+    };
+    assert!(newest >= 2, "the newest schema is version {newest}");
+
+    let store = Store::open(dir.path()).unwrap();
+    let all = store.all_submissions().unwrap();
+    let found: Vec<(i64, &str, &str, Status, Option<f64>)> = all
+        .iter()
+        .map(|s| {
+            (
+                s.id,
+                s.course.as_str(),
+                s.student.as_str(),
+                s.status,
+                s.score,
+            )
+        })
+        .collect();
+    assert_eq!(
+        found,
+        [
+            (1, "el2320", "ada", Status::Graded, Some(1.0)),
+            (2, "el2320", "grace", Status::Graded, Some(0.0)),
+            (3, "el2320", "linus", Status::Graded, Some(0.0)),
+        ]
+    );
+    for summary in &all {
+        assert_eq!(summary.late_seconds, 0);
+        assert_eq!(summary.penalty, 0.0);
+        assert_eq!(summary.final_score, summary.score);
+        let submission = store.get(summary.id, true).unwrap().unwrap();
+        let source = submission.source.as_deref().unwrap_or("");
+        assert!(
+            !source.is_empty(),
+            "submission {} lost its source",
+            summary.id
+        );
+        assert_eq!(submission.member, None);
+        let result = submission
+            .result
+            .unwrap_or_else(|| panic!("submission {} has no result", summary.id));
+        assert!(result.gradable);
+        assert_eq!(Some(result.score), summary.score);
+        assert_eq!(result.seed, submission.seed);
+        assert!(!result.tests.is_empty());
+    }
+    assert!(!store.any_course().unwrap());
+    drop(store);
+
+    let (version, first) = dump(&path);
+    assert_eq!(version, newest, "the schema is not the newest");
+    assert_eq!(
+        original_columns(&path),
+        before,
+        "the columns of 0.1.0 changed"
+    );
+
+    // Opening it again changes nothing.
+    drop(Store::open(dir.path()).unwrap());
+    let (version, second) = dump(&path);
+    assert_eq!(version, newest);
+    assert_eq!(first, second, "a second opening changed the database");
+}
