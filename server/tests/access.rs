@@ -867,8 +867,10 @@ async fn sign_in_limits_and_codes() {
             .await;
         assert_eq!(answer.status, StatusCode::UNAUTHORIZED, "wrong secret {i}");
     }
-    let fresh = peer(203, 0, 113, 1);
-    let answer = app.send(Req::sign_in(&code).sent_from(fresh)).await;
+    // The course now refuses every address that has failed recently, even with the
+    // right code: one try per address for someone guessing from many.
+    let tried = peer(198, 51, 100, 7);
+    let answer = app.send(Req::sign_in(&code).sent_from(tried)).await;
     assert_eq!(
         answer.status,
         StatusCode::TOO_MANY_REQUESTS,
@@ -878,11 +880,15 @@ async fn sign_in_limits_and_codes() {
     assert!(answer.body.contains("Too many"), "{}", answer.body);
     assert!(answer.body.contains("for this course"), "{}", answer.body);
     assert_eq!(answer.session(), None);
+    // A student who has not failed still signs in: nobody can lock the class out by
+    // failing on purpose.
+    let fresh = peer(203, 0, 113, 1);
+    app.sign_in(&code, fresh).await;
 
     // Once the window has passed, the right code works again, from either address.
     app.clock
         .set(now + SignedDuration::from_mins(15) + SignedDuration::from_secs(1));
-    app.sign_in(&code, fresh).await;
+    app.sign_in(&code, tried).await;
     app.sign_in(&code, guesser).await;
 
     // A one-time code of a member of staff: once.

@@ -68,6 +68,13 @@ pub async fn submit(
     viewer: Viewer,
     body: Bytes,
 ) -> Result<Response, Error> {
+    let courses = blocking(&state, |store| store.any_course()).await?;
+    // Who asks is checked before what they send.
+    let member = if courses {
+        Some(signed_in_student(&viewer)?)
+    } else {
+        None
+    };
     let submit: Submit = serde_json::from_slice(&body)
         .map_err(|e| Error::BadRequest(format!("the submission body: {e}")))?;
     if submit.lab != LAB {
@@ -79,9 +86,14 @@ pub async fn submit(
     check_size(&submit.source)
         .map_err(|problem| Error::TooLarge(format!("field `source`: {problem}")))?;
     let now = state.clock.now();
-    let courses = blocking(&state, |store| store.any_course()).await?;
-    let submitter = if courses {
-        let member = signed_in_student(&viewer, &submit)?;
+    let submitter = if let Some(member) = member {
+        for (field, given) in [("student", &submit.student), ("course", &submit.course)] {
+            if given.is_some() {
+                return Err(Error::BadRequest(format!(
+                    "field `{field}`: you submit as the signed-in student; leave it out"
+                )));
+            }
+        }
         let lab = submit.lab.clone();
         let course = member.course.clone();
         let assignment = blocking(&state, move |store| store.assignment(&course, &lab))
@@ -161,7 +173,7 @@ pub async fn submit(
 }
 
 /// The signed-in student who may submit, or why not.
-fn signed_in_student<'a>(viewer: &'a Viewer, submit: &Submit) -> Result<&'a Member, Error> {
+fn signed_in_student(viewer: &Viewer) -> Result<&Member, Error> {
     let member = match viewer {
         Viewer::Anonymous => {
             return Err(Error::Unauthorized(
@@ -187,13 +199,6 @@ fn signed_in_student<'a>(viewer: &'a Viewer, submit: &Submit) -> Result<&'a Memb
             "you are no longer on the roster of {}: ask your teacher",
             member.course
         )));
-    }
-    for (field, given) in [("student", &submit.student), ("course", &submit.course)] {
-        if given.is_some() {
-            return Err(Error::BadRequest(format!(
-                "field `{field}`: you submit as the signed-in student; leave it out"
-            )));
-        }
     }
     Ok(member)
 }

@@ -1,7 +1,11 @@
-//! Failed sign-ins, counted per address and per course over a sliding window: after a
-//! burst of wrong codes the address (or the course, for codes that name one of its
-//! people) is refused until the oldest failure leaves the window. Held in memory: a
-//! restart forgets them, which costs an attacker a restart they cannot cause.
+//! Failed sign-ins, counted per address and per course over a sliding window. After a
+//! burst of wrong codes from one address, that address is refused until the oldest
+//! failure leaves the window. After a burst of wrong codes for one course's people (from
+//! many addresses), every address that has itself failed recently is refused for that
+//! course: someone trying codes from many addresses gets one try per address, while the
+//! class, typing their codes right the first time, signs in as usual (so no student can
+//! lock the course by failing on purpose). An IPv6 client is counted by its /64, which it
+//! usually holds whole. Held in memory: a restart forgets them.
 
 use jiff::{SignedDuration, Timestamp};
 use std::collections::{HashMap, VecDeque};
@@ -31,6 +35,19 @@ pub struct Refusal {
     pub minutes: i64,
 }
 
+/// What an address is counted as: itself (IPv4), or its /64 (IPv6).
+fn block(address: IpAddr) -> IpAddr {
+    match address {
+        IpAddr::V6(v6) if v6.to_ipv4_mapped().is_none() => {
+            let mut octets = v6.octets();
+            octets[8..].fill(0);
+            IpAddr::from(octets)
+        }
+        IpAddr::V6(v6) => IpAddr::V4(v6.to_ipv4_mapped().expect("mapped")),
+        v4 => v4,
+    }
+}
+
 #[derive(Default)]
 pub struct SignInLimiter {
     failures: Mutex<HashMap<Key, VecDeque<Timestamp>>>,
@@ -39,15 +56,24 @@ pub struct SignInLimiter {
 impl SignInLimiter {
     /// Refuses when the address has had its share of failures.
     pub fn check_address(&self, address: IpAddr, now: Timestamp) -> Result<(), Refusal> {
-        self.check(&Key::Address(address), PER_ADDRESS, now)
+        self.check(&Key::Address(block(address)), PER_ADDRESS, now)
             .map_err(|minutes| Refusal {
                 per_course: false,
                 minutes,
             })
     }
 
-    /// Refuses when the course has had its share of failures.
-    pub fn check_course(&self, course: &str, now: Timestamp) -> Result<(), Refusal> {
+    /// Refuses an address that has failed recently when the course has had its share
+    /// of failures.
+    pub fn check_course(
+        &self,
+        course: &str,
+        address: IpAddr,
+        now: Timestamp,
+    ) -> Result<(), Refusal> {
+        if self.check(&Key::Address(block(address)), 1, now).is_ok() {
+            return Ok(());
+        }
         self.check(&Key::Course(course.to_string()), PER_COURSE, now)
             .map_err(|minutes| Refusal {
                 per_course: true,
@@ -66,7 +92,7 @@ impl SignInLimiter {
             });
         }
         for key in [
-            Some(Key::Address(address)),
+            Some(Key::Address(block(address))),
             course.map(|c| Key::Course(c.to_string())),
         ]
         .into_iter()
@@ -129,7 +155,7 @@ mod tests {
             })
         );
         assert!(limiter.check_address(other, start).is_ok());
-        assert!(limiter.check_course("el2320", start).is_ok());
+        assert!(limiter.check_course("el2320", address, start).is_ok());
         assert!(
             limiter
                 .check_address(address, start + WINDOW + SignedDuration::from_secs(5))
@@ -138,15 +164,36 @@ mod tests {
     }
 
     #[test]
-    fn a_course_is_refused_after_failures_from_many_addresses() {
+    fn after_failures_from_many_addresses_a_course_refuses_those_that_failed_only() {
         let limiter = SignInLimiter::default();
         let now: Timestamp = "2026-12-01T10:00Z".parse().unwrap();
+        let failing = |i: usize| IpAddr::from([10, 0, (i / 256) as u8, (i % 256) as u8]);
         for i in 0..PER_COURSE {
-            let address = IpAddr::from([10, 0, (i / 256) as u8, (i % 256) as u8]);
-            limiter.failed(address, Some("el2320"), now);
-            assert!(limiter.check_address(address, now).is_ok());
+            limiter.failed(failing(i), Some("el2320"), now);
+            assert!(limiter.check_address(failing(i), now).is_ok());
         }
-        assert!(limiter.check_course("el2320", now).unwrap_err().per_course);
-        assert!(limiter.check_course("other", now).is_ok());
+        let refusal = limiter.check_course("el2320", failing(3), now).unwrap_err();
+        assert!(refusal.per_course);
+        assert_eq!(refusal.minutes, 15);
+        // A student who has not failed signs in; another course is not concerned.
+        let fresh = IpAddr::from([192, 0, 2, 1]);
+        assert!(limiter.check_course("el2320", fresh, now).is_ok());
+        assert!(limiter.check_course("other", failing(3), now).is_ok());
+    }
+
+    #[test]
+    fn an_ipv6_client_is_counted_by_its_slash_64() {
+        let limiter = SignInLimiter::default();
+        let now: Timestamp = "2026-12-01T10:00Z".parse().unwrap();
+        for i in 0..PER_ADDRESS {
+            let address: IpAddr = format!("2001:db8:1:2::{:x}", i + 1).parse().unwrap();
+            limiter.failed(address, None, now);
+        }
+        let same_block: IpAddr = "2001:db8:1:2:ffff::9".parse().unwrap();
+        let other_block: IpAddr = "2001:db8:1:3::1".parse().unwrap();
+        assert!(limiter.check_address(same_block, now).is_err());
+        assert!(limiter.check_address(other_block, now).is_ok());
+        let mapped: IpAddr = "::ffff:192.0.2.7".parse().unwrap();
+        assert_eq!(block(mapped), IpAddr::from([192, 0, 2, 7]));
     }
 }

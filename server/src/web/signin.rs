@@ -117,7 +117,7 @@ async fn check(
         return Ok(Err(Refused::wrong_code()));
     };
     let course = found.member.course.clone();
-    if let Err(refusal) = state.limiter.check_course(&course, now) {
+    if let Err(refusal) = state.limiter.check_course(&course, address, now) {
         return Ok(Err(Refused::too_many(&refusal)));
     }
     match blocking(state, move |store| store.use_code(found, now)).await? {
