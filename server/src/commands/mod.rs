@@ -5,6 +5,7 @@ pub mod car;
 pub mod cases;
 pub mod course;
 pub mod grade;
+pub mod grade_class;
 pub mod run;
 pub mod sandbox_worker;
 pub mod serve;
@@ -34,6 +35,7 @@ enum Command {
     Car(car::Args),
     Cases(cases::Args),
     Grade(grade::Args),
+    GradeClass(grade_class::Args),
     Course(course::Args),
     Backup(backup::Args),
     /// The sandbox's worker process (started by `grade` and `serve`).
@@ -51,6 +53,7 @@ pub fn main() -> ExitCode {
         Command::Car(args) => car::run(&args),
         Command::Cases(args) => cases::run(&args),
         Command::Grade(args) => grade::run(&args),
+        Command::GradeClass(args) => grade_class::run(&args),
         Command::Course(args) => course::run(&args),
         Command::Backup(args) => backup::run(&args),
         Command::SandboxWorker => sandbox_worker::run(),

@@ -49,7 +49,7 @@ pub fn cores() -> usize {
 
 /// Gradings at once: one per two cores, each with two engines side by side, which keeps
 /// a lone grading quick.
-fn default_parallel() -> usize {
+pub fn default_parallel() -> usize {
     (cores() / 2).max(1)
 }
 
