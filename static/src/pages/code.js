@@ -1,13 +1,18 @@
 // The student's workbench for the EKF localization: an editor that keeps the file in
 // this browser, the tests (the student's functions run in a Web Worker, the wasm build of
 // `labs` makes the cases and judges the outputs, exactly as the server does), the runs
-// on the data sets with the lab's views, and the submission to the server.
+// on the data sets with the lab's views, and the submission to the server: as the
+// signed-in student once the server runs courses, under any id on a server without.
+// With `?submission=ID` it shows an earlier submission, read-only, beside its result.
 import { javascript } from '@codemirror/lang-javascript';
 import { EditorView, basicSetup } from 'codemirror';
 import { byId, download, showError } from '../controls.js';
 import { RunView, collect } from '../ekf/runview.js';
 import { fmt } from '../format.js';
 import { Runner } from '../student/runner.js';
+import {
+  element, getJson, link, notImplemented, percent, pollSubmission, renderSubmission, span, testItem, testKey,
+} from '../student/results.js';
 import { loadEstlab } from '../wasm.js';
 
 const COURSE = 'el2320';
@@ -15,11 +20,21 @@ const COURSE = 'el2320';
 const PUBLIC_VARIANT = 1;
 const MAX_SOURCE = 256 * 1024;
 const STORAGE = { source: 'estlab:ekf-localization:source', student: 'estlab:student' };
-/** Failing cases shown in detail per test, and differing elements per case. */
-const SHOWN = { failures: 2, mismatches: 12 };
+const LAB = 'ekf-localization';
 
-const estlab = await loadEstlab();
+/** Who is signed in and what they have to do (GET /api/me), or why that is not known. */
+async function whoAmI() {
+  try {
+    return await getJson('/api/me');
+  } catch (error) {
+    return { courses: null, problem: error.message };
+  }
+}
+
+const [estlab, me] = await Promise.all([loadEstlab(), whoAmI()]);
 const ui = {
+  who: byId('who'),
+  studentField: byId('student-field'),
   student: byId('student'),
   seed: byId('seed'),
   runTests: byId('run-tests'),
@@ -96,7 +111,8 @@ byId('upload').addEventListener('change', async (event) => {
 });
 
 // ---------------------------------------------------------------------------------------
-// The variant: the student's id gives the seed of their own cases and data sets.
+// Who submits, and the variant: the signed-in student's own, or, on a server without
+// courses, the one the typed student id gives.
 
 const state = {
   grader: null,
@@ -114,10 +130,117 @@ const state = {
   runView: null,
 };
 
+/**
+ * Who is at the keyboard, as /api/me says: `mode` is 'open' (a server without courses:
+ * anyone submits under any id), 'student' (signed in), 'staff', 'anonymous' (a server with
+ * courses, nobody signed in) or 'unknown' (the server did not answer); `assignment` is the
+ * student's assignment of this exercise, and `clock` the server's time when it answered.
+ */
+const account = { about: me, mode: 'unknown', assignment: null, clock: null };
+
+function modeOf(about) {
+  if (about.courses === false) return 'open';
+  if (about.courses !== true) return 'unknown';
+  if (!about.member) return 'anonymous';
+  return about.member.role === 'student' ? 'student' : 'staff';
+}
+
+/** Takes in what /api/me answered, and shows it. */
+function know(about) {
+  account.about = about;
+  account.mode = modeOf(about);
+  account.assignment = (about.assignments ?? []).find((a) => a.lab === LAB) ?? null;
+  // The server's clock, from the standing it computed: the deadline is the server's.
+  const a = account.assignment;
+  let server = Date.now();
+  if (a?.standing.state === 'open') server = Date.parse(a.due) - 1000 * a.standing.seconds_left;
+  else if (a?.standing.state === 'late') server = Date.parse(a.due) + 1000 * a.standing.late_seconds;
+  else if (a?.standing.state === 'closed') server = Math.max(server, Date.parse(a.cutoff) + 1000);
+  account.clock = { server, local: performance.now() };
+  showWho();
+  showVariant();
+}
+
+/** Asks the server again who is signed in (after a submission, say), keeping what is known if it does not answer. */
+async function refreshAccount() {
+  const about = await whoAmI();
+  if (about.courses !== null) know(about);
+}
+
+const localTime = (at) => new Date(at).toLocaleString(undefined, { dateStyle: 'medium', timeStyle: 'short' });
+
+/** Where the assignment stands now, as the server decides it (see courses::deadline). */
+function standingNow(a) {
+  const now = account.clock.server + (performance.now() - account.clock.local);
+  const due = Date.parse(a.due);
+  const cutoff = Date.parse(a.cutoff);
+  if (now > cutoff) return { state: 'closed' };
+  if (now <= due) return { state: 'open', seconds_left: Math.floor((due - now) / 1000) };
+  const late = Math.max(1, Math.floor((now - due) / 1000));
+  return {
+    state: 'late',
+    late_seconds: late,
+    penalty: Math.min(1, Math.ceil(late / 86400) * a.penalty_per_day),
+    seconds_to_cutoff: Math.floor((cutoff - now) / 1000),
+  };
+}
+
+/** The assignment's due date and what a submission now would be: on time, late and its penalty, or refused. */
+function deadline() {
+  const a = account.assignment;
+  if (!a) return 'Your course has not opened this exercise yet: submissions are not taken.';
+  const standing = standingNow(a);
+  const due = `Due ${localTime(a.due)}`;
+  if (standing.state === 'open') return `${due}: ${span(standing.seconds_left)} left.`;
+  if (standing.state === 'closed') {
+    return `${due}: closed, no more submissions are taken (the last were taken until ${localTime(a.cutoff)}).`;
+  }
+  const cost = standing.penalty > 0 ? `loses ${percent(standing.penalty)} of its score` : 'has no late penalty';
+  return `${due}: a submission now is ${span(standing.late_seconds)} late and ${cost}; ` +
+    `the last are taken until ${localTime(a.cutoff)}, ${span(standing.seconds_to_cutoff)} from now.`;
+}
+
+/** The line above the toolbar: who submits, and the deadline. */
+function showWho() {
+  const { about, mode } = account;
+  const member = about.member;
+  const name = member ? member.name || member.login : '';
+  ui.studentField.hidden = !(mode === 'open' || mode === 'unknown');
+  ui.who.hidden = false;
+  ui.who.dataset.mode = mode;
+  if (mode === 'open') {
+    ui.who.replaceChildren('This server runs no course: anyone may submit under any student id, and results are open to all.');
+  } else if (mode === 'unknown') {
+    ui.who.replaceChildren(`The server did not say who is signed in (${about.problem}): a submission may be refused.`);
+  } else if (mode === 'anonymous') {
+    ui.who.replaceChildren('This server runs a course: ', link('/signin', 'sign in'),
+      ' with your code to submit. Run tests and Run data sets need no sign-in (on the public variant).');
+  } else if (mode === 'staff') {
+    ui.who.replaceChildren(`Signed in as ${name} (${member.role} of ${member.course}): staff do not submit. ` +
+      'Run tests and Run data sets work, on the public variant.');
+  } else {
+    const who = element('span', 'signed-in', `Signed in as ${name} (${member.login}), ${member.course}`);
+    const when = element('span', 'deadline', member.dropped
+      ? `You are no longer on the roster of ${member.course}: new submissions are not taken.`
+      : deadline());
+    when.id = 'deadline';
+    ui.who.replaceChildren(who, ' (', link('/me', 'your submissions'), '). ', when);
+  }
+}
+
+// The time left, or how late a submission would be, as time goes by.
+setInterval(() => {
+  if (account.mode === 'student' && !account.about.member.dropped) byId('deadline').textContent = deadline();
+}, 20_000);
+
 ui.student.value = localStorage.getItem(STORAGE.student) ?? '';
 
+/** Whether the student id typed in the field says who submits (a server without courses). */
+const typedId = () => account.mode === 'open' || account.mode === 'unknown';
+
 function seed() {
-  const student = ui.student.value.trim();
+  if (account.mode === 'student') return account.about.seed;
+  const student = typedId() ? ui.student.value.trim() : '';
   return student ? estlab.studentSeed(COURSE, student) : PUBLIC_VARIANT;
 }
 
@@ -127,11 +250,13 @@ function seed() {
  */
 function showVariant() {
   const current = seed();
-  let note = ui.student.value.trim()
-    ? `your own variant: seed ${current}`
-    : `no id yet: the public variant, seed ${current}`;
+  let note;
+  if (account.mode === 'student') note = `your own variant: seed ${current}`;
+  else if (!typedId()) note = `the public variant, seed ${current}`;
+  else if (ui.student.value.trim()) note = `your own variant: seed ${current}`;
+  else note = `no id yet: the public variant, seed ${current}`;
   const shown = state.functions.size + state.runs.size > 0;
-  if (shown && state.seed !== current) {
+  if (shown && state.seed !== null && state.seed !== current) {
     note += `. The results below are for seed ${state.seed}: run again for this variant.`;
   }
   ui.seed.textContent = note;
@@ -232,15 +357,21 @@ ui.runChoice.addEventListener('change', showRun);
 // ---------------------------------------------------------------------------------------
 // The verdict: the wasm build grades the outputs so far, as the server grades a submission.
 
-/** The test's key: the function it tests, or the data set of a data-set test. */
-function testKey(test) {
-  const [first] = test.name.split(/[:\s]/);
-  return first;
-}
-
 function testRan(key) {
   if (state.functions.has(key)) return true;
   return [...state.runs.keys()].some((name) => name.startsWith(`${key}/`));
+}
+
+/** The Run button of a function's test, or nothing for a data-set test. */
+function runButton(key) {
+  if (!state.job.functions.some((phase) => phase.function === key)) return null;
+  const button = element('button', 'run', 'Run');
+  button.type = 'button';
+  button.disabled = state.busy;
+  button.title = `Run the tests of ${key} only`;
+  button.setAttribute('aria-label', button.title);
+  button.addEventListener('click', () => runTests([key]));
+  return button;
 }
 
 function render() {
@@ -249,7 +380,10 @@ function render() {
   const result = JSON.parse(state.grader.grade(JSON.stringify(outputs)));
   state.result = result;
   ui.tests.classList.toggle('stale', state.source !== null && state.source !== source());
-  ui.tests.replaceChildren(...result.tests.map(testItem));
+  ui.tests.replaceChildren(...result.tests.map((test) => {
+    const key = testKey(test);
+    return testItem(test, { ran: testRan(key), id: `test-${key}`, action: runButton(key) });
+  }));
   const ran = result.tests.filter((test) => testRan(testKey(test)));
   if (ran.length === 0) {
     ui.score.hidden = true;
@@ -264,114 +398,7 @@ function render() {
       (todo.length ? ` ${todo.length === 1 ? '1 function' : `${todo.length} functions`} not implemented yet: ${todo.join(', ')}.` : '');
     if (!state.busy && !ui.tests.classList.contains('stale')) ui.status.textContent = 'Done.';
   }
-  document.body.dataset.ready = 'true';
   showRuns();
-}
-
-/** Whether every failing case of a function's test throws the starter file's "not implemented". */
-function notImplemented(test, key) {
-  const failures = test.failures ?? [];
-  return test.status === 'failed' && test.points === 0 && failures.length > 0 &&
-    failures.every((failure) => (failure.error ?? '').includes(`${key}: not implemented`));
-}
-
-function element(tag, className, text) {
-  const node = document.createElement(tag);
-  if (className) node.className = className;
-  if (text !== undefined) node.textContent = text;
-  return node;
-}
-
-function testItem(test) {
-  const key = testKey(test);
-  const ran = testRan(key);
-  const item = element('li', 'test');
-  item.id = `test-${key}`;
-  item.dataset.status = ran ? test.status : 'not-run';
-  const head = element('div', 'head');
-  const mark = { passed: '✓', failed: '✗', 'not-run': '○' }[item.dataset.status];
-  head.append(element('span', 'mark', mark), element('span', 'name', test.name),
-    element('span', 'points', ran ? `${fmt(test.points, 3)} / ${test.max_points}` : 'not run'));
-  const isFunction = state.job.functions.some((phase) => phase.function === key);
-  if (isFunction) {
-    const button = element('button', 'run', 'Run');
-    button.type = 'button';
-    button.disabled = state.busy;
-    button.title = `Run the tests of ${key} only`;
-    button.setAttribute('aria-label', button.title);
-    button.addEventListener('click', () => runTests([key]));
-    head.append(button);
-  }
-  item.append(head);
-  if (!ran) return item;
-  const details = element('details');
-  const todo = ran && notImplemented(test, key);
-  // A function still as the starter file has it: one line, not a case-by-case account.
-  details.open = test.status === 'failed' && !todo;
-  details.append(element('summary', null, test.status === 'passed' ? 'passed'
-    : todo ? `not implemented yet: every case throws "${key}: not implemented"` : 'why it fails'));
-  const failures = (test.failures ?? []).slice(0, todo ? 1 : SHOWN.failures);
-  const shown = new Set(failures.map((failure) => failure.case));
-  const { summary, rest } = partsOf(test.message, shown);
-  details.append(element('pre', 'message', summary));
-  for (const failure of failures) details.append(failureView(failure));
-  if (rest) details.append(element('pre', 'message more', rest));
-  item.append(details);
-  return item;
-}
-
-/**
- * A function test's message in three parts: the lines before its first failing case (the
- * count, what stopped the code), then the cases shown in detail (`shown`, by id), then the
- * lines of the failing cases not shown in detail and the count of the rest.
- */
-function partsOf(message, shown) {
-  const summary = [];
-  const rest = [];
-  let current = summary;
-  for (const line of message.split('\n')) {
-    const id = line.match(/^(\w+\/\w+) \(/)?.[1];
-    if (id) current = shown.has(id) ? null : rest;
-    else if (line.startsWith('... and ')) current = rest;
-    current?.push(line);
-  }
-  return { summary: summary.join('\n'), rest: rest.join('\n') };
-}
-
-const json = (value) => JSON.stringify(value, null, 1);
-
-function failureView(failure) {
-  const box = element('div', 'failure');
-  box.append(element('h4', null, `${failure.case}: ${failure.note}`));
-  if (failure.error) box.append(element('p', 'thrown', failure.error));
-  if (failure.hint) box.append(element('p', 'hint', `Hint: ${failure.hint.text}`));
-  const mismatches = failure.mismatches ?? [];
-  if (mismatches.length) {
-    const table = element('table', 'mismatches');
-    const header = element('tr');
-    for (const title of ['element', 'expected', 'got', '']) header.append(element('th', null, title));
-    table.append(header);
-    for (const m of mismatches.slice(0, SHOWN.mismatches)) {
-      const row = element('tr');
-      row.append(element('td', null, m.path), element('td', null, show(m.expected)), element('td', null, show(m.got)),
-        element('td', 'problem', m.problem.replaceAll('_', ' ')));
-      table.append(row);
-    }
-    box.append(table);
-    // The server keeps the first few differing elements and counts the rest.
-    const differing = Math.max(failure.differing ?? 0, mismatches.length);
-    const listed = Math.min(mismatches.length, SHOWN.mismatches);
-    if (differing > listed) box.append(element('p', 'more', `… and ${differing - listed} more elements differ.`));
-  }
-  const all = element('details', 'case');
-  all.append(element('summary', null, 'the arguments, the expected output and yours'));
-  all.append(element('pre', null, `arguments: ${json(failure.args)}\nexpected: ${json(failure.expected)}\ngot: ${failure.got === undefined ? '(nothing)' : json(failure.got)}`));
-  box.append(all);
-  return box;
-}
-
-function show(value) {
-  return typeof value === 'number' ? fmt(value, 12) : JSON.stringify(value);
 }
 
 // ---------------------------------------------------------------------------------------
@@ -409,84 +436,204 @@ function showPrefix(name) {
   }
   const readings = phase.steps.reduce((n, step) => n + step.z[0].length, 0);
   const seconds = phase.steps.reduce((t, step) => t + step.delta_t, 0);
-  const link = element('a', null, 'the whole data set on the experiment page');
-  link.href = `/ekf?kind=${phase.dataset}&seed=${state.grader.dataSeed(name)}&mode=${phase.mode}`;
+  const whole = link(`/ekf?kind=${phase.dataset}&seed=${state.grader.dataSeed(name)}&mode=${phase.mode}`,
+    'the whole data set on the experiment page');
   note.replaceChildren(
     `Grading runs the first ${readings} readings of this data set (${fmt(seconds, 3)} s of ${phase.steps.length} time steps), ` +
       'which keeps a grading on the server within a second; the map shows only that much of the path. See ',
-    link, ' with the reference filter.');
+    whole, ' with the reference filter.');
 }
 
 // ---------------------------------------------------------------------------------------
-// Submitting: the server stores the file, grades it on its own, and says so.
-
-const sleep = (ms) => new Promise((resolve) => setTimeout(resolve, ms));
+// Submitting: the server stores the file, grades it on its own, and says so. A refusal
+// shows the server's reason; nothing here ever touches the editor.
 
 async function submit() {
-  const student = ui.student.value.trim();
-  if (!student) {
-    showError(ui.error, 'Enter your student id before you submit: the server grades your own variant.');
-    ui.student.focus();
-    return;
+  const text = source();
+  const body = { source: text };
+  if (typedId()) {
+    const student = ui.student.value.trim();
+    if (account.mode === 'open' && !student) {
+      showError(ui.error, 'Enter your student id before you submit: the server grades your own variant.');
+      ui.student.focus();
+      return;
+    }
+    if (student) Object.assign(body, { student, course: COURSE });
   }
   showError(ui.error, null);
   ui.submit.disabled = true;
   ui.submission.hidden = false;
   ui.submission.dataset.status = 'queued';
-  ui.submission.textContent = 'Sending your file…';
-  const text = source();
+  ui.submission.replaceChildren(element('p', 'verdict', 'Sending your file…'));
+  let answer;
   try {
     const response = await fetch('/api/submissions', {
       method: 'POST',
       headers: { 'content-type': 'application/json' },
-      body: JSON.stringify({ student, course: COURSE, source: text }),
+      body: JSON.stringify(body),
     });
-    const answer = await response.json().catch(() => ({}));
-    if (!response.ok) throw new Error(answer.error ?? `${response.status} ${response.statusText}`);
-    ui.submission.textContent = `Submission ${answer.id} is stored; the server is grading it…`;
-    let submission;
-    do {
-      await sleep(400);
-      const poll = await fetch(answer.url);
-      submission = await poll.json();
-      if (!poll.ok) throw new Error(submission.error ?? `${poll.status} ${poll.statusText}`);
-    } while (submission.status !== 'graded');
+    answer = await response.json().catch(() => ({}));
+    if (!response.ok) {
+      refused(answer.error ?? `${response.status} ${response.statusText}`, response.status);
+      return;
+    }
+    const submission = await pollSubmission(answer.url, (during) => {
+      if (during.status !== 'graded') renderSubmission(ui.submission, during);
+    });
     showSubmission(submission, text);
   } catch (error) {
     ui.submission.dataset.status = 'failed';
-    ui.submission.textContent = `The submission did not go through: ${error.message}. Your code is still here; try again.`;
+    ui.submission.replaceChildren(element('p', 'verdict', answer?.id
+      ? `Submission ${answer.id} is stored, but its grade could not be read: ${error.message}. Your code is still here.`
+      : `The submission did not go through: ${error.message}. Your code is still here; try again.`));
   } finally {
     ui.submit.disabled = state.busy;
+    // The deadline's standing, the history, a session that ended: as the server has them now.
+    if (account.mode !== 'open') await refreshAccount();
   }
 }
 
-function showSubmission(submission, text) {
-  const result = submission.result;
-  ui.submission.dataset.status = result.gradable ? 'graded' : 'not-gradable';
-  if (!result.gradable) {
-    ui.submission.textContent = `Submission ${submission.id} could not be graded (${result.reason}). That costs you nothing: submit again.`;
-    return;
+/** The server did not take the file: its reason, and for someone not signed in, where to sign in. */
+function refused(message, status) {
+  ui.submission.dataset.status = 'refused';
+  const line = element('p', 'verdict', `Not submitted: ${message}`);
+  if (status === 401) {
+    line.append(' ', link('/signin', 'Sign in'), ' with the code your teacher gave you, then submit again: your file stays in this browser.');
   }
-  let line = `The server's grade for submission ${submission.id}: ${fmt(result.points, 4)} of ${result.max_points} points (${Math.round(100 * result.score)}%).`;
+  ui.submission.replaceChildren(line);
+}
+
+function showSubmission(submission, text) {
+  let comparison = '';
   const mine = state.result;
   const complete = mine && state.source === text && state.seed === submission.seed &&
     mine.tests.every((test) => testRan(testKey(test)));
-  if (complete) {
-    line += mine.points === result.points ? ' The same as in your browser.' : ` In your browser: ${fmt(mine.points, 4)} points.`;
+  if (complete && submission.result?.gradable) {
+    comparison = mine.points === submission.result.points ? 'The same as in your browser.' : `In your browser: ${fmt(mine.points, 4)} points.`;
   }
-  if (result.hidden_cases) {
-    // The browser knows only the shown cases; the server's differ at every submission.
-    const hidden = result.tests.flatMap((test) => (test.failures ?? []).filter((f) => f.hidden));
-    line += ' The server also graded hidden cases of every function and ran your filter on data sets you have not seen, which your browser cannot: a function earns the smaller of its pass rates on the shown and the hidden cases.';
-    for (const failure of hidden) {
-      line += `\nHidden case ${failure.case} (${failure.note}) fails` +
-        (failure.error ? `: ${failure.error}` : '') + (failure.hint ? `. Hint: ${failure.hint.text}` : '.');
-    }
+  renderSubmission(ui.submission, submission, { comparison });
+  if (account.mode === 'student') {
+    ui.submission.append(element('p', 'links'));
+    ui.submission.lastChild.append(link(`/ekf/code?submission=${submission.id}`, `Open submission ${submission.id}`),
+      ' · ', link('/me', 'all your submissions'));
   }
-  ui.submission.textContent = line;
 }
 
 ui.submit.addEventListener('click', submit);
 
+// ---------------------------------------------------------------------------------------
+// An earlier submission (?submission=ID): its file read-only beside its result, to load
+// into the editor.
+
+const viewer = {
+  box: byId('viewer'),
+  title: byId('viewer-title'),
+  facts: byId('viewer-facts'),
+  error: byId('viewer-error'),
+  panes: byId('viewer-panes'),
+  code: byId('viewer-code'),
+  result: byId('viewer-result'),
+  load: byId('load-submission'),
+  /** The submission shown, and the read-only editor of its file. */
+  id: null,
+  source: null,
+  view: null,
+};
+
+function showSource(text) {
+  viewer.view ??= new EditorView({
+    doc: '',
+    extensions: [basicSetup, javascript(), EditorView.editable.of(false)],
+    parent: byId('viewer-source'),
+  });
+  viewer.view.dispatch({ changes: { from: 0, to: viewer.view.state.doc.length, insert: text } });
+}
+
+async function openSubmission(id) {
+  if (viewer.id === id) return;
+  viewer.id = id;
+  viewer.source = null;
+  viewer.title.textContent = `Submission ${id}`;
+  viewer.facts.textContent = '';
+  viewer.load.hidden = true;
+  viewer.panes.hidden = true;
+  viewer.result.replaceChildren();
+  showError(viewer.error, null);
+  const url = `/api/submissions/${encodeURIComponent(id)}`;
+  let submission;
+  try {
+    submission = await getJson(url);
+  } catch (error) {
+    const signIn = error.status === 404 && account.mode === 'anonymous' ? ' Sign in to see your own.' : '';
+    showError(viewer.error, error.status === 404
+      ? `There is no such submission of yours (${id}).${signIn}`
+      : `Submission ${id} could not be read: ${error.message}`);
+    return;
+  }
+  const late = submission.late_seconds > 0 ? `${span(submission.late_seconds)} late (−${percent(submission.penalty)})` : 'on time';
+  const by = account.mode === 'student' ? '' : ` by ${submission.student}`;
+  viewer.facts.textContent = `Submitted${by} ${localTime(submission.submitted_at)}, ${late}; variant seed ${submission.seed}.`;
+  viewer.panes.hidden = false;
+  const hasSource = typeof submission.source === 'string';
+  viewer.code.hidden = !hasSource;
+  if (hasSource) {
+    viewer.source = submission.source;
+    viewer.load.hidden = false;
+    showSource(submission.source);
+  } else {
+    viewer.facts.textContent += ' This server runs no course and shows nobody\'s code, only results.';
+  }
+  renderSubmission(viewer.result, submission, { open: true });
+  if (submission.status !== 'graded') {
+    pollSubmission(url, (during) => {
+      if (viewer.id === id) renderSubmission(viewer.result, during, { open: true });
+    }).catch((error) => {
+      if (viewer.id === id) showError(viewer.error, `Submission ${id}: ${error.message}`);
+    });
+  }
+}
+
+/** Shows what the address asks for: a submission, or the workbench. */
+async function route() {
+  const id = new URLSearchParams(window.location.search).get('submission');
+  viewer.box.hidden = id === null;
+  byId('workbench').hidden = id !== null;
+  if (id === null) {
+    showRuns();
+    editor.requestMeasure();
+  } else {
+    ui.runs.hidden = true;
+    await openSubmission(id);
+  }
+}
+
+function backToEditor() {
+  window.history.pushState(null, '', '/ekf/code');
+  return route();
+}
+
+byId('back-to-editor').addEventListener('click', (event) => {
+  event.preventDefault();
+  backToEditor();
+});
+viewer.load.addEventListener('click', async () => {
+  const text = viewer.source;
+  if (text === null) return;
+  if (text !== source()) {
+    const replace = confirm(`Replace the file in your editor with submission ${viewer.id}? ` +
+      'The file there now, saved in this browser, will be lost (download it first to keep it).');
+    if (!replace) return;
+    replaceSource(text);
+  }
+  const id = viewer.id;
+  await backToEditor();
+  ui.saved.textContent = `Submission ${id} is in the editor, saved in this browser.`;
+  editor.focus();
+});
+window.addEventListener('popstate', route);
+
+know(me);
 useSeed();
 render();
+await route();
+document.body.dataset.ready = 'true';

@@ -1,0 +1,231 @@
+// How a grading result is shown: each test with its message and its failing cases in
+// detail (the workbench's own verdict and the server's), and a submission the server has
+// graded, with its score, late penalty and hidden cases. The workbench and the student's
+// page (/me) both show a server's result with `renderSubmission`.
+import { fmt } from '../format.js';
+
+/** Failing cases shown in detail per test, and differing elements per case. */
+const SHOWN = { failures: 2, mismatches: 12 };
+
+export function element(tag, className, text) {
+  const node = document.createElement(tag);
+  if (className) node.className = className;
+  if (text !== undefined) node.textContent = text;
+  return node;
+}
+
+/** A link to `href` reading `text`. */
+export function link(href, text) {
+  const a = element('a', null, text);
+  a.href = href;
+  return a;
+}
+
+/** The test's key: the function it tests, or the data set of a data-set test. */
+export function testKey(test) {
+  const [first] = test.name.split(/[:\s]/);
+  return first;
+}
+
+/** Whether every failing case of a function's test throws the starter file's "not implemented". */
+export function notImplemented(test, key = testKey(test)) {
+  const failures = test.failures ?? [];
+  return test.status === 'failed' && test.points === 0 && failures.length > 0 &&
+    failures.every((failure) => (failure.error ?? '').includes(`${key}: not implemented`));
+}
+
+/** A share as a whole percentage: `85 %`. */
+export function percent(share) {
+  return `${Math.round(100 * share)} %`;
+}
+
+/** A length of time in words, as the server writes it: `3 days 4 h`, `5 h 12 min`, `40 min`. */
+export function span(seconds) {
+  const minutes = Math.floor(Math.max(0, seconds) / 60);
+  const days = Math.floor(minutes / 1440);
+  const hours = Math.floor(minutes / 60) % 24;
+  if (days === 0 && hours === 0) return `${minutes % 60} min`;
+  if (days === 0) return `${hours} h ${minutes % 60} min`;
+  return days === 1 ? `1 day ${hours} h` : `${days} days ${hours} h`;
+}
+
+/**
+ * One test as an item of a list of tests. `ran`: whether the test was run (a test not run
+ * shows its name only); `id`: the item's id; `action`: a node for the head (the
+ * workbench's Run button).
+ */
+export function testItem(test, { ran = true, id = null, action = null } = {}) {
+  const key = testKey(test);
+  const item = element('li', 'test');
+  if (id) item.id = id;
+  item.dataset.key = key;
+  item.dataset.status = ran ? test.status : 'not-run';
+  const head = element('div', 'head');
+  const mark = { passed: '✓', failed: '✗', 'not-run': '○' }[item.dataset.status];
+  head.append(element('span', 'mark', mark), element('span', 'name', test.name),
+    element('span', 'points', ran ? `${fmt(test.points, 3)} / ${test.max_points}` : 'not run'));
+  if (action) head.append(action);
+  item.append(head);
+  if (!ran) return item;
+  const details = element('details');
+  const todo = notImplemented(test, key);
+  // A function still as the starter file has it: one line, not a case-by-case account.
+  details.open = test.status === 'failed' && !todo;
+  details.append(element('summary', null, test.status === 'passed' ? 'passed'
+    : todo ? `not implemented yet: every case throws "${key}: not implemented"` : 'why it fails'));
+  const failures = (test.failures ?? []).slice(0, todo ? 1 : SHOWN.failures);
+  const shown = new Set(failures.map((failure) => failure.case));
+  const { summary, rest } = partsOf(test.message, shown);
+  details.append(element('pre', 'message', summary));
+  for (const failure of failures) details.append(failureView(failure));
+  if (rest) details.append(element('pre', 'message more', rest));
+  item.append(details);
+  return item;
+}
+
+/**
+ * A function test's message in three parts: the lines before its first failing case (the
+ * count, what stopped the code), then the cases shown in detail (`shown`, by id), then the
+ * lines of the failing cases not shown in detail and the count of the rest.
+ */
+function partsOf(message, shown) {
+  const summary = [];
+  const rest = [];
+  let current = summary;
+  for (const line of message.split('\n')) {
+    const id = line.match(/^(\w+\/\w+) \(/)?.[1];
+    if (id) current = shown.has(id) ? null : rest;
+    else if (line.startsWith('... and ')) current = rest;
+    current?.push(line);
+  }
+  return { summary: summary.join('\n'), rest: rest.join('\n') };
+}
+
+const json = (value) => JSON.stringify(value, null, 1);
+
+function show(value) {
+  return typeof value === 'number' ? fmt(value, 12) : JSON.stringify(value);
+}
+
+function failureView(failure) {
+  const box = element('div', 'failure');
+  box.append(element('h4', null, `${failure.case}: ${failure.note}${failure.hidden ? ' (a hidden case)' : ''}`));
+  if (failure.error) box.append(element('p', 'thrown', failure.error));
+  if (failure.hint) box.append(element('p', 'hint', `Hint: ${failure.hint.text}`));
+  const mismatches = failure.mismatches ?? [];
+  if (mismatches.length) {
+    const table = element('table', 'mismatches');
+    const header = element('tr');
+    for (const title of ['element', 'expected', 'got', '']) header.append(element('th', null, title));
+    table.append(header);
+    for (const m of mismatches.slice(0, SHOWN.mismatches)) {
+      const row = element('tr');
+      row.append(element('td', null, m.path), element('td', null, show(m.expected)), element('td', null, show(m.got)),
+        element('td', 'problem', m.problem.replaceAll('_', ' ')));
+      table.append(row);
+    }
+    box.append(table);
+    // The server keeps the first few differing elements and counts the rest.
+    const differing = Math.max(failure.differing ?? 0, mismatches.length);
+    const listed = Math.min(mismatches.length, SHOWN.mismatches);
+    if (differing > listed) box.append(element('p', 'more', `… and ${differing - listed} more elements differ.`));
+  }
+  const given = failure.args !== undefined && failure.args !== null;
+  const got = failure.got === undefined || failure.got === null ? '(nothing)' : json(failure.got);
+  if (given) {
+    const all = element('details', 'case');
+    all.append(element('summary', null, 'the arguments, the expected output and yours'));
+    all.append(element('pre', null, `arguments: ${json(failure.args)}\nexpected: ${json(failure.expected)}\ngot: ${got}`));
+    box.append(all);
+  } else if (!failure.hidden && failure.got !== undefined) {
+    // The server keeps neither the arguments nor the expected output, only the answer.
+    const yours = element('details', 'case');
+    yours.append(element('summary', null, 'your output'));
+    yours.append(element('pre', null, got));
+    box.append(yours);
+  }
+  return box;
+}
+
+// ---------------------------------------------------------------------------------------
+// A submission as the server has it.
+
+const sleep = (ms) => new Promise((resolve) => setTimeout(resolve, ms));
+
+/** A refusal or failure of the API: the server's `error` text and the HTTP status. */
+export class ApiError extends Error {
+  constructor(message, status) {
+    super(message);
+    this.status = status;
+  }
+}
+
+/** GETs `url` as JSON; an answer other than 2xx throws an ApiError with the server's `error`. */
+export async function getJson(url, options) {
+  const response = await fetch(url, options);
+  const body = await response.json().catch(() => ({}));
+  if (!response.ok) throw new ApiError(body.error ?? `${response.status} ${response.statusText}`, response.status);
+  return body;
+}
+
+/**
+ * The submission at `url` (its API path) once graded; `onUpdate` gets it each time it is
+ * read, graded or not.
+ */
+export async function pollSubmission(url, onUpdate = () => {}, interval = 500) {
+  for (;;) {
+    const submission = await getJson(url);
+    onUpdate(submission);
+    if (submission.status === 'graded') return submission;
+    await sleep(interval);
+  }
+}
+
+/**
+ * Fills `box` with the server's account of `submission`: while it waits, that it waits;
+ * once graded, its score (and `comparison`, a sentence comparing it with the browser's),
+ * its late penalty, its hidden cases, and every test of the server's result, folded
+ * unless `open`. Sets `box.dataset.status` to queued, graded, not-gradable.
+ */
+export function renderSubmission(box, submission, { comparison = '', open = false } = {}) {
+  const result = submission.result;
+  if (submission.status !== 'graded' || !result) {
+    box.dataset.status = 'queued';
+    box.replaceChildren(element('p', 'verdict', submission.status === 'grading'
+      ? `Submission ${submission.id} is stored; the server is grading it…`
+      : `Submission ${submission.id} is stored and waits for its grading…`));
+    return;
+  }
+  if (!result.gradable) {
+    box.dataset.status = 'not-gradable';
+    box.replaceChildren(element('p', 'verdict',
+      `Submission ${submission.id} could not be graded (${result.reason}). That costs you nothing: submit again.`));
+    return;
+  }
+  box.dataset.status = 'graded';
+  let line = `The server's grade for submission ${submission.id}: ${fmt(result.points, 4)} of ${result.max_points} points (${Math.round(100 * result.score)}%).`;
+  if (comparison) line += ` ${comparison}`;
+  if (submission.late_seconds > 0) {
+    line += ` Submitted ${span(submission.late_seconds)} late, which costs ${percent(submission.penalty)} of the score: it counts as ${percent(submission.final_score ?? 0)}.`;
+  }
+  const parts = [element('p', 'verdict', line)];
+  if (result.hidden_cases) {
+    // The browser knows only the shown cases; the server's differ at every submission.
+    const hidden = result.tests.flatMap((test) => (test.failures ?? []).filter((f) => f.hidden));
+    let note = 'The server also graded hidden cases of every function and ran your filter on data sets you have not seen, which your browser cannot: a function earns the smaller of its pass rates on the shown and the hidden cases.';
+    for (const failure of hidden) {
+      note += `\nHidden case ${failure.case} (${failure.note}) fails` +
+        (failure.error ? `: ${failure.error}` : '') + (failure.hint ? `. Hint: ${failure.hint.text}` : '.');
+    }
+    parts.push(element('p', 'hidden-cases', note));
+  }
+  const passed = result.tests.filter((test) => test.status === 'passed').length;
+  const tests = element('details', 'server-tests');
+  tests.open = open;
+  tests.append(element('summary', null, `The server's ${result.tests.length} tests: ${passed} pass`));
+  const list = element('ol', 'tests');
+  list.append(...result.tests.map((test) => testItem(test)));
+  tests.append(list);
+  parts.push(tests);
+  box.replaceChildren(...parts);
+}
