@@ -167,6 +167,7 @@ fn function_test(plan: &Plan, function: &str, output: Option<&FunctionOutput>) -
         message: lines.join("\n"),
         failures,
         run: None,
+        hints: Vec::new(),
     }
 }
 
@@ -303,6 +304,7 @@ fn failed(name: String, message: String) -> Test {
         message,
         failures: Vec::new(),
         run: None,
+        hints: Vec::new(),
     }
 }
 
@@ -420,6 +422,7 @@ fn dataset_test(plan: &Plan, outputs: &Outputs, kind: Kind, functions: &Function
         message: lines.join("\n"),
         failures: Vec::new(),
         run: figures,
+        hints: Vec::new(),
     }
 }
 

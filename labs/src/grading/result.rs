@@ -1,7 +1,7 @@
 //! The result of a grading (`DESIGN.md`, "The result") and its exports to the Gradescope and
 //! PrairieLearn `results.json` formats.
 
-use super::hints::{Hint, describe};
+use super::hints::{Hint, HintKind, describe};
 use crate::cases::Mismatch;
 use serde::{Deserialize, Serialize};
 use serde_json::{Value, json};
@@ -42,6 +42,10 @@ pub struct Test {
     /// A data-set run's figures, for the browser's view.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub run: Option<RunFigures>,
+    /// In the stored form: every classic mistake the failing cases point to, once each
+    /// (the stored failures are fewer), for the class's statistics.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub hints: Vec<HintKind>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -176,6 +180,15 @@ impl GradeResult {
     /// its first few differing elements.
     pub fn stored(mut self) -> GradeResult {
         for test in &mut self.tests {
+            for kind in test
+                .failures
+                .iter()
+                .filter_map(|f| f.hint.as_ref().map(|h| h.kind))
+            {
+                if !test.hints.contains(&kind) {
+                    test.hints.push(kind);
+                }
+            }
             test.failures.truncate(STORED_FAILURES);
             for failure in &mut test.failures {
                 failure.args = Value::Null;

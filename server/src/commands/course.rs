@@ -5,6 +5,7 @@ use super::{print, read};
 use crate::commands::serve::PUBLIC_URL;
 use crate::courses::codes::{self, NewCode};
 use crate::courses::deadline::{Counts, Policy, parse_moment, parse_penalty};
+use crate::courses::export::Format;
 use crate::courses::{check_course_name, roster};
 use crate::error::Error;
 use crate::store::{Member, NewMember, Role, Store};
@@ -96,6 +97,17 @@ enum Command {
         /// Revoke the token of this id (estlab course show lists them).
         #[arg(long, value_name = "ID", conflicts_with = "role")]
         revoke: Option<i64>,
+    },
+    /// Export an exercise's grades, results or sources.
+    Export {
+        course: String,
+        #[arg(value_parser = [LAB])]
+        lab: String,
+        #[arg(long, value_enum)]
+        format: Format,
+        /// Where the export goes (a CSV, or a zip); an existing file is not overwritten.
+        #[arg(long, value_name = "PATH")]
+        out: PathBuf,
     },
     /// List the courses.
     List,
@@ -240,6 +252,31 @@ pub fn run(args: &Args) -> Result<(), Error> {
             print(&format!(
                 "API token {id} ({} of {course}); shown once, send it as `Authorization: Bearer TOKEN`:\n{token}",
                 role.as_str()
+            ))
+        }
+        Command::Export {
+            course,
+            lab,
+            format,
+            out,
+        } => {
+            store.course(course)?;
+            if out.exists() {
+                return Err(Error::Invalid(format!(
+                    "{} exists already: name a new file with --out",
+                    out.display()
+                )));
+            }
+            let bytes = crate::courses::export::make(&store, course, lab, *format)?.ok_or_else(|| {
+                Error::Invalid(format!(
+                    "{course} has not opened {lab} (estlab course assign {course} {lab} --due ...)"
+                ))
+            })?;
+            std::fs::write(out, &bytes).map_err(Error::io(out))?;
+            print(&format!(
+                "{} ({} bytes) written",
+                out.display(),
+                bytes.len()
             ))
         }
         Command::List => {

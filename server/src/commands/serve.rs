@@ -1,6 +1,6 @@
 //! `estlab serve`: the web application.
 
-use crate::clock::SystemClock;
+use crate::clock::{Clock, SystemClock};
 use crate::error::Error;
 use crate::sandbox::Sandbox;
 use crate::store::Store;
@@ -81,7 +81,8 @@ async fn serve(args: &Args) -> Result<(), Error> {
         .clone()
         .unwrap_or_else(|| format!("{scheme}://{addr}"));
     store.set_setting(PUBLIC_URL, public_url.trim_end_matches('/'))?;
-    let grader = Grader::new(store, sandbox, secret, parallel);
+    let clock: Arc<dyn Clock> = Arc::new(SystemClock);
+    let grader = Grader::new(store, sandbox, secret, parallel, Arc::clone(&clock));
     let resumed = grader.resume()?;
     if resumed > 0 {
         println!(
@@ -91,7 +92,7 @@ async fn serve(args: &Args) -> Result<(), Error> {
     let app = web::router(Arc::new(AppState {
         assets,
         grader,
-        clock: Arc::new(SystemClock),
+        clock,
         limiter: SignInLimiter::default(),
         behind_https: args.behind_https,
     }));

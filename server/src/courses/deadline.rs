@@ -30,12 +30,23 @@ impl Counts {
         }
     }
 
-    /// The score that counts among `scores` (final scores after penalties, oldest first;
-    /// `None` for a submission not graded yet or not gradable, which never counts).
-    pub fn pick(self, scores: impl IntoIterator<Item = Option<f64>>) -> Option<f64> {
-        let graded = scores.into_iter().flatten();
+    /// The item that counts among `items` (oldest first), by `score` (the final score
+    /// after penalties; `None` for a submission not graded yet or not gradable, which
+    /// never counts): the best (the earliest of equals) or the last.
+    pub fn choose<T>(
+        self,
+        items: impl IntoIterator<Item = T>,
+        score: impl Fn(&T) -> Option<f64>,
+    ) -> Option<T> {
+        let graded = items.into_iter().filter(|item| score(item).is_some());
         match self {
-            Counts::Best => graded.reduce(f64::max),
+            Counts::Best => graded.reduce(|best, item| {
+                if score(&item) > score(&best) {
+                    item
+                } else {
+                    best
+                }
+            }),
             Counts::Last => graded.last(),
         }
     }
@@ -196,9 +207,16 @@ mod tests {
 
     #[test]
     fn the_score_that_counts_is_the_best_or_the_last_graded() {
-        let scores = [Some(0.5), Some(0.9), Some(0.7), None];
-        assert_eq!(Counts::Best.pick(scores), Some(0.9));
-        assert_eq!(Counts::Last.pick(scores), Some(0.7));
-        assert_eq!(Counts::Best.pick([None, None]), None);
+        let scores = [
+            (1, Some(0.5)),
+            (2, Some(0.9)),
+            (3, Some(0.9)),
+            (4, Some(0.7)),
+            (5, None),
+        ];
+        let score = |item: &(i32, Option<f64>)| item.1;
+        assert_eq!(Counts::Best.choose(scores, score), Some((2, Some(0.9))));
+        assert_eq!(Counts::Last.choose(scores, score), Some((4, Some(0.7))));
+        assert_eq!(Counts::Best.choose([(1, None)], score), None);
     }
 }

@@ -2,8 +2,10 @@
 //! assignment, the sign-in codes and tokens (made here, kept only as hashes), and the
 //! roster file an instructor imports.
 
+pub mod class;
 pub mod codes;
 pub mod deadline;
+pub mod export;
 pub mod roster;
 
 /// A course's short name (`el2320`): what `estlab course` and the database call it.

@@ -6,11 +6,15 @@
 
 mod access;
 mod courses;
+mod regrades;
 mod schema;
+mod staff;
 mod submissions;
 
 pub use access::{CodeCheck, FoundCode, TokenInfo};
 pub use courses::{Assignment, Course, Member, NewMember, Role, RosterChange};
+pub use regrades::{Change, EarlierResult, Regrade, Scope};
+pub use staff::{AuditEntry, Extension, NewExtension};
 pub use submissions::{NewSubmission, Status, Submission, SubmissionSummary, ToGrade};
 
 use rusqlite::Connection;

@@ -79,6 +79,58 @@ const MIGRATIONS: &[&str] = &[
     ALTER TABLE submissions ADD COLUMN late_seconds INTEGER NOT NULL DEFAULT 0;
     ALTER TABLE submissions ADD COLUMN penalty REAL NOT NULL DEFAULT 0;
     CREATE INDEX submissions_by_member ON submissions (member, lab, id);",
+    // 3: the instructor's side. Each result names the grader that produced it; a
+    // regrade keeps the result it replaces (`results`) and goes item by item, so a stop
+    // resumes it; extensions move one student's dates; staff actions are logged.
+    "ALTER TABLE submissions ADD COLUMN grader TEXT;
+    CREATE TABLE regrades (
+        id INTEGER PRIMARY KEY,
+        course TEXT NOT NULL,
+        lab TEXT NOT NULL,
+        scope TEXT NOT NULL,
+        requested_by TEXT NOT NULL,
+        grader TEXT NOT NULL,
+        created_at INTEGER NOT NULL,
+        finished_at INTEGER
+    );
+    CREATE TABLE regrade_items (
+        regrade INTEGER NOT NULL REFERENCES regrades (id),
+        submission INTEGER NOT NULL REFERENCES submissions (id),
+        done INTEGER NOT NULL DEFAULT 0,
+        old_score REAL,
+        new_score REAL,
+        PRIMARY KEY (regrade, submission)
+    );
+    CREATE INDEX regrade_items_waiting ON regrade_items (done, regrade, submission);
+    CREATE TABLE results (
+        id INTEGER PRIMARY KEY,
+        submission INTEGER NOT NULL REFERENCES submissions (id),
+        grader TEXT,
+        score REAL,
+        result TEXT NOT NULL,
+        graded_at TEXT,
+        replaced_by INTEGER REFERENCES regrades (id)
+    );
+    CREATE INDEX results_by_submission ON results (submission, id);
+    CREATE TABLE extensions (
+        course TEXT NOT NULL,
+        lab TEXT NOT NULL,
+        member INTEGER NOT NULL REFERENCES members (id),
+        due INTEGER NOT NULL,
+        cutoff INTEGER NOT NULL,
+        granted_by TEXT NOT NULL,
+        granted_at INTEGER NOT NULL,
+        PRIMARY KEY (course, lab, member)
+    );
+    CREATE TABLE audit (
+        id INTEGER PRIMARY KEY,
+        course TEXT NOT NULL,
+        at INTEGER NOT NULL,
+        actor TEXT NOT NULL,
+        action TEXT NOT NULL,
+        detail TEXT NOT NULL
+    );
+    CREATE INDEX audit_by_course ON audit (course, id);",
 ];
 
 /// Brings the schema up to the newest version, one migration per transaction.

@@ -7,6 +7,7 @@ use jiff::Timestamp;
 use labs::grading::GradeResult;
 use rusqlite::{OptionalExtension, Row, params};
 use serde::Serialize;
+use std::collections::HashMap;
 
 /// Where a submission is on its way to a result.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -83,6 +84,11 @@ pub struct Submission {
     pub summary: SubmissionSummary,
     pub seed: u64,
     pub graded_at: Option<String>,
+    /// The grader that produced the result.
+    pub grader: Option<String>,
+    /// Results regrades replaced, oldest first (filled by whoever reads them).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub earlier: Vec<super::EarlierResult>,
     #[serde(skip)]
     pub member: Option<i64>,
     pub result: Option<GradeResult>,
@@ -171,13 +177,18 @@ impl Store {
         )?)
     }
 
-    /// Stores the result of a grading.
-    pub fn finish_grading(&self, id: i64, result: &GradeResult) -> Result<(), Error> {
+    /// Stores the result of a grading, with the grader that produced it.
+    pub fn finish_grading(
+        &self,
+        id: i64,
+        result: &GradeResult,
+        grader: Option<&str>,
+    ) -> Result<(), Error> {
         let text = serde_json::to_string(result).expect("results serialise");
         self.connection().execute(
-            "UPDATE submissions SET status = 'graded', result = ?2, score = ?3,
+            "UPDATE submissions SET status = 'graded', result = ?2, score = ?3, grader = ?4,
              graded_at = strftime('%Y-%m-%dT%H:%M:%fZ', 'now') WHERE id = ?1",
-            params![id, text, result.gradable.then_some(result.score)],
+            params![id, text, result.gradable.then_some(result.score), grader],
         )?;
         Ok(())
     }
@@ -189,7 +200,11 @@ impl Store {
             [id],
             |row| Ok((row.get(0)?, row.get(1)?)),
         )?;
-        self.finish_grading(id, &GradeResult::not_gradable(&lab, seed as u64, reason))
+        self.finish_grading(
+            id,
+            &GradeResult::not_gradable(&lab, seed as u64, reason),
+            None,
+        )
     }
 
     /// The submissions whose grading has not finished (queued, or cut off by a stop), oldest first.
@@ -211,7 +226,7 @@ impl Store {
             .query_row(
                 &format!(
                     "SELECT {SUMMARY_COLUMNS}, seed, graded_at, member, result,
-                     CASE WHEN ?2 THEN source END FROM submissions WHERE id = ?1"
+                     CASE WHEN ?2 THEN source END, grader FROM submissions WHERE id = ?1"
                 ),
                 params![id, with_source],
                 |row| {
@@ -223,6 +238,8 @@ impl Store {
                             member: row.get(11)?,
                             result: None,
                             source: row.get(13)?,
+                            grader: row.get(14)?,
+                            earlier: Vec::new(),
                         },
                         row.get::<_, Option<String>>(12)?,
                     ))
@@ -269,6 +286,32 @@ impl Store {
             .query_map(params![course, lab], summary)?
             .collect::<Result<_, _>>()?;
         Ok(list)
+    }
+
+    /// The stored results of some submissions (those graded), by id.
+    pub fn results(&self, ids: &[i64]) -> Result<HashMap<i64, GradeResult>, Error> {
+        let texts: Vec<(i64, String)> = {
+            let connection = self.connection();
+            let mut statement = connection.prepare_cached(
+                "SELECT result FROM submissions WHERE id = ?1 AND result IS NOT NULL",
+            )?;
+            let mut texts = Vec::with_capacity(ids.len());
+            for &id in ids {
+                if let Some(text) = statement.query_row([id], |row| row.get(0)).optional()? {
+                    texts.push((id, text));
+                }
+            }
+            texts
+        };
+        texts
+            .into_iter()
+            .map(|(id, text)| {
+                Ok((
+                    id,
+                    serde_json::from_str(&text).map_err(Error::StoredResult)?,
+                ))
+            })
+            .collect()
     }
 
     /// Every submission in the database, oldest first (for the checks after a migration

@@ -1,13 +1,18 @@
 //! Grading of stored submissions in the background: each in a blocking task that waits
 //! for its sandbox worker process, at most `parallel` at once, so that the server's
-//! other requests are answered meanwhile.
+//! other requests are answered meanwhile. Regrades go through the same permits, one item
+//! at a time, so that a regrade of a whole class never holds up a student's submission
+//! by more than one grading.
 
 use super::Secret;
+use crate::clock::Clock;
 use crate::sandbox::Sandbox;
 use crate::store::{Error, NewSubmission, Store};
+use labs::grading::Plan;
+use sha2::{Digest, Sha256};
 use std::sync::Arc;
 use std::time::Instant;
-use tokio::sync::Semaphore;
+use tokio::sync::{Notify, Semaphore};
 
 /// Stores submissions and grades them.
 pub struct Grader {
@@ -16,21 +21,48 @@ pub struct Grader {
     /// Draws every submission's hidden cases.
     secret: Secret,
     permits: Semaphore,
+    /// Which grader this is: the release and a hash of what it grades (see `version`).
+    version: String,
+    /// Wakes the regrade loop when a regrade starts.
+    regrades: Notify,
+    clock: Arc<dyn Clock>,
+}
+
+/// The grader's version: the release, and a hash of the job of one plan with hidden
+/// cases (so it changes when the cases, the data sets or the server's secret change).
+fn version(secret: &Secret) -> String {
+    let job = Plan::with_hidden(1, secret.hidden_seed(0)).job();
+    let digest = Sha256::digest(serde_json::to_vec(&job).expect("jobs serialise"));
+    let hash: String = digest[..6].iter().map(|b| format!("{b:02x}")).collect();
+    format!("estlab {} plan {hash}", env!("CARGO_PKG_VERSION"))
 }
 
 impl Grader {
     /// A grader over `store` running at most `parallel` sandboxes at once.
-    pub fn new(store: Store, sandbox: Sandbox, secret: Secret, parallel: usize) -> Arc<Grader> {
+    pub fn new(
+        store: Store,
+        sandbox: Sandbox,
+        secret: Secret,
+        parallel: usize,
+        clock: Arc<dyn Clock>,
+    ) -> Arc<Grader> {
         Arc::new(Grader {
+            version: version(&secret),
             store,
             sandbox,
             secret,
             permits: Semaphore::new(parallel.max(1)),
+            regrades: Notify::new(),
+            clock,
         })
     }
 
     pub fn store(&self) -> &Store {
         &self.store
+    }
+
+    pub fn version(&self) -> &str {
+        &self.version
     }
 
     /// Stores a submission, then queues its grading; returns its id once it is stored.
@@ -40,13 +72,21 @@ impl Grader {
         Ok(id)
     }
 
-    /// Queues every submission whose grading a stop cut off; returns how many.
+    /// Queues every submission whose grading a stop cut off and starts the regrade loop
+    /// (which resumes any regrade a stop cut off); returns how many submissions.
     pub fn resume(self: &Arc<Self>) -> Result<usize, Error> {
         let ids = self.store.unfinished()?;
         for &id in &ids {
             self.queue(id);
         }
+        let grader = Arc::clone(self);
+        tokio::spawn(async move { grader.regrade_loop().await });
         Ok(ids.len())
+    }
+
+    /// Tells the regrade loop that a regrade has started.
+    pub fn regrade_started(&self) {
+        self.regrades.notify_one();
     }
 
     fn queue(self: &Arc<Self>, id: i64) {
@@ -86,7 +126,8 @@ impl Grader {
         let hidden = self.secret.hidden_seed(id);
         let result = self.sandbox.grade(&job.source, job.seed, Some(hidden));
         let score = result.gradable.then_some(result.score);
-        self.store.finish_grading(id, &result.stored())?;
+        self.store
+            .finish_grading(id, &result.stored(), Some(&self.version))?;
         tracing::info!(
             submission = id,
             course = job.course,
@@ -94,6 +135,69 @@ impl Grader {
             duration_ms = started.elapsed().as_millis() as u64,
             score,
             "graded"
+        );
+        Ok(())
+    }
+
+    /// Regrades item after item, oldest regrade first, for as long as the server runs.
+    async fn regrade_loop(self: Arc<Self>) {
+        loop {
+            let store = Arc::clone(&self);
+            let next = tokio::task::spawn_blocking(move || store.store.next_regrade_item()).await;
+            let (regrade, submission) = match next {
+                Ok(Ok(Some(item))) => item,
+                Ok(Ok(None)) => {
+                    self.regrades.notified().await;
+                    continue;
+                }
+                Ok(Err(err)) => {
+                    tracing::error!("regrading: {err}");
+                    self.regrades.notified().await;
+                    continue;
+                }
+                Err(err) => {
+                    tracing::error!("regrading stopped: {err}");
+                    return;
+                }
+            };
+            let _permit = self
+                .permits
+                .acquire()
+                .await
+                .expect("the semaphore stays open");
+            let worker = Arc::clone(&self);
+            let done =
+                tokio::task::spawn_blocking(move || worker.regrade(regrade, submission)).await;
+            if let Ok(Err(err)) | Err(err) = done.map_err(|e| Error::Task(e.to_string())) {
+                // The database failed (the sandbox's failures are results): the item stays
+                // waiting, tried again at the next regrade or start rather than in a spin.
+                tracing::error!("regrading submission {submission}: {err}");
+                self.regrades.notified().await;
+            }
+        }
+    }
+
+    fn regrade(&self, regrade: i64, submission: i64) -> Result<(), Error> {
+        let started = Instant::now();
+        let job = self.store.to_regrade(submission)?;
+        let hidden = self.secret.hidden_seed(submission);
+        let result = self.sandbox.grade(&job.source, job.seed, Some(hidden));
+        let score = result.gradable.then_some(result.score);
+        self.store.finish_regrade_item(
+            regrade,
+            submission,
+            &result.stored(),
+            &self.version,
+            self.clock.now(),
+        )?;
+        tracing::info!(
+            regrade,
+            submission,
+            course = job.course,
+            student = job.student,
+            duration_ms = started.elapsed().as_millis() as u64,
+            score,
+            "regraded"
         );
         Ok(())
     }

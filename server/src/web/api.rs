@@ -96,7 +96,8 @@ pub async fn submit(
         }
         let lab = submit.lab.clone();
         let course = member.course.clone();
-        let assignment = blocking(&state, move |store| store.assignment(&course, &lab))
+        let id = member.id;
+        let policy = blocking(&state, move |store| store.policy_for(&course, &lab, id))
             .await?
             .ok_or_else(|| {
                 Error::Forbidden(format!(
@@ -104,13 +105,13 @@ pub async fn submit(
                     submit.lab
                 ))
             })?;
-        let (late_seconds, penalty) = match assignment.policy.timing(now) {
+        let (late_seconds, penalty) = match policy.timing(now) {
             Timing::OnTime => (0, 0.0),
             Timing::Late { seconds, penalty } => (seconds, penalty),
             Timing::Closed => {
                 return Err(Error::Forbidden(format!(
                     "the cutoff of this exercise was {}: no more submissions are taken. Your file is still in the editor; keep a copy with Download.",
-                    assignment.policy.cutoff.strftime("%Y-%m-%d %H:%M UTC")
+                    policy.cutoff.strftime("%Y-%m-%d %H:%M UTC")
                 )));
             }
         };
@@ -213,7 +214,16 @@ pub async fn submission(
     let missing = || Error::NotFound(format!("there is no submission {id:?}"));
     let number: i64 = id.parse().map_err(|_| missing())?;
     let (courses, submission) = blocking(&state, move |store| {
-        Ok((store.any_course()?, store.get(number, true)?))
+        let submission = store
+            .get(number, true)?
+            .map(|submission| {
+                Ok::<_, crate::store::Error>(crate::store::Submission {
+                    earlier: store.earlier_results(number)?,
+                    ..submission
+                })
+            })
+            .transpose()?;
+        Ok((store.any_course()?, submission))
     })
     .await?;
     let mut submission = submission.ok_or_else(missing)?;

@@ -31,7 +31,7 @@ pub struct PageAssets<'a> {
 }
 
 /// The pages that have a script of their own.
-pub const PAGES: [&str; 6] = ["home", "car", "ekf", "code", "signin", "me"];
+pub const PAGES: [&str; 7] = ["home", "car", "ekf", "code", "signin", "me", "dashboard"];
 
 /// The name of the Web Worker that runs students' code starts so.
 const WORKER_PREFIX: &str = "student-worker-";

@@ -162,11 +162,17 @@ fn gather(
                 assignment,
             });
         } else {
+            let mut assignment = assignment;
+            if let Some(policy) = store.policy_for(&member.course, &assignment.lab, member.id)? {
+                assignment.policy = policy;
+            }
+            let standing = Standing::of(&assignment.policy, now);
             let history = store.history(member.id, &assignment.lab)?;
             let counting_score = assignment
                 .policy
                 .counts
-                .pick(history.iter().map(|s| s.final_score));
+                .choose(history.iter(), |s| s.final_score)
+                .and_then(|s| s.final_score);
             let latest = match history.last() {
                 Some(last) => store.get(last.id, false)?,
                 None => None,

@@ -10,6 +10,7 @@ mod me;
 mod origin;
 mod pages;
 mod signin;
+mod staff;
 mod viewer;
 
 pub use assets::Assets;
@@ -62,6 +63,11 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/signin", get(signin::page).post(signin::sign_in))
         .route("/signout", post(signin::sign_out))
         .route("/me", get(me::page))
+        .route("/courses/{course}/{lab}", get(staff::page))
+        .route(
+            "/courses/{course}/{lab}/students/{student}",
+            get(staff::student_page),
+        )
         .route("/api/me", get(me::about))
         .route("/api/me/submissions", get(me::history))
         .route("/api/submissions", post(api::submit))
@@ -71,6 +77,19 @@ pub fn router(state: Arc<AppState>) -> Router {
             "/api/courses/{course}/submissions",
             get(api::course_submissions),
         )
+        .route("/api/courses/{course}/labs/{lab}/class", get(staff::class))
+        .route(
+            "/api/courses/{course}/labs/{lab}/students/{student}",
+            get(staff::student),
+        )
+        .route(
+            "/api/courses/{course}/labs/{lab}/export",
+            get(staff::export),
+        )
+        .route("/api/courses/{course}/regrades", post(staff::start_regrade))
+        .route("/api/courses/{course}/regrades/{id}", get(staff::regrade))
+        .route("/api/courses/{course}/extensions", post(staff::extend))
+        .route("/api/courses/{course}/audit", get(staff::audit))
         .route("/healthz", get(|| async { "ok" }))
         .route("/favicon.svg", get(pages::icon))
         .route("/favicon.ico", get(pages::icon))

@@ -1,0 +1,188 @@
+//! A course's exercise at a glance, for its staff: a row per student (the score that
+//! counts, the latest, lateness, when last submitted), the distribution of scores, the
+//! share of students passing each test, and the classic mistakes the class makes.
+
+use super::deadline::Policy;
+use crate::store::{self, Extension, Member, Store, SubmissionSummary};
+use labs::grading::{GradeResult, HintKind, Status as TestStatus};
+use serde::Serialize;
+use std::collections::{BTreeMap, HashMap};
+
+/// One submission as a row shows it.
+#[derive(Clone, Debug, Serialize)]
+pub struct Shown {
+    pub id: i64,
+    pub submitted_at: String,
+    pub score: Option<f64>,
+    pub penalty: f64,
+    pub final_score: Option<f64>,
+    pub late_seconds: i64,
+}
+
+impl Shown {
+    fn of(s: &SubmissionSummary) -> Shown {
+        Shown {
+            id: s.id,
+            submitted_at: s.submitted_at.clone(),
+            score: s.score,
+            penalty: s.penalty,
+            final_score: s.final_score,
+            late_seconds: s.late_seconds,
+        }
+    }
+}
+
+/// A student of the roster and how they did.
+#[derive(Debug, Serialize)]
+pub struct StudentRow {
+    pub id: String,
+    pub name: String,
+    pub email: String,
+    pub dropped: bool,
+    pub submissions: usize,
+    /// The submission whose score counts (best or last graded, after penalties).
+    pub counting: Option<Shown>,
+    pub latest: Option<Shown>,
+    pub extension: Option<Extension>,
+}
+
+/// How many students pass a test, of those with a graded submission that counts.
+#[derive(Debug, Serialize)]
+pub struct TestShare {
+    pub name: String,
+    pub passed: usize,
+    pub of: usize,
+}
+
+/// A classic mistake and the students whose counting submission shows it.
+#[derive(Debug, Serialize)]
+pub struct MistakeShare {
+    pub kind: HintKind,
+    pub text: String,
+    pub students: Vec<String>,
+}
+
+#[derive(Debug, Serialize)]
+pub struct ClassView {
+    pub students: Vec<StudentRow>,
+    /// Counting scores in ten bins: [0, 0.1), ..., [0.9, 1].
+    pub distribution: [usize; 10],
+    pub tests: Vec<TestShare>,
+    pub mistakes: Vec<MistakeShare>,
+}
+
+/// The class from its people, their submissions to the exercise (any order), the
+/// extensions, and the stored results of the counting submissions (`results(ids)`).
+pub fn class_view<E>(
+    members: &[Member],
+    submissions: &[SubmissionSummary],
+    extensions: Vec<Extension>,
+    policy: &Policy,
+    results: impl FnOnce(&[i64]) -> Result<HashMap<i64, GradeResult>, E>,
+) -> Result<ClassView, E> {
+    let mut by_student: HashMap<&str, Vec<&SubmissionSummary>> = HashMap::new();
+    for s in submissions {
+        by_student.entry(s.student.as_str()).or_default().push(s);
+    }
+    let mut extensions: HashMap<String, Extension> = extensions
+        .into_iter()
+        .map(|e| (e.student.clone(), e))
+        .collect();
+    let students: Vec<StudentRow> = members
+        .iter()
+        .filter(|m| !m.role.is_staff())
+        .map(|m| {
+            let mut own = by_student.remove(m.login.as_str()).unwrap_or_default();
+            own.sort_by_key(|s| s.id);
+            StudentRow {
+                id: m.login.clone(),
+                name: m.name.clone(),
+                email: m.email.clone(),
+                dropped: m.dropped,
+                submissions: own.len(),
+                counting: policy
+                    .counts
+                    .choose(own.iter().copied(), |s| s.final_score)
+                    .map(Shown::of),
+                latest: own.last().map(|s| Shown::of(s)),
+                extension: extensions.remove(&m.login),
+            }
+        })
+        .collect();
+    let counted: Vec<(&str, i64)> = students
+        .iter()
+        .filter(|s| !s.dropped)
+        .filter_map(|s| s.counting.as_ref().map(|c| (s.id.as_str(), c.id)))
+        .collect();
+    let ids: Vec<i64> = counted.iter().map(|(_, id)| *id).collect();
+    let results = results(&ids)?;
+    let mut distribution = [0; 10];
+    for s in students.iter().filter(|s| !s.dropped) {
+        if let Some(score) = s.counting.as_ref().and_then(|c| c.final_score) {
+            distribution[((score * 10.0).floor() as usize).min(9)] += 1;
+        }
+    }
+    let mut tests: Vec<TestShare> = Vec::new();
+    let mut mistakes: BTreeMap<String, (HintKind, Vec<String>)> = BTreeMap::new();
+    for (student, id) in &counted {
+        let Some(result) = results.get(id) else {
+            continue;
+        };
+        for test in &result.tests {
+            let share = match tests.iter_mut().find(|t| t.name == test.name) {
+                Some(share) => share,
+                None => {
+                    tests.push(TestShare {
+                        name: test.name.clone(),
+                        passed: 0,
+                        of: 0,
+                    });
+                    tests.last_mut().expect("just pushed")
+                }
+            };
+            share.of += 1;
+            share.passed += usize::from(test.status == TestStatus::Passed);
+            for kind in &test.hints {
+                let key = serde_json::to_string(kind).expect("hint kinds serialise");
+                let entry = mistakes.entry(key).or_insert((*kind, Vec::new()));
+                if !entry.1.iter().any(|s| s == student) {
+                    entry.1.push(student.to_string());
+                }
+            }
+        }
+    }
+    let mut mistakes: Vec<MistakeShare> = mistakes
+        .into_values()
+        .map(|(kind, students)| MistakeShare {
+            text: kind.hint().text,
+            kind,
+            students,
+        })
+        .collect();
+    mistakes.sort_by_key(|m| std::cmp::Reverse(m.students.len()));
+    Ok(ClassView {
+        students,
+        distribution,
+        tests,
+        mistakes,
+    })
+}
+
+/// A course's exercise at a glance, from the database; `None` when the course has not
+/// opened the exercise.
+pub fn load(store: &Store, course: &str, lab: &str) -> Result<Option<ClassView>, store::Error> {
+    let Some(assignment) = store.assignment(course, lab)? else {
+        return Ok(None);
+    };
+    let members = store.members(course)?;
+    let submissions = store.course_submissions(course, lab)?;
+    let extensions = store.extensions(course, lab)?;
+    class_view(
+        &members,
+        &submissions,
+        extensions,
+        &assignment.policy,
+        |ids| store.results(ids),
+    )
+    .map(Some)
+}

@@ -1,0 +1,317 @@
+//! Regrading: a job over some graded submissions of a course's exercise, item by item,
+//! each result replacing the current one while the replaced one is kept, so that nobody's
+//! score changes silently and a stop resumes the job where it was.
+
+use super::submissions::ToGrade;
+use super::{Error, Store};
+use jiff::Timestamp;
+use labs::grading::GradeResult;
+use rusqlite::{OptionalExtension, params};
+use serde::{Deserialize, Serialize};
+
+/// What a regrade covers.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(
+    rename_all = "snake_case",
+    tag = "kind",
+    content = "of",
+    deny_unknown_fields
+)]
+pub enum Scope {
+    /// One submission, by id.
+    Submission(i64),
+    /// Every graded submission of one student, by their id.
+    Student(String),
+    /// Every graded submission of the course's people to the exercise.
+    Assignment,
+}
+
+impl Scope {
+    fn describe(&self) -> String {
+        match self {
+            Scope::Submission(id) => format!("submission {id}"),
+            Scope::Student(login) => format!("student {login}"),
+            Scope::Assignment => "assignment".into(),
+        }
+    }
+}
+
+/// A score a regrade changed (or not yet: `new_score` is none until the item is done).
+#[derive(Debug, Serialize)]
+pub struct Change {
+    pub submission: i64,
+    pub student: String,
+    pub old_score: Option<f64>,
+    pub new_score: Option<f64>,
+}
+
+/// A regrade job and how far it has come.
+#[derive(Debug, Serialize)]
+pub struct Regrade {
+    pub id: i64,
+    pub course: String,
+    pub lab: String,
+    pub scope: String,
+    pub requested_by: String,
+    /// The grader that regrades.
+    pub grader: String,
+    pub created_at: Timestamp,
+    pub finished_at: Option<Timestamp>,
+    pub total: usize,
+    pub done: usize,
+    /// The submissions whose score went up or down, by how much.
+    pub changed: Vec<Change>,
+}
+
+/// A result a regrade replaced, kept.
+#[derive(Debug, Serialize)]
+pub struct EarlierResult {
+    pub grader: Option<String>,
+    pub score: Option<f64>,
+    pub graded_at: Option<String>,
+    pub result: GradeResult,
+}
+
+fn timestamp(seconds: i64) -> Timestamp {
+    Timestamp::from_second(seconds).unwrap_or(Timestamp::UNIX_EPOCH)
+}
+
+/// A replaced result as stored: grader, score, when graded, the result's JSON.
+type EarlierRow = (Option<String>, Option<f64>, Option<String>, String);
+
+/// Scores within this are the same score.
+const SAME: f64 = 1e-9;
+
+impl Store {
+    /// Starts a regrade of the graded submissions in `scope`; returns its id and how
+    /// many submissions it covers (none is an error: nothing to regrade).
+    pub fn start_regrade(
+        &self,
+        course: &str,
+        lab: &str,
+        scope: &Scope,
+        requested_by: &str,
+        grader: &str,
+        now: Timestamp,
+    ) -> Result<(i64, usize), Error> {
+        let mut connection = self.connection();
+        let transaction = connection.transaction()?;
+        let (filter, value): (&str, rusqlite::types::Value) = match scope {
+            Scope::Submission(id) => ("AND s.id = ?3", (*id).into()),
+            Scope::Student(login) => ("AND m.login = ?3", login.clone().into()),
+            Scope::Assignment => ("AND ?3 IS NULL", rusqlite::types::Value::Null),
+        };
+        let ids: Vec<i64> = {
+            let mut statement = transaction.prepare(&format!(
+                "SELECT s.id FROM submissions s JOIN members m ON m.id = s.member
+                 WHERE m.course = ?1 AND s.lab = ?2 AND s.status = 'graded' {filter}
+                 ORDER BY s.id"
+            ))?;
+            statement
+                .query_map(params![course, lab, value], |row| row.get(0))?
+                .collect::<Result<_, _>>()?
+        };
+        if ids.is_empty() {
+            return Err(Error::Conflict(format!(
+                "nothing to regrade: no graded submission of {} in {course}'s {lab}",
+                scope.describe()
+            )));
+        }
+        transaction.execute(
+            "INSERT INTO regrades (course, lab, scope, requested_by, grader, created_at)
+             VALUES (?1, ?2, ?3, ?4, ?5, ?6)",
+            params![
+                course,
+                lab,
+                scope.describe(),
+                requested_by,
+                grader,
+                now.as_second()
+            ],
+        )?;
+        let regrade = transaction.last_insert_rowid();
+        for id in &ids {
+            transaction.execute(
+                "INSERT INTO regrade_items (regrade, submission, old_score)
+                 SELECT ?1, id, score FROM submissions WHERE id = ?2",
+                params![regrade, id],
+            )?;
+        }
+        transaction.commit()?;
+        Ok((regrade, ids.len()))
+    }
+
+    /// The next item of the oldest unfinished regrade, if any.
+    pub fn next_regrade_item(&self) -> Result<Option<(i64, i64)>, Error> {
+        Ok(self
+            .connection()
+            .query_row(
+                "SELECT regrade, submission FROM regrade_items WHERE done = 0
+                 ORDER BY regrade, submission LIMIT 1",
+                [],
+                |row| Ok((row.get(0)?, row.get(1)?)),
+            )
+            .optional()?)
+    }
+
+    /// What regrading a submission needs; its status stays as it is (graded), so the
+    /// student may go on submitting.
+    pub fn to_regrade(&self, submission: i64) -> Result<ToGrade, Error> {
+        Ok(self.connection().query_row(
+            "SELECT source, seed, course, student FROM submissions WHERE id = ?1",
+            [submission],
+            |row| {
+                Ok(ToGrade {
+                    source: row.get(0)?,
+                    seed: row.get::<_, i64>(1)? as u64,
+                    course: row.get(2)?,
+                    student: row.get(3)?,
+                })
+            },
+        )?)
+    }
+
+    /// Records a regrade's result for one submission in one transaction: the current
+    /// result is kept among the earlier ones, the new one becomes current, the item is
+    /// done, and the regrade finished when it was its last item.
+    pub fn finish_regrade_item(
+        &self,
+        regrade: i64,
+        submission: i64,
+        result: &GradeResult,
+        grader: &str,
+        now: Timestamp,
+    ) -> Result<(), Error> {
+        let text = serde_json::to_string(result).expect("results serialise");
+        let score = result.gradable.then_some(result.score);
+        let mut connection = self.connection();
+        let transaction = connection.transaction()?;
+        let waiting: bool = transaction.query_row(
+            "SELECT EXISTS (SELECT 1 FROM regrade_items
+             WHERE regrade = ?1 AND submission = ?2 AND done = 0)",
+            params![regrade, submission],
+            |row| row.get(0),
+        )?;
+        if !waiting {
+            return Ok(());
+        }
+        transaction.execute(
+            "INSERT INTO results (submission, grader, score, result, graded_at, replaced_by)
+             SELECT id, grader, score, result, graded_at, ?2 FROM submissions WHERE id = ?1",
+            params![submission, regrade],
+        )?;
+        transaction.execute(
+            "UPDATE submissions SET result = ?2, score = ?3, grader = ?4,
+             graded_at = strftime('%Y-%m-%dT%H:%M:%fZ', 'now') WHERE id = ?1",
+            params![submission, text, score, grader],
+        )?;
+        transaction.execute(
+            "UPDATE regrade_items SET done = 1, new_score = ?3 WHERE regrade = ?1 AND submission = ?2",
+            params![regrade, submission, score],
+        )?;
+        transaction.execute(
+            "UPDATE regrades SET finished_at = ?2 WHERE id = ?1 AND NOT EXISTS
+             (SELECT 1 FROM regrade_items WHERE regrade = ?1 AND done = 0)",
+            params![regrade, now.as_second()],
+        )?;
+        transaction.commit()?;
+        Ok(())
+    }
+
+    /// A course's regrades, newest first, each with its progress and changed scores.
+    pub fn regrades(&self, course: &str) -> Result<Vec<Regrade>, Error> {
+        let ids: Vec<i64> = {
+            let connection = self.connection();
+            let mut statement =
+                connection.prepare("SELECT id FROM regrades WHERE course = ?1 ORDER BY id DESC")?;
+            statement
+                .query_map([course], |row| row.get(0))?
+                .collect::<Result<_, _>>()?
+        };
+        ids.into_iter()
+            .map(|id| self.regrade(course, id))
+            .filter_map(Result::transpose)
+            .collect()
+    }
+
+    /// One regrade of a course, with its progress and the scores it changed.
+    pub fn regrade(&self, course: &str, id: i64) -> Result<Option<Regrade>, Error> {
+        let connection = self.connection();
+        let Some(mut regrade) = connection
+            .query_row(
+                "SELECT r.id, r.course, r.lab, r.scope, r.requested_by, r.grader, r.created_at,
+                        r.finished_at, count(i.submission), coalesce(sum(i.done), 0)
+                 FROM regrades r LEFT JOIN regrade_items i ON i.regrade = r.id
+                 WHERE r.id = ?1 AND r.course = ?2 GROUP BY r.id",
+                params![id, course],
+                |row| {
+                    Ok(Regrade {
+                        id: row.get(0)?,
+                        course: row.get(1)?,
+                        lab: row.get(2)?,
+                        scope: row.get(3)?,
+                        requested_by: row.get(4)?,
+                        grader: row.get(5)?,
+                        created_at: timestamp(row.get(6)?),
+                        finished_at: row.get::<_, Option<i64>>(7)?.map(timestamp),
+                        total: row.get::<_, i64>(8)? as usize,
+                        done: row.get::<_, i64>(9)? as usize,
+                        changed: Vec::new(),
+                    })
+                },
+            )
+            .optional()?
+        else {
+            return Ok(None);
+        };
+        let mut statement = connection.prepare(
+            "SELECT i.submission, s.student, i.old_score, i.new_score
+             FROM regrade_items i JOIN submissions s ON s.id = i.submission
+             WHERE i.regrade = ?1 AND i.done = 1 ORDER BY s.student, i.submission",
+        )?;
+        regrade.changed = statement
+            .query_map([id], |row| {
+                Ok(Change {
+                    submission: row.get(0)?,
+                    student: row.get(1)?,
+                    old_score: row.get(2)?,
+                    new_score: row.get(3)?,
+                })
+            })?
+            .filter(|change| {
+                change
+                    .as_ref()
+                    .map_or(true, |c| match (c.old_score, c.new_score) {
+                        (Some(old), Some(new)) => (old - new).abs() > SAME,
+                        (old, new) => old.is_some() != new.is_some(),
+                    })
+            })
+            .collect::<Result<_, _>>()?;
+        Ok(Some(regrade))
+    }
+
+    /// The results regrades replaced for a submission, oldest first.
+    pub fn earlier_results(&self, submission: i64) -> Result<Vec<EarlierResult>, Error> {
+        let rows: Vec<EarlierRow> = {
+            let connection = self.connection();
+            let mut statement = connection.prepare(
+                "SELECT grader, score, graded_at, result FROM results WHERE submission = ?1 ORDER BY id",
+            )?;
+            statement
+                .query_map([submission], |row| {
+                    Ok((row.get(0)?, row.get(1)?, row.get(2)?, row.get(3)?))
+                })?
+                .collect::<Result<_, _>>()?
+        };
+        rows.into_iter()
+            .map(|(grader, score, graded_at, text)| {
+                Ok(EarlierResult {
+                    grader,
+                    score,
+                    graded_at,
+                    result: serde_json::from_str(&text).map_err(Error::StoredResult)?,
+                })
+            })
+            .collect()
+    }
+}

@@ -1,0 +1,394 @@
+//! The instructor's side: a course's exercise at a glance (`/courses/{course}/{lab}`),
+//! one student's submissions, regrades, extensions, the audit log and the exports. Every
+//! route is for the course's staff (signed in, or with the course's API token); anyone
+//! else gets the same 404 as for a course that does not exist.
+
+use super::pages::{Nav, html};
+use super::viewer::Viewer;
+use super::{AppState, Error, blocking};
+use crate::courses::class::{self, ClassView};
+use crate::courses::deadline::{Policy, parse_moment};
+use crate::courses::export::{self, Format};
+use crate::store::{
+    AuditEntry, Extension, Member, NewExtension, Regrade, Scope, SubmissionSummary,
+};
+use askama::Template;
+use axum::Json;
+use axum::body::Bytes;
+use axum::extract::{Path, Query, State};
+use axum::http::{StatusCode, header};
+use axum::response::{IntoResponse, Redirect, Response};
+use labs::grading::LAB;
+use serde::{Deserialize, Serialize};
+use std::sync::Arc;
+
+/// Who acts, as the audit log names them.
+fn actor(viewer: &Viewer) -> String {
+    match viewer {
+        Viewer::Member(member) => member.login.clone(),
+        Viewer::Token(token) => format!("API token {}", token.id),
+        Viewer::Anonymous => "nobody".into(),
+    }
+}
+
+fn staff_only(viewer: &Viewer, course: &str) -> Result<(), Error> {
+    if viewer.is_staff_of(course) {
+        Ok(())
+    } else {
+        Err(Error::NotFound(format!("there is no course {course:?}")))
+    }
+}
+
+fn known_lab(lab: &str) -> Result<(), Error> {
+    if lab == LAB {
+        Ok(())
+    } else {
+        Err(Error::NotFound(format!(
+            "there is no exercise {lab:?}; the exercise here is {LAB:?}"
+        )))
+    }
+}
+
+/// `GET /api/courses/{course}/labs/{lab}/class`.
+#[derive(Serialize)]
+pub struct ClassAnswer {
+    pub course: String,
+    pub lab: String,
+    pub policy: Policy,
+    /// The grader that grades now (a regrade uses it).
+    pub grader: String,
+    #[serde(flatten)]
+    pub view: ClassView,
+    pub regrades: Vec<Regrade>,
+}
+
+async fn class_answer(state: &AppState, course: String, lab: String) -> Result<ClassAnswer, Error> {
+    let grader = state.grader.version().to_string();
+    blocking(state, move |store| {
+        let Some(assignment) = store.assignment(&course, &lab)? else {
+            return Ok(None);
+        };
+        let Some(view) = class::load(store, &course, &lab)? else {
+            return Ok(None);
+        };
+        let regrades = store
+            .regrades(&course)?
+            .into_iter()
+            .filter(|r| r.lab == lab)
+            .collect();
+        Ok(Some(ClassAnswer {
+            course,
+            policy: assignment.policy,
+            lab,
+            grader,
+            view,
+            regrades,
+        }))
+    })
+    .await?
+    .ok_or_else(|| Error::NotFound("the course has not opened this exercise".into()))
+}
+
+pub async fn class(
+    State(state): State<Arc<AppState>>,
+    viewer: Viewer,
+    Path((course, lab)): Path<(String, String)>,
+) -> Result<Response, Error> {
+    staff_only(&viewer, &course)?;
+    known_lab(&lab)?;
+    Ok(Json(class_answer(&state, course, lab).await?).into_response())
+}
+
+/// `GET /api/courses/{course}/labs/{lab}/students/{student}`: one student's submissions.
+#[derive(Serialize)]
+pub struct StudentAnswer {
+    pub member: Member,
+    pub policy: Policy,
+    pub extension: Option<Extension>,
+    pub submissions: Vec<SubmissionSummary>,
+}
+
+pub async fn student(
+    State(state): State<Arc<AppState>>,
+    viewer: Viewer,
+    Path((course, lab, student)): Path<(String, String, String)>,
+) -> Result<Response, Error> {
+    staff_only(&viewer, &course)?;
+    known_lab(&lab)?;
+    let missing = Error::NotFound(format!("{course} has no student {student:?}"));
+    let answer = blocking(&state, move |store| {
+        let Ok(member) = store.member(&course, &student) else {
+            return Ok(None);
+        };
+        if member.role.is_staff() {
+            return Ok(None);
+        }
+        let Some(policy) = store.policy_for(&course, &lab, member.id)? else {
+            return Ok(None);
+        };
+        let extension = store
+            .extensions(&course, &lab)?
+            .into_iter()
+            .find(|e| e.student == member.login);
+        Ok(Some(StudentAnswer {
+            submissions: store.history(member.id, &lab)?,
+            member,
+            policy,
+            extension,
+        }))
+    })
+    .await?
+    .ok_or(missing)?;
+    Ok(Json(answer).into_response())
+}
+
+/// The body of `POST /api/courses/{course}/regrades`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RegradeRequest {
+    #[serde(default = "default_lab")]
+    lab: String,
+    scope: Scope,
+}
+
+fn default_lab() -> String {
+    LAB.into()
+}
+
+#[derive(Serialize)]
+struct RegradeStarted {
+    id: i64,
+    total: usize,
+    url: String,
+}
+
+/// `POST /api/courses/{course}/regrades`: grades again, in the background, with the
+/// grader as it is now; answers at once with where to follow it.
+pub async fn start_regrade(
+    State(state): State<Arc<AppState>>,
+    viewer: Viewer,
+    Path(course): Path<String>,
+    body: Bytes,
+) -> Result<Response, Error> {
+    staff_only(&viewer, &course)?;
+    let request: RegradeRequest = serde_json::from_slice(&body)
+        .map_err(|e| Error::BadRequest(format!("the regrade request: {e}")))?;
+    known_lab(&request.lab)?;
+    let who = actor(&viewer);
+    let now = state.clock.now();
+    let grader = state.grader.version().to_string();
+    let url_course = course.clone();
+    let (id, total) = blocking(&state, move |store| {
+        let started =
+            store.start_regrade(&course, &request.lab, &request.scope, &who, &grader, now)?;
+        store.audit(
+            &course,
+            &who,
+            "regrade",
+            &format!(
+                "{} of {}: {} submission(s) with {grader}",
+                describe(&request.scope),
+                request.lab,
+                started.1
+            ),
+            now,
+        )?;
+        Ok(started)
+    })
+    .await
+    .map_err(|error| match error {
+        Error::Store(crate::store::Error::Conflict(message)) => Error::Conflict(message),
+        other => other,
+    })?;
+    state.grader.regrade_started();
+    let url = format!("/api/courses/{url_course}/regrades/{id}");
+    Ok((
+        StatusCode::ACCEPTED,
+        [(header::LOCATION, url.clone())],
+        Json(RegradeStarted { id, total, url }),
+    )
+        .into_response())
+}
+
+fn describe(scope: &Scope) -> String {
+    match scope {
+        Scope::Submission(id) => format!("submission {id}"),
+        Scope::Student(login) => format!("every submission of {login}"),
+        Scope::Assignment => "every submission".into(),
+    }
+}
+
+/// `GET /api/courses/{course}/regrades/{id}`: its progress and the scores it changed.
+pub async fn regrade(
+    State(state): State<Arc<AppState>>,
+    viewer: Viewer,
+    Path((course, id)): Path<(String, String)>,
+) -> Result<Response, Error> {
+    staff_only(&viewer, &course)?;
+    let missing = Error::NotFound(format!("there is no regrade {id:?}"));
+    let Ok(number) = id.parse::<i64>() else {
+        return Err(missing);
+    };
+    let found = blocking(&state, move |store| store.regrade(&course, number))
+        .await?
+        .ok_or(missing)?;
+    Ok(Json(found).into_response())
+}
+
+/// The body of `POST /api/courses/{course}/extensions`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ExtensionRequest {
+    #[serde(default = "default_lab")]
+    lab: String,
+    student: String,
+    due: String,
+    cutoff: Option<String>,
+}
+
+/// `POST /api/courses/{course}/extensions`: new dates for one student, recorded with who
+/// granted them.
+pub async fn extend(
+    State(state): State<Arc<AppState>>,
+    viewer: Viewer,
+    Path(course): Path<String>,
+    body: Bytes,
+) -> Result<Response, Error> {
+    staff_only(&viewer, &course)?;
+    let request: ExtensionRequest = serde_json::from_slice(&body)
+        .map_err(|e| Error::BadRequest(format!("the extension request: {e}")))?;
+    known_lab(&request.lab)?;
+    let due =
+        parse_moment(&request.due).map_err(|e| Error::BadRequest(format!("field `due`: {e}")))?;
+    let cutoff = match &request.cutoff {
+        Some(text) => {
+            parse_moment(text).map_err(|e| Error::BadRequest(format!("field `cutoff`: {e}")))?
+        }
+        None => due,
+    };
+    if cutoff < due {
+        return Err(Error::BadRequest(
+            "field `cutoff`: before `due`; the cutoff is the last moment a late submission is taken".into(),
+        ));
+    }
+    let who = actor(&viewer);
+    let now = state.clock.now();
+    let granted = blocking(&state, move |store| {
+        let grant = NewExtension {
+            lab: &request.lab,
+            student: &request.student,
+            due,
+            cutoff,
+        };
+        store.grant_extension(&course, &grant, &who, now)
+    })
+    .await
+    .map_err(|error| match error {
+        Error::Store(crate::store::Error::UnknownMember { course, login }) => {
+            Error::NotFound(format!("{course} has no student {login:?}"))
+        }
+        Error::Store(crate::store::Error::Conflict(message)) => Error::BadRequest(message),
+        other => other,
+    })?;
+    Ok(Json(granted).into_response())
+}
+
+/// `GET /api/courses/{course}/audit`: every staff action, newest first.
+pub async fn audit(
+    State(state): State<Arc<AppState>>,
+    viewer: Viewer,
+    Path(course): Path<String>,
+) -> Result<Response, Error> {
+    staff_only(&viewer, &course)?;
+    let log: Vec<AuditEntry> = blocking(&state, move |store| store.audit_log(&course)).await?;
+    Ok(Json(log).into_response())
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ExportQuery {
+    format: Format,
+}
+
+/// `GET /api/courses/{course}/labs/{lab}/export?format=csv|gradescope|prairielearn|sources`.
+pub async fn export(
+    State(state): State<Arc<AppState>>,
+    viewer: Viewer,
+    Path((course, lab)): Path<(String, String)>,
+    Query(query): Query<ExportQuery>,
+) -> Result<Response, Error> {
+    staff_only(&viewer, &course)?;
+    known_lab(&lab)?;
+    let name = query.format.file_name(&course, &lab);
+    let bytes = blocking(&state, move |store| {
+        export::make(store, &course, &lab, query.format)
+    })
+    .await?
+    .ok_or_else(|| Error::NotFound("the course has not opened this exercise".into()))?;
+    Ok((
+        [
+            (
+                header::CONTENT_TYPE,
+                query.format.content_type().to_string(),
+            ),
+            (
+                header::CONTENT_DISPOSITION,
+                format!("attachment; filename=\"{name}\""),
+            ),
+        ],
+        bytes,
+    )
+        .into_response())
+}
+
+#[derive(Template)]
+#[template(path = "dashboard.html")]
+struct Dashboard<'a> {
+    page: &'a str,
+    assets: super::assets::PageAssets<'a>,
+    nav: Nav,
+    course: String,
+    lab: String,
+    /// A student's page when set.
+    student: Option<String>,
+}
+
+async fn dashboard_page(
+    state: &Arc<AppState>,
+    viewer: &Viewer,
+    course: String,
+    lab: String,
+    student: Option<String>,
+) -> Result<Response, Error> {
+    if matches!(viewer, Viewer::Anonymous) {
+        return Ok(Redirect::to("/signin").into_response());
+    }
+    staff_only(viewer, &course)?;
+    known_lab(&lab)?;
+    html(&Dashboard {
+        page: "dashboard",
+        assets: state.assets.page("dashboard"),
+        nav: Nav::of(state, viewer).await?,
+        course,
+        lab,
+        student,
+    })
+}
+
+/// `GET /courses/{course}/{lab}`: the class at a glance.
+pub async fn page(
+    State(state): State<Arc<AppState>>,
+    viewer: Viewer,
+    Path((course, lab)): Path<(String, String)>,
+) -> Result<Response, Error> {
+    dashboard_page(&state, &viewer, course, lab, None).await
+}
+
+/// `GET /courses/{course}/{lab}/students/{student}`: one student's submissions.
+pub async fn student_page(
+    State(state): State<Arc<AppState>>,
+    viewer: Viewer,
+    Path((course, lab, student)): Path<(String, String, String)>,
+) -> Result<Response, Error> {
+    dashboard_page(&state, &viewer, course, lab, Some(student)).await
+}

@@ -1,0 +1,369 @@
+//! What the in-process tests of the web application share: the real application over a
+//! database in a temporary directory, with a clock the tests set, and requests sent as
+//! one kind of asker or another.
+
+#![allow(dead_code)]
+
+use axum::Router;
+use axum::body::Body;
+use axum::extract::ConnectInfo;
+use axum::http::{HeaderMap, Method, Request, StatusCode, header};
+use estlab::clock::{Clock, FixedClock};
+use estlab::courses::codes::new_code;
+use estlab::courses::deadline::{Counts, Policy};
+use estlab::courses::roster;
+use estlab::sandbox::Sandbox;
+use estlab::store::{Member, NewMember, Role, Status, Store, Submission};
+use estlab::submissions::{Grader, Secret};
+use estlab::web::{AppState, Assets, SESSION_COOKIE, SignInLimiter};
+use jiff::{SignedDuration, Timestamp};
+use serde_json::{Value, json};
+use std::net::SocketAddr;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+use tower::ServiceExt;
+
+/// The correct solution: scores 1.
+pub const CORRECT: &str = include_str!("../../../tests/student/correct.js");
+
+/// How long a test waits for one grading before it gives up.
+pub const GRADING_BOUND: Duration = Duration::from_secs(120);
+
+/// A source that grades at once (every function throws), marked so that it can be
+/// looked for in answers.
+pub fn quick_source(marker: &str) -> String {
+    format!("function init(){{ throw new Error(\"not implemented\") }} // {marker}\n")
+}
+
+pub fn at(text: &str) -> Timestamp {
+    text.parse()
+        .unwrap_or_else(|e| panic!("{text:?} is not a moment: {e}"))
+}
+
+pub fn peer(a: u8, b: u8, c: u8, d: u8) -> SocketAddr {
+    SocketAddr::from(([a, b, c, d], 9))
+}
+
+// ---- the application ----
+
+/// The built browser assets: the pages link to them, so the router needs them.
+pub fn assets() -> Assets {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/web/dist");
+    if !dir.join("manifest.json").is_file() {
+        panic!(
+            "the browser assets are not built at {}: run scripts/build-web first (scripts/test does)",
+            dir.display()
+        );
+    }
+    Assets::load(&dir).unwrap_or_else(|e| panic!("{e} (run scripts/build-web)"))
+}
+
+/// The web application over a fresh data directory, with a clock of its own.
+pub struct App {
+    pub dir: tempfile::TempDir,
+    pub clock: Arc<FixedClock>,
+    pub state: Arc<AppState>,
+    pub router: Router,
+}
+
+impl App {
+    pub fn new() -> App {
+        let dir = tempfile::tempdir().unwrap();
+        let store = Store::open(dir.path()).unwrap();
+        let secret = Secret::load_or_create(dir.path()).unwrap();
+        let sandbox = Sandbox::new(PathBuf::from(env!("CARGO_BIN_EXE_estlab")), 1);
+        let clock = Arc::new(FixedClock::new(at("2026-12-01T10:00:00Z")));
+        let grader = Grader::new(
+            store,
+            sandbox,
+            secret,
+            1,
+            Arc::clone(&clock) as Arc<dyn Clock>,
+        );
+        let state = Arc::new(AppState {
+            assets: assets(),
+            grader,
+            clock: Arc::clone(&clock) as Arc<dyn Clock>,
+            limiter: SignInLimiter::default(),
+            behind_https: false,
+        });
+        let router = estlab::web::router(Arc::clone(&state));
+        App {
+            dir,
+            clock,
+            state,
+            router,
+        }
+    }
+
+    pub fn store(&self) -> &Store {
+        self.state.grader.store()
+    }
+
+    pub fn now(&self) -> Timestamp {
+        self.clock.now()
+    }
+
+    pub async fn send(&self, request: Req) -> Answer {
+        let response = self
+            .router
+            .clone()
+            .oneshot(request.build())
+            .await
+            .expect("the router answers every request");
+        let (parts, body) = response.into_parts();
+        let bytes = axum::body::to_bytes(body, usize::MAX).await.unwrap();
+        Answer {
+            status: parts.status,
+            headers: parts.headers,
+            body: String::from_utf8_lossy(&bytes).into_owned(),
+        }
+    }
+
+    /// Waits until a submission is graded; panics after `GRADING_BOUND`.
+    pub async fn graded(&self, id: i64) -> Submission {
+        let give_up = Instant::now() + GRADING_BOUND;
+        loop {
+            let submission = self
+                .store()
+                .get(id, false)
+                .unwrap()
+                .unwrap_or_else(|| panic!("submission {id} is not stored"));
+            if submission.summary.status == Status::Graded {
+                return submission;
+            }
+            assert!(
+                Instant::now() < give_up,
+                "submission {id} was not graded within {GRADING_BOUND:?} (status {:?})",
+                submission.summary.status
+            );
+            tokio::time::sleep(Duration::from_millis(25)).await;
+        }
+    }
+
+    /// Submits `source` as `who`, expecting 202; waits for the grading; returns the id
+    /// and the 202's body.
+    pub async fn submit_graded(&self, who: &Who, source: &str) -> (i64, Value) {
+        let answer = self
+            .send(
+                Req::post("/api/submissions")
+                    .who(who)
+                    .json(json!({ "source": source })),
+            )
+            .await;
+        assert_eq!(answer.status, StatusCode::ACCEPTED, "{}", answer.body);
+        let accepted = answer.json();
+        let id = accepted["id"].as_i64().expect("an id");
+        self.graded(id).await;
+        (id, accepted)
+    }
+
+    /// Adds a student to a course's roster (keeping those already on it).
+    pub fn enrol(&self, course: &str, id: &str) -> Member {
+        let mut students: Vec<roster::Student> = self
+            .store()
+            .members(course)
+            .unwrap()
+            .into_iter()
+            .filter(|m| !m.role.is_staff() && !m.dropped)
+            .map(|m| roster_line(&m.login, &m.name, &m.email))
+            .collect();
+        students.push(roster_line(id, &format!("Student {id}"), ""));
+        self.store().import_roster(course, &students).unwrap();
+        self.store().member(course, id).unwrap()
+    }
+
+    pub fn staff(&self, course: &str, email: &str, role: Role) -> Member {
+        self.store()
+            .add_member(
+                course,
+                &NewMember {
+                    login: email,
+                    name: "Staff Person",
+                    email,
+                    role,
+                },
+            )
+            .unwrap()
+    }
+
+    /// A new sign-in code for a member (not one-time, no expiry); its text.
+    pub fn code(&self, member: &Member) -> String {
+        let code = new_code();
+        self.store()
+            .add_code(member.id, &code, false, None, self.now())
+            .unwrap();
+        code.text
+    }
+
+    /// Signs in with `code` from `from`, expecting success; the session.
+    pub async fn sign_in(&self, code: &str, from: SocketAddr) -> Who {
+        let answer = self.send(Req::sign_in(code).sent_from(from)).await;
+        assert_eq!(
+            answer.status,
+            StatusCode::SEE_OTHER,
+            "signing in: {}",
+            answer.body
+        );
+        assert_eq!(answer.location(), Some("/me"));
+        Who::Session(answer.session().expect("a session cookie"))
+    }
+
+    /// A member signed in with a code of their own.
+    pub async fn signed_in(&self, member: &Member) -> Who {
+        let code = self.code(member);
+        self.sign_in(&code, peer(127, 0, 0, 1)).await
+    }
+
+    pub fn count(&self) -> usize {
+        self.store().all_submissions().unwrap().len()
+    }
+}
+
+pub fn roster_line(id: &str, name: &str, email: &str) -> roster::Student {
+    roster::Student {
+        id: id.into(),
+        name: name.into(),
+        email: email.into(),
+    }
+}
+
+/// An assignment of the exercise due well after the clock's start.
+pub fn open_policy(now: Timestamp) -> Policy {
+    Policy {
+        due: now + SignedDuration::from_hours(30 * 24),
+        cutoff: now + SignedDuration::from_hours(31 * 24),
+        penalty_per_day: 0.1,
+        counts: Counts::Best,
+    }
+}
+
+/// Who asks.
+#[derive(Clone, Debug)]
+pub enum Who {
+    Anonymous,
+    /// The value of the session cookie.
+    Session(String),
+    /// An API token, sent as `Authorization: Bearer`.
+    Token(String),
+}
+
+/// A request about to be sent.
+pub struct Req {
+    method: Method,
+    uri: String,
+    headers: Vec<(String, String)>,
+    body: Option<(&'static str, String)>,
+    peer: SocketAddr,
+}
+
+impl Req {
+    pub fn new(method: Method, uri: &str) -> Req {
+        Req {
+            method,
+            uri: uri.into(),
+            headers: Vec::new(),
+            body: None,
+            peer: peer(127, 0, 0, 9),
+        }
+    }
+
+    pub fn get(uri: &str) -> Req {
+        Req::new(Method::GET, uri)
+    }
+
+    pub fn post(uri: &str) -> Req {
+        Req::new(Method::POST, uri)
+    }
+
+    /// `POST /signin` with a code, as the sign-in form sends it.
+    pub fn sign_in(code: &str) -> Req {
+        Req::post("/signin").form(&format!("code={code}"))
+    }
+
+    pub fn header(mut self, name: &str, value: &str) -> Req {
+        self.headers.push((name.into(), value.into()));
+        self
+    }
+
+    pub fn who(self, who: &Who) -> Req {
+        match who {
+            Who::Anonymous => self,
+            Who::Session(key) => self.header("cookie", &format!("{SESSION_COOKIE}={key}")),
+            Who::Token(token) => self.header("authorization", &format!("Bearer {token}")),
+        }
+    }
+
+    pub fn json(mut self, value: Value) -> Req {
+        self.body = Some(("application/json", value.to_string()));
+        self
+    }
+
+    pub fn form(mut self, text: &str) -> Req {
+        self.body = Some(("application/x-www-form-urlencoded", text.into()));
+        self
+    }
+
+    /// The client's address (what the sign-in limiter counts by).
+    pub fn sent_from(mut self, peer: SocketAddr) -> Req {
+        self.peer = peer;
+        self
+    }
+
+    pub fn build(self) -> Request<Body> {
+        let mut builder = Request::builder().method(self.method).uri(self.uri);
+        for (name, value) in &self.headers {
+            builder = builder.header(name, value);
+        }
+        let body = match self.body {
+            Some((content_type, text)) => {
+                builder = builder.header(header::CONTENT_TYPE, content_type);
+                Body::from(text)
+            }
+            None => Body::empty(),
+        };
+        let mut request = builder.body(body).unwrap();
+        request.extensions_mut().insert(ConnectInfo(self.peer));
+        request
+    }
+}
+
+/// A response, read whole.
+pub struct Answer {
+    pub status: StatusCode,
+    pub headers: HeaderMap,
+    pub body: String,
+}
+
+impl Answer {
+    pub fn json(&self) -> Value {
+        serde_json::from_str(&self.body).unwrap_or_else(|e| panic!("not JSON ({e}): {}", self.body))
+    }
+
+    pub fn location(&self) -> Option<&str> {
+        self.headers
+            .get(header::LOCATION)
+            .and_then(|v| v.to_str().ok())
+    }
+
+    /// The session key a `Set-Cookie` header sets (not the empty one of signing out).
+    pub fn session(&self) -> Option<String> {
+        self.headers
+            .get_all(header::SET_COOKIE)
+            .iter()
+            .filter_map(|v| v.to_str().ok())
+            .filter_map(|v| v.split(';').next())
+            .filter_map(|pair| pair.trim().split_once('='))
+            .find(|(name, value)| *name == SESSION_COOKIE && !value.is_empty())
+            .map(|(_, value)| value.to_string())
+    }
+
+    /// The `error` of a JSON error body.
+    pub fn error(&self) -> String {
+        self.json()["error"]
+            .as_str()
+            .unwrap_or_else(|| panic!("no `error` in {}", self.body))
+            .to_string()
+    }
+}
