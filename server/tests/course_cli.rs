@@ -256,6 +256,81 @@ fn a_course_is_set_up_from_scratch_and_re_imports_change_only_what_changed() {
         ok(&data, &["course", "list"]),
         "el2320\tApplied Estimation HT26\n"
     );
+
+    // The gradebook: a row per student of the roster, dropped ones marked.
+    let grades = dir.path().join("grades.csv");
+    let export = [
+        "course",
+        "export",
+        "el2320",
+        "ekf-localization",
+        "--format",
+        "csv",
+        "--out",
+        grades.to_str().unwrap(),
+    ];
+    ok(&data, &export);
+    let mut reader = csv::Reader::from_path(&grades).unwrap();
+    assert_eq!(
+        reader.headers().unwrap().iter().collect::<Vec<_>>(),
+        [
+            "id",
+            "name",
+            "email",
+            "status",
+            "submissions",
+            "score",
+            "late_penalty",
+            "final_score",
+            "submitted_at"
+        ]
+    );
+    let rows: Vec<Vec<String>> = reader
+        .records()
+        .map(|r| r.unwrap().iter().map(String::from).collect())
+        .collect();
+    let brief: Vec<(&str, &str, &str)> = rows
+        .iter()
+        .map(|r| (r[0].as_str(), r[3].as_str(), r[4].as_str()))
+        .collect();
+    assert_eq!(
+        brief,
+        [
+            ("u1", "enrolled", "0"),
+            ("u2", "enrolled", "0"),
+            ("u3", "dropped", "1"),
+            ("u4", "enrolled", "0")
+        ]
+    );
+    assert!(refused(&data, &export).contains("exists already"));
+
+    // Every change is in the audit log, newest first, by the command line.
+    let log = store.audit_log("el2320").unwrap();
+    let actions: Vec<(&str, &str)> = log
+        .iter()
+        .rev()
+        .map(|e| (e.action.as_str(), e.detail.as_str()))
+        .collect();
+    let expected = [
+        ("course", "title \"Applied Estimation\""),
+        ("course", "title \"Applied Estimation HT26\""),
+        ("staff", "ta@kth.se is assistant"),
+        ("roster", "roster.csv: 3 new, 0 updated, 0 dropped"),
+        ("roster", "roster.csv: 1 new, 1 updated, 1 dropped (u3)"),
+        ("roster", "new code for u1"),
+        ("assign", "ekf-localization: due 2026-12-15T22:59:00Z"),
+        ("token", "token 1 made (instructor)"),
+        ("token", "token 1 revoked"),
+    ];
+    assert_eq!(actions.len(), expected.len(), "{actions:?}");
+    for ((action, detail), (want_action, want_detail)) in actions.iter().zip(expected) {
+        assert_eq!(*action, want_action);
+        assert!(
+            detail.starts_with(want_detail),
+            "{detail:?} vs {want_detail:?}"
+        );
+    }
+    assert!(log.iter().all(|e| e.actor.starts_with("command line (")));
 }
 
 #[test]

@@ -1,7 +1,7 @@
 //! `estlab course`: setting up and running a course from the server's machine. Each
 //! command works on the database in the data directory, also while the server runs.
 
-use super::{print, read};
+use super::{file_name, print, read};
 use crate::commands::serve::PUBLIC_URL;
 use crate::courses::codes::{self, NewCode};
 use crate::courses::deadline::{Counts, Policy, parse_moment, parse_penalty};
@@ -130,6 +130,14 @@ impl From<StaffRole> for Role {
     }
 }
 
+/// Who acts, as the audit log names a command: the command line and the system user.
+fn actor() -> String {
+    format!(
+        "command line ({})",
+        std::env::var("USER").unwrap_or_else(|_| "unknown user".into())
+    )
+}
+
 /// How long a one-time staff link stays valid.
 const STAFF_LINK: SignedDuration = SignedDuration::from_hours(7 * 24);
 
@@ -152,6 +160,13 @@ pub fn run(args: &Args) -> Result<(), Error> {
         } => {
             check_course_name(course).map_err(Error::Invalid)?;
             let created = store.create_course(course, title, now)?;
+            store.audit(
+                course,
+                &actor(),
+                "course",
+                &format!("title {title:?}; sign-in link for {instructor}"),
+                now,
+            )?;
             let member = store.add_member(
                 course,
                 &NewMember {
@@ -185,6 +200,13 @@ pub fn run(args: &Args) -> Result<(), Error> {
                 },
             )?;
             let link = staff_link(&store, &member, now, &url()?)?;
+            store.audit(
+                course,
+                &actor(),
+                "staff",
+                &format!("{email} is {}; sign-in link", role.as_str()),
+                now,
+            )?;
             print(&format!(
                 "{email} is {} of {course}.\nSign-in link (once, within 7 days):\n{link}",
                 role.as_str()
@@ -226,6 +248,17 @@ pub fn run(args: &Args) -> Result<(), Error> {
                 counts: *counts,
             };
             store.assign(course, lab, &policy)?;
+            store.audit(
+                course,
+                &actor(),
+                "assign",
+                &format!(
+                    "{lab}: due {due}, cutoff {cutoff}, {:.0} %/day late, counts {}",
+                    late_penalty * 100.0,
+                    counts.as_str()
+                ),
+                now,
+            )?;
             print(&format!(
                 "{lab} is open in {course}: due {due}, taken until {cutoff}, {:.0} % off per day late, the {} submission counts.",
                 late_penalty * 100.0,
@@ -240,6 +273,13 @@ pub fn run(args: &Args) -> Result<(), Error> {
             store.course(course)?;
             if let Some(id) = revoke {
                 return if store.revoke_token(course, *id, now)? {
+                    store.audit(
+                        course,
+                        &actor(),
+                        "token",
+                        &format!("token {id} revoked"),
+                        now,
+                    )?;
                     print(&format!("Token {id} of {course} is revoked."))
                 } else {
                     Err(Error::Invalid(format!(
@@ -249,6 +289,13 @@ pub fn run(args: &Args) -> Result<(), Error> {
             }
             let role = Role::from(role.expect("clap requires --role without --revoke"));
             let (id, token) = store.create_token(course, role, now)?;
+            store.audit(
+                course,
+                &actor(),
+                "token",
+                &format!("token {id} made ({})", role.as_str()),
+                now,
+            )?;
             print(&format!(
                 "API token {id} ({} of {course}); shown once, send it as `Authorization: Bearer TOKEN`:\n{token}",
                 role.as_str()
@@ -341,6 +388,24 @@ fn roster_command(
         let students = roster::read(&text)
             .map_err(|problem| Error::Invalid(format!("{}: {problem}", file.display())))?;
         let change = store.import_roster(course, &students)?;
+        store.audit(
+            course,
+            &actor(),
+            "roster",
+            &format!(
+                "{}: {} new, {} updated, {} dropped{}",
+                file_name(file),
+                change.added.len(),
+                change.updated,
+                change.dropped.len(),
+                if change.dropped.is_empty() {
+                    String::new()
+                } else {
+                    format!(" ({})", change.dropped.join(", "))
+                }
+            ),
+            now,
+        )?;
         summary.push(format!(
             "{}: {} students; {} new, {} updated, {} unchanged, {} marked dropped{}",
             file.display(),
@@ -375,6 +440,15 @@ fn roster_command(
     for member in &needing {
         let code = codes::new_code();
         store.add_code(member.id, &code, false, None, now)?;
+        if reissue.contains(&member.login) {
+            store.audit(
+                course,
+                &actor(),
+                "roster",
+                &format!("new code for {}", member.login),
+                now,
+            )?;
+        }
         csv.write_record([
             member.login.as_str(),
             member.name.as_str(),
