@@ -52,3 +52,11 @@ export function showError(box, message) {
   box.textContent = message ?? '';
   box.hidden = !message;
 }
+
+/**
+ * Sets `element`'s text to `text` unless it has it already: the same text set again
+ * still makes the browser lay out and paint the element anew.
+ */
+export function setText(element, text) {
+  if (element.textContent !== text) element.textContent = text;
+}

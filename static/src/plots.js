@@ -1,5 +1,6 @@
 // Plots with ECharts: one chart per <figure class="plot">, each with buttons that save it
-// as PNG or SVG for a report.
+// as PNG or SVG for a report, and a line of text that says what it shows (the canvas
+// itself says nothing to a screen reader).
 import * as echarts from 'echarts/core';
 import { LineChart, LinesChart, ScatterChart } from 'echarts/charts';
 import {
@@ -9,7 +10,7 @@ import {
   TooltipComponent,
 } from 'echarts/components';
 import { CanvasRenderer, SVGRenderer } from 'echarts/renderers';
-import { download } from './controls.js';
+import { download, setText } from './controls.js';
 import { fmt } from './format.js';
 
 echarts.use([
@@ -36,12 +37,24 @@ export const colours = {
   third: '#00838f',
 };
 
+/**
+ * Line styles, so that no line is told from another by its colour alone: the truth is
+ * solid, the estimate dashed, odometry dotted. The legends say so in words too.
+ */
+export const dashes = {
+  truth: 'solid',
+  estimate: [6, 3],
+  odometry: [1.5, 3],
+};
+
 export class Plot {
   /** `figure` holds a <figcaption> and a <div class="chart">; `file` names saved files. */
   constructor(figure, file) {
     this.figure = figure;
     this.name = file;
     this.element = figure.querySelector('.chart');
+    // The canvas is for the eyes; the summary below it (see describe) is the text.
+    this.element.setAttribute('aria-hidden', 'true');
     this.chart = echarts.init(this.element, null, { renderer: 'canvas' });
     // Reachable from the page (and its tests) through the element it draws in.
     this.element.plot = this;
@@ -60,6 +73,9 @@ export class Plot {
       buttons.append(button);
     }
     figure.querySelector('figcaption').append(buttons);
+    this.summary = document.createElement('p');
+    this.summary.className = 'plot-summary';
+    figure.append(this.summary);
     // A plot out of view keeps its newest option and draws it when it comes into view:
     // moving a control then costs only the plots the reader can see.
     this.visible = true;
@@ -75,7 +91,81 @@ export class Plot {
    * as the axes, are merged), which costs far less than building the chart anew.
    */
   set(option) {
+    if (option.grid) this.grid = option.grid;
     this.pending = [[option, { replaceMerge: ['series'] }]];
+    if (this.visible) this.flush();
+  }
+
+  /** Says in words what the plot shows (a summary line; not shown, read by screen readers). */
+  describe(text) {
+    setText(this.summary, text);
+  }
+
+  /**
+   * A vertical line at `x` (in the units of the x axis) across the plot, or none for
+   * null. It is an element laid over the chart, not part of it: moving it redraws
+   * nothing, and it follows the chart's zoom. Not in the saved images.
+   */
+  setMarker(x, title = '') {
+    if (!this.marker) {
+      this.ensureStack();
+      this.marker = document.createElement('div');
+      this.marker.className = 'marker';
+      this.marker.setAttribute('aria-hidden', 'true');
+      this.stack.append(this.marker);
+      this.chart.on('rendered', () => this.placeMarker());
+    }
+    this.markerX = x;
+    this.marker.title = title;
+    this.placeMarker();
+  }
+
+  placeMarker() {
+    const x = this.markerX;
+    let px = null;
+    if (x !== null && x !== undefined && this.grid) {
+      try {
+        px = this.chart.convertToPixel({ xAxisIndex: 0 }, x);
+      } catch {
+        px = null;
+      }
+    }
+    const { left = 0, right = 0, top = 0, bottom = 0 } = this.grid ?? {};
+    const shown = Number.isFinite(px) && px >= left - 0.5 && px <= this.chart.getWidth() - right + 0.5;
+    this.marker.hidden = !shown;
+    if (!shown) return;
+    // Moved by a transform, on a layer of its own: the compositor moves it, and nothing
+    // beneath it is painted again.
+    this.marker.style.transform = `translateX(${px - 1}px)`;
+    this.marker.style.top = `${top}px`;
+    this.marker.style.bottom = `${bottom}px`;
+    this.marker.dataset.x = String(x);
+  }
+
+  /** The chart in a positioned box, so that overlays and the marker can lie on it. */
+  ensureStack() {
+    if (this.stack) return;
+    this.stack = document.createElement('div');
+    this.stack.className = 'stack';
+    this.element.replaceWith(this.stack);
+    this.stack.append(this.element);
+  }
+
+  /**
+   * Replaces the data of the series in `series` ([{ id, data }], ids of series the plot
+   * has), keeping the rest of the option: far cheaper to draw than `set` when only the
+   * numbers change. A plot out of view changes the option it waits to draw instead.
+   */
+  setData(series) {
+    const byId = new Map(series.map((s) => [s.id, s]));
+    const waiting = this.pending.findLast(([, how]) => how.replaceMerge);
+    if (waiting) {
+      waiting[0] = { ...waiting[0], series: waiting[0].series.map((s) => (byId.has(s.id) ? { ...s, ...byId.get(s.id) } : s)) };
+    } else {
+      // An earlier change of the same series' data, not drawn yet, is superseded.
+      this.pending = this.pending.filter(([option, , data]) => !(data && option.series.every((s) => byId.has(s.id))));
+      this.pending.push([{ series }, { notMerge: false }, true]);
+    }
     if (this.visible) this.flush();
   }
 
@@ -91,11 +181,8 @@ export class Plot {
    * caller keeps its axes the same as this chart's. Later overlays lie on earlier ones.
    */
   addOverlay() {
-    if (!this.stack) {
-      this.stack = document.createElement('div');
-      this.stack.className = 'stack';
-      this.element.replaceWith(this.stack);
-      this.stack.append(this.element);
+    if (!this.overlays) {
+      this.ensureStack();
       this.chart.group = `overlays of ${this.name}`;
       this.overlays = [];
     }
@@ -187,9 +274,17 @@ export function line(name, xs, ys, colour, extra = {}) {
   };
 }
 
-/** A line over time: x increases, so it can be thinned to the pixels it covers. */
+/**
+ * A line over time: x increases, so a long one is thinned to the pixels it covers (a
+ * short one is not: thinning costs more than it saves).
+ */
 export function timeLine(name, t, ys, colour, extra = {}) {
-  return line(name, t, ys, colour, { sampling: 'lttb', ...extra });
+  return line(name, t, ys, colour, { sampling: t.length > 4000 ? 'lttb' : undefined, ...extra });
+}
+
+/** `style` (a line type: solid, dashed, dotted, or a dash array) for a series made by `line`. */
+export function styled(series, style, width = 1.5) {
+  return { ...series, lineStyle: { ...series.lineStyle, type: style, width } };
 }
 
 /** The bounds `lower` and `upper` of a band, as two faint lines under one legend entry. */
@@ -202,11 +297,13 @@ export function band(name, t, lower, upper, colour) {
 }
 
 /** Axes, legend, tooltip and zoom shared by the plots over time. */
-export function overTime(yName, series, yAxis = {}) {
+export function overTime(yName, series, yAxis = {}, xAxis = {}) {
   return {
     animation: false,
-    // The margins are fixed: measuring the labels to fit them costs a redraw dearly.
-    grid: { left: 64, right: 20, top: 40, bottom: 44, outerBoundsMode: 'none' },
+    // The margins are fixed: measuring the labels to fit them costs a redraw dearly. The
+    // y axis's title runs up its side, clear of the legend above the plot and of the
+    // labels (short: fmt's few digits).
+    grid: { left: 76, right: 20, top: 40, bottom: 44, outerBoundsMode: 'none' },
     legend: { top: 4, type: 'scroll' },
     tooltip: {
       trigger: 'axis',
@@ -217,9 +314,45 @@ export function overTime(yName, series, yAxis = {}) {
         return [`t = ${t} s`, ...shown.map((item) => `${item.marker}${item.seriesName}: ${fmt(item.value[1])}`)].join('<br>');
       },
     },
-    xAxis: { type: 'value', name: 't (s)', nameLocation: 'middle', nameGap: 28, min: 'dataMin', max: 'dataMax' },
-    yAxis: { type: 'value', name: yName, scale: true, ...yAxis },
+    xAxis: { type: 'value', name: 't (s)', nameLocation: 'middle', nameGap: 28, min: 'dataMin', max: 'dataMax', ...xAxis },
+    yAxis: {
+      type: 'value',
+      name: yName,
+      nameLocation: 'middle',
+      nameGap: 60,
+      scale: true,
+      axisLabel: { formatter: (v) => fmt(v, 3) },
+      ...yAxis,
+    },
     dataZoom: [{ type: 'inside', filterMode: 'none' }],
     series,
+  };
+}
+
+/**
+ * What a summary line says of `ys` (over `t`): the first and last value, the smallest and
+ * largest, the mean, the mean absolute value and the largest absolute value with its time.
+ */
+export function stats(ys, t = null) {
+  const n = ys.length;
+  let [min, max, sum, sumAbs, maxAbs, at] = [Infinity, -Infinity, 0, 0, -1, 0];
+  for (let i = 0; i < n; i++) {
+    const v = ys[i];
+    if (v < min) min = v;
+    if (v > max) max = v;
+    sum += v;
+    sumAbs += Math.abs(v);
+    if (Math.abs(v) > maxAbs) [maxAbs, at] = [Math.abs(v), i];
+  }
+  return {
+    n,
+    first: ys[0],
+    last: ys[n - 1],
+    min,
+    max,
+    mean: sum / n,
+    meanAbs: sumAbs / n,
+    maxAbs,
+    maxAbsAt: t ? t[at] : at,
   };
 }

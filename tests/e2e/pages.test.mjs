@@ -123,20 +123,25 @@ test('every page loads without errors, with its formulas typeset and its plots o
 /** `estlab car --json` with `flags`: { params, run }. */
 const car = (...flags) => JSON.parse(estlab('car', '--json', ...flags));
 
-/** Asserts that the car page plots the run of `estlab car` with `flags`. */
+/**
+ * Asserts that the car page plots the run of `estlab car` with `flags`: the belief and the
+ * truth from t = 0 (the prior, before the first update), the measurements and the gains
+ * from the first update.
+ */
 async function assertCarPlotted(page, flags, what) {
-  const { steps } = car(...flags).run;
+  const { params, run: { steps } } = car(...flags);
   const t = steps.map((s) => s.t);
-  for (const [plot, series, value] of [
-    ['position', 'true', (s) => s.truth[0]],
+  for (const [plot, series, value, prior] of [
+    ['position', 'true', (s) => s.truth[0], params.x0[0]],
     ['position', 'measurement', (s) => s.z],
-    ['position', 'estimate', (s) => s.mu[0]],
-    ['velocity', 'estimate', (s) => s.mu[1]],
-    ['sigmas', '√P₁₁, position (m)', (s) => Math.sqrt(s.sigma[0])],
+    ['position', 'estimate', (s) => s.mu[0], params.mu0[0]],
+    ['velocity', 'estimate', (s) => s.mu[1], params.mu0[1]],
+    ['sigmas', '√P₁₁, position (m)', (s) => Math.sqrt(s.sigma[0]), Math.sqrt(params.sigma0[0][0])],
     ['gains', 'K₁, position', (s) => s.gain[0]],
     ['gains', 'K₂, velocity', (s) => s.gain[1]],
   ]) {
-    assertPoints(await seriesData(page, plot, series), t, steps.map(value), `${what}: ${plot}, ${series}`);
+    const [xs, ys] = prior === undefined ? [t, steps.map(value)] : [[0, ...t], [prior, ...steps.map(value)]];
+    assertPoints(await seriesData(page, plot, series), xs, ys, `${what}: ${plot}, ${series}`);
   }
 }
 
@@ -173,9 +178,10 @@ test('the car: the Monte Carlo view shows the spread over many seeds beside the 
   assert.equal(await page.locator('#monte-carlo-plots').isVisible(), true);
   const spread = await seriesData(page, 'spread', 'actual spread of the position error (m)');
   const sigma = await seriesData(page, 'spread', 'filter σ, position (m)');
-  // The filter's σ does not depend on the seed: it is the σ of estlab car's run.
-  const { steps } = car().run;
-  assertPoints(sigma, steps.map((s) => s.t), steps.map((s) => Math.sqrt(s.sigma[0])), 'filter σ, position');
+  // The filter's σ does not depend on the seed: it is the σ of estlab car's run, from
+  // the prior's at t = 0. The spread starts at the first update (at t = 0 it is 0).
+  const { params, run: { steps } } = car();
+  assertPoints(sigma, [0, ...steps.map((s) => s.t)], [Math.sqrt(params.sigma0[0][0]), ...steps.map((s) => Math.sqrt(s.sigma[0]))], 'filter σ, position');
   assert.equal(spread.length, steps.length);
   // The lab's filter is told the true noise: its sigma is the spread, give or take.
   const ratio = spread.at(-1)[1] / sigma.at(-1)[1];
@@ -295,10 +301,21 @@ test('the EKF: a malformed file shows the parser message, and good files run', b
   const error = page.locator('#error');
   await error.waitFor({ state: 'visible' });
   assert.match(await error.textContent(), /^so_broken\.txt:3: n = \d+ readings \(id bearing range each\) need \d+ values on the line, found \d+: reading \d+ of \d+ is incomplete$/);
+  // The run before the error (o3, seed 1) is not passed off as the broken file's: its
+  // summary and command go, its plots stay dimmed under a note that says whose they are.
+  assert.equal(await page.locator('#stale').textContent(),
+    'No run: the data did not load. The plots below are still those of the last run, on o3, seed 1, dimmed.');
+  assert.equal(await page.locator('#summary').isVisible(), false, 'no summary under the error');
+  assert.equal(await page.locator('#command').isVisible(), false, 'no command under the error');
+  assert.equal(await page.locator('#command').getAttribute('data-flags'), null);
+  assert.ok(await page.locator('#ekf-plots').evaluate((el) => el.classList.contains('stale')), 'the plots are marked stale');
+  assert.equal(await page.locator('#ekf-plots .plots').evaluate((el) => getComputedStyle(el).opacity), '0.35');
   await shown(page, 'map');
 
   await page.locator('#sensor-file').setInputFiles(sensor);
   await error.waitFor({ state: 'hidden' });
+  assert.equal(await page.locator('#stale').isVisible(), false, 'the files ran: nothing is stale');
+  assert.ok(await page.locator('#ekf-plots').evaluate((el) => !el.classList.contains('stale')), 'the plots are current');
   assert.match(await page.locator('#command').textContent(), /^estlab run so_o3_5\.txt map_o3_5\.txt --R/);
   assert.equal((await page.locator('#summary').textContent()).trim(), await cliReport(page, sensor, map));
   await assertEkfPlotted(page, await cliRun(page, sensor, map), 'so_o3_5.txt on map_o3_5.txt');
@@ -419,7 +436,7 @@ test('the home page leads to every exercise; plots\' save buttons name their plo
   await home.close();
   const page = await openPage(browser, `${server.url}/ekf`);
   assert.equal(await page.locator('figure[data-name="map"] .save button').first().getAttribute('aria-label'),
-    'Save the plot "The map: true (green), estimated (red) and odometry-only (blue) paths" as PNG');
+    'Save the plot "The map: true (green, solid), estimated (red, dashed) and odometry-only (blue, dotted) paths" as PNG');
   await page.locator('#dataset-kind').selectOption('no-odometry');
   await page.waitForFunction(() => document.getElementById('lambda-m').textContent.includes('∞'));
   assert.equal(await page.locator('#lambda-m').textContent(), 'Λ_M = ∞: no reading is rejected');

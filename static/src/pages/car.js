@@ -4,7 +4,7 @@
 import { LogSlider, byId, showError } from '../controls.js';
 import { fmt } from '../format.js';
 import { renderMath } from '../math.js';
-import { band, colours, line, overTime, pairs, plotsIn, timeLine } from '../plots.js';
+import { band, colours, dashes, overTime, pairs, plotsIn, stats, styled, timeLine } from '../plots.js';
 import { loadEstlab } from '../wasm.js';
 
 renderMath();
@@ -61,69 +61,141 @@ for (const button of document.querySelectorAll('[data-preset]')) {
   });
 }
 
-function draw(run) {
-  const t = run.t();
-  const position = run.position();
-  const velocity = run.velocity();
-  const positionStd = run.positionStd();
-  const velocityStd = run.velocityStd();
+/** The prior at t = 0, then one value per update: what the filter believed over time. */
+const fromPrior = (prior, series) => [prior, ...series];
+
+/** A series for the prior's point at t = 0: a hollow circle on the estimate's line. */
+function priorPoint(value) {
+  return {
+    id: 'prior',
+    name: 'prior at t = 0 (μ₀)',
+    type: 'scatter',
+    data: [[0, value]],
+    symbol: 'emptyCircle',
+    symbolSize: 9,
+    itemStyle: { color: colours.estimate, borderWidth: 2 },
+    z: 4,
+    silent: true,
+  };
+}
+
+/** Summary lines: a few significant digits. */
+const f = (v) => fmt(v, 3);
+
+function draw(run, p) {
+  // The plots over time start at t = 0 with the prior, N(μ₀, Σ₀), before the first
+  // update: where a wrong start shows. The gains start at the first update.
+  const updates = run.t();
+  const t = fromPrior(0, updates);
+  const n = updates.length;
+  const position = fromPrior(p.mu0[0], run.position());
+  const velocity = fromPrior(p.mu0[1], run.velocity());
+  const positionStd = fromPrior(Math.sqrt(p.sigma0[0][0]), run.positionStd());
+  const velocityStd = fromPrior(Math.sqrt(p.sigma0[1][1]), run.velocityStd());
+  const truePosition = fromPrior(p.x0[0], run.truePosition());
+  const trueVelocity = fromPrior(p.x0[1], run.trueVelocity());
+  const positionError = fromPrior(p.mu0[0] - p.x0[0], run.positionError());
+  const velocityError = fromPrior(p.mu0[1] - p.x0[1], run.velocityError());
   const twoSigma = (mu, std, sign) => mu.map((m, i) => m + sign * 2 * std[i]);
+  const estimate = (name, ys) => styled(timeLine(name, t, ys, colours.estimate, { name: `${name} (dashed)` }), dashes.estimate);
+  const truth = (ys) => timeLine('true', t, ys, colours.truth, { name: 'true (solid)' });
+  const end = t[n];
 
   plots.position.set(overTime('position (m)', [
     ...band('±2σ', t, twoSigma(position, positionStd, -1), twoSigma(position, positionStd, 1), colours.band),
-    { name: 'measurement', type: 'scatter', data: pairs(t, run.measurement()), symbolSize: 4, itemStyle: { color: colours.measurement } },
-    timeLine('true', t, run.truePosition(), colours.truth),
-    timeLine('estimate', t, position, colours.estimate),
+    { name: 'measurement', type: 'scatter', data: pairs(updates, run.measurement()), symbolSize: 4, itemStyle: { color: colours.measurement } },
+    truth(truePosition),
+    estimate('estimate', position),
+    priorPoint(p.mu0[0]),
   ]));
+  plots.position.describe(
+    `Position from t = 0 to ${f(end)} s. The prior at t = 0: ${f(position[0])} m ± ${f(2 * positionStd[0])} m (2σ), ` +
+    `the car at ${f(truePosition[0])} m. After the last of ${n} updates: the estimate ${f(position[n])} m ± ${f(2 * positionStd[n])} m, ` +
+    `the car at ${f(truePosition[n])} m. ${n} measurements, one per update.`);
   plots.velocity.set(overTime('velocity (m/s)', [
     ...band('±2σ', t, twoSigma(velocity, velocityStd, -1), twoSigma(velocity, velocityStd, 1), colours.band),
-    timeLine('true', t, run.trueVelocity(), colours.truth),
-    timeLine('estimate', t, velocity, colours.estimate),
+    truth(trueVelocity),
+    estimate('estimate', velocity),
+    priorPoint(p.mu0[1]),
   ]));
+  plots.velocity.describe(
+    `Velocity from t = 0 to ${f(end)} s. The prior at t = 0: ${f(velocity[0])} m/s ± ${f(2 * velocityStd[0])} m/s (2σ), ` +
+    `the car's ${f(trueVelocity[0])} m/s. At the end: the estimate ${f(velocity[n])} m/s ± ${f(2 * velocityStd[n])} m/s, ` +
+    `the car's ${f(trueVelocity[n])} m/s.`);
   plots.errors.set(overTime('estimate − truth', [
-    timeLine('position error (m)', t, run.positionError(), colours.estimate),
-    timeLine('velocity error (m/s)', t, run.velocityError(), colours.second),
+    timeLine('position error (m)', t, positionError, colours.estimate),
+    styled(timeLine('velocity error (m/s)', t, velocityError, colours.second, { name: 'velocity error (m/s), dashed' }), dashes.estimate),
   ]));
+  const errorWords = (name, unit, ys) => {
+    const s = stats(ys, t);
+    return `${name} ${f(s.first)} ${unit} at t = 0, ${f(s.last)} ${unit} at the end, largest ${f(s.maxAbs)} ${unit} in size at t = ${f(s.maxAbsAt)} s`;
+  };
+  plots.errors.describe(`Errors from t = 0 to ${f(end)} s: ${errorWords('position', 'm', positionError)}; ${errorWords('velocity', 'm/s', velocityError)}.`);
   plots.sigmas.set(overTime('standard deviation', [
     timeLine('√P₁₁, position (m)', t, positionStd, colours.estimate),
-    timeLine('√P₂₂, velocity (m/s)', t, velocityStd, colours.second),
+    styled(timeLine('√P₂₂, velocity (m/s)', t, velocityStd, colours.second, { name: '√P₂₂, velocity (m/s), dashed' }), dashes.estimate),
   ], { type: 'log', scale: false }));
+  plots.sigmas.describe(
+    `The filter's standard deviations on a log scale: position ${f(positionStd[0])} m at t = 0, ${f(positionStd[n])} m at the end; ` +
+    `velocity ${f(velocityStd[0])} m/s at t = 0, ${f(velocityStd[n])} m/s at the end.`);
+  const gainPosition = run.gainPosition();
+  const gainVelocity = run.gainVelocity();
   plots.gains.set(overTime('Kalman gain', [
-    timeLine('K₁, position', t, run.gainPosition(), colours.estimate),
-    timeLine('K₂, velocity', t, run.gainVelocity(), colours.second),
-  ]));
+    timeLine('K₁, position', updates, gainPosition, colours.estimate),
+    styled(timeLine('K₂, velocity', updates, gainVelocity, colours.second, { name: 'K₂, velocity (dashed)' }), dashes.estimate),
+  ], {}, { min: 0 }));
+  plots.gains.describe(
+    `The Kalman gains from the first update (t = ${f(updates[0])} s) to the last: K₁ (position) from ${f(gainPosition[0])} to ${f(gainPosition[n - 1])}, ` +
+    `K₂ (velocity) from ${f(gainVelocity[0])} to ${f(gainVelocity[n - 1])}.`);
   const [positionSpread, velocitySpread] = run.errorStd();
   byId('summary').textContent =
     `error std over the second half: position ${fmt(positionSpread)} m, velocity ${fmt(velocitySpread)} m/s`;
 }
 
-function drawMonteCarlo(mc, runs) {
-  const t = mc.t();
+function drawMonteCarlo(mc, runs, p) {
+  const updates = mc.t();
+  const n = updates.length;
+  // The filter's σ and the mean error start with the prior at t = 0; the actual spread
+  // there is 0 (every seed starts from the same μ₀ and the same true state), which a log
+  // axis cannot show, so it starts at the first update.
+  const t = fromPrior(0, updates);
+  const filterStd = (i) => fromPrior(Math.sqrt(p.sigma0[i][i]), mc.filterStd(i));
+  const errorMean = (i) => fromPrior(p.mu0[i] - p.x0[i], mc.errorMean(i));
+  const [spread0, spread1, sigma0, sigma1] = [mc.errorStd(0), mc.errorStd(1), filterStd(0), filterStd(1)];
+  const sigma = (name, ys, colour) => styled(timeLine(name, t, ys, colour, { name: `${name}, dashed` }), dashes.estimate);
   plots.spread.set(overTime(`over ${runs} seeds`, [
-    timeLine('actual spread of the position error (m)', t, mc.errorStd(0), colours.estimate),
-    timeLine('filter σ, position (m)', t, mc.filterStd(0), colours.estimate, { lineStyle: { type: 'dashed', color: colours.estimate } }),
-    timeLine('actual spread of the velocity error (m/s)', t, mc.errorStd(1), colours.second),
-    timeLine('filter σ, velocity (m/s)', t, mc.filterStd(1), colours.second, { lineStyle: { type: 'dashed', color: colours.second } }),
+    timeLine('actual spread of the position error (m)', updates, spread0, colours.estimate),
+    sigma('filter σ, position (m)', sigma0, colours.estimate),
+    timeLine('actual spread of the velocity error (m/s)', updates, spread1, colours.second),
+    sigma('filter σ, velocity (m/s)', sigma1, colours.second),
   ], { type: 'log', scale: false }));
+  plots.spread.describe(
+    `Over ${runs} seeds, at the end (t = ${f(updates[n - 1])} s): the position error spreads ${f(spread0[n - 1])} m where the filter's σ says ${f(sigma0[n])} m; ` +
+    `the velocity error ${f(spread1[n - 1])} m/s where its σ says ${f(sigma1[n])} m/s.`);
+  const [mean0, mean1] = [errorMean(0), errorMean(1)];
   plots.bias.set(overTime(`mean error over ${runs} seeds`, [
-    timeLine('position (m)', t, mc.errorMean(0), colours.estimate),
-    timeLine('velocity (m/s)', t, mc.errorMean(1), colours.second),
+    timeLine('position (m)', t, mean0, colours.estimate),
+    styled(timeLine('velocity (m/s)', t, mean1, colours.second, { name: 'velocity (m/s), dashed' }), dashes.estimate),
   ]));
+  plots.bias.describe(
+    `The mean error over ${runs} seeds: position ${f(mean0[0])} m at t = 0 and ${f(mean0[n])} m at the end; ` +
+    `velocity ${f(mean1[0])} m/s at t = 0 and ${f(mean1[n])} m/s at the end.`);
 }
 
 function update() {
   const start = performance.now();
   try {
-    const json = JSON.stringify(params());
+    const p = params();
+    const json = JSON.stringify(p);
     const run = estlab.runCar(json);
-    draw(run);
+    draw(run, p);
     run.free();
     const monteCarlo = controls.monteCarlo.checked;
     byId('monte-carlo-plots').hidden = !monteCarlo;
     if (monteCarlo) {
       const runs = Number(controls.runs.value);
       const mc = estlab.carMonteCarlo(json, runs);
-      drawMonteCarlo(mc, runs);
+      drawMonteCarlo(mc, runs, p);
       mc.free();
     }
     showError(byId('error'), null);

@@ -1,8 +1,8 @@
 // EKF localization, computed in the browser by the wasm build of the reference filters:
 // a data set (simulated, or the reader's own EL2320 files), the filter's settings, and
 // the plots of the lab.
-import { byId, download, showError } from '../controls.js';
-import { fmt } from '../format.js';
+import { byId, download, setText, showError } from '../controls.js';
+import { decimal, fmt } from '../format.js';
 import { renderMath } from '../math.js';
 import { RunView, collect } from '../ekf/runview.js';
 import { loadEstlab } from '../wasm.js';
@@ -27,18 +27,35 @@ const ui = {
   lambda: byId('lambda-m'),
   known: byId('known-associations'),
   error: byId('error'),
+  summary: byId('summary'),
+  command: byId('command'),
+  stale: byId('stale'),
+  settingsNote: byId('settings-note'),
 };
 
+/** The data set the controls say, or null while it does not load. */
 let dataset = null;
+/** The lab's settings for the last data set that loaded. */
+let lab = null;
+/** Whether the data set changed since the plots last showed a run. */
+let newDataPending = false;
+/** What the data set shown is called (`o3, seed 1`, or the files' names). */
+let datasetName = '';
+/** The name of the data set of the run the plots show, while they show one. */
+let shownName = null;
+/** Whether the settings were kept, not the lab's taken, when the data set last changed. */
+let keptOnChange = false;
 
 /**
  * The variance an input of standard deviations (in `unit`s) stands for. An input filled
- * from the lab's settings shows a rounded value but keeps the exact variance until the
- * reader edits it, so that the lab's settings run exactly.
+ * from the lab's settings shows a rounded value but keeps the lab's variance until the
+ * reader edits it, so that the lab's settings run as the lab has them.
  */
 function variance(input, unit = 1) {
   if (input.dataset.variance && input.value === input.dataset.shown) return Number(input.dataset.variance);
-  return (Number(input.value) * unit) ** 2;
+  // The variance of the decimal typed, without float noise, so that the page runs what
+  // its command line says: 0.2 m is 0.04 m², not 0.04000000000000001.
+  return decimal((Number(input.value) * unit) ** 2);
 }
 
 function showVariance(input, value, unit = 1) {
@@ -47,20 +64,37 @@ function showVariance(input, value, unit = 1) {
   input.dataset.variance = String(value);
 }
 
-/** The filter settings the controls say: standard deviations become variances. */
+/**
+ * The filter settings the controls say: standard deviations become variances. Every
+ * number is the decimal it stands for, to 12 significant digits (the lab's 0.1² is 0.01,
+ * not 0.010000000000000002), so that the command line the page prints, with each number
+ * in its shortest form, runs exactly what the page ran.
+ */
 function settings() {
   return {
     mode: document.querySelector('input[name=mode]:checked').value,
     known_associations: ui.known.checked,
-    r: [variance(ui.rX), variance(ui.rY), variance(ui.rTheta, degrees)],
-    q: [variance(ui.qRange), variance(ui.qBearing, degrees)],
-    delta_m: Number(ui.deltaM.value),
+    r: [variance(ui.rX), variance(ui.rY), variance(ui.rTheta, degrees)].map(decimal),
+    q: [variance(ui.qRange), variance(ui.qBearing, degrees)].map(decimal),
+    delta_m: decimal(Number(ui.deltaM.value)),
   };
+}
+
+/** The settings in which `current` differs from `lab`, named as the controls name them. */
+function differences(current, lab) {
+  const same = (a, b) => a.length === b.length && a.every((v, i) => decimal(v) === decimal(b[i]));
+  const named = [
+    ['R', !same(current.r, lab.r)],
+    ['Q', !same(current.q, lab.q)],
+    ['δ_M', decimal(current.delta_m) !== decimal(lab.delta_m)],
+    ['the update', current.mode !== lab.mode],
+    ['known associations', current.known_associations !== lab.known_associations],
+  ];
+  return named.filter(([, differs]) => differs).map(([name]) => name);
 }
 
 /** Sets the controls to the lab's settings for the current data. */
 function labSettings() {
-  const lab = JSON.parse(dataset.labSettings());
   showVariance(ui.rX, lab.r[0]);
   showVariance(ui.rY, lab.r[1]);
   showVariance(ui.rTheta, lab.r[2], degrees);
@@ -69,6 +103,43 @@ function labSettings() {
   ui.deltaM.value = lab.delta_m;
   ui.known.checked = lab.known_associations;
   document.querySelector(`input[name=mode][value=${lab.mode}]`).checked = true;
+}
+
+/**
+ * The plots, the summary and the command are of a run that is no longer what the
+ * controls say (`why`): the summary and the command go, the plots stay, dimmed, with a
+ * note saying whose they are. null: they are current again.
+ */
+function markStale(why) {
+  const stale = why !== null && shownName !== null;
+  ui.stale.hidden = !stale;
+  setText(ui.stale, stale ? `${why} The plots below are still those of the last run, on ${shownName}, dimmed.` : '');
+  byId('ekf-plots').classList.toggle('stale', stale);
+  for (const element of [ui.summary, ui.command.closest('p')]) element.hidden = why !== null;
+  if (why !== null) {
+    ui.summary.textContent = '';
+    ui.command.textContent = '';
+    delete ui.command.dataset.flags;
+  }
+}
+
+/** Says whether the settings are the lab's for this data, and if not, where they differ. */
+function describeSettings(current) {
+  const differ = differences(current, lab);
+  const whose = ui.kind.value === 'files' ? "the lab's settings (o3's, for your own files)" : `the lab's settings for ${ui.kind.value}`;
+  if (!differ.length) {
+    setText(ui.settingsNote, `These are ${whose}.`);
+  } else {
+    setText(ui.settingsNote, (keptOnChange ? 'Your settings, kept when the data set changed: ' : 'Your own settings: ') +
+      `${differ.join(', ')} ${differ.length === 1 ? 'differs' : 'differ'} from ${whose}; the button “the lab's settings” sets those.`);
+  }
+}
+
+/** No data set (`why`): nothing runs until one loads, as the controls no longer say the old one. */
+function noData(why) {
+  dataset?.free();
+  dataset = null;
+  markStale(why);
 }
 
 async function loadDataset() {
@@ -83,25 +154,36 @@ async function loadDataset() {
       const [map, sensor] = [ui.mapFile.files[0], ui.sensorFile.files[0]];
       if (!map || !sensor) {
         showError(ui.error, 'Choose a map file and a sensor file.');
+        noData('No run yet: choose both files.');
         return;
       }
       next = estlab.Dataset.parse(await map.text(), map.name, await sensor.text(), sensor.name);
+      datasetName = `${sensor.name} on ${map.name}`;
     } else {
       next = estlab.Dataset.simulate(kind, Number(ui.seed.value));
+      datasetName = `${kind}, seed ${ui.seed.value}`;
     }
   } catch (error) {
     showError(ui.error, error.message);
+    noData('No run: the data did not load.');
     return;
   }
+  // The settings stay the reader's when they have changed them; untouched (still the
+  // lab's for the data before), they become the lab's for the new data.
+  const followsLab = !lab || differences(settings(), lab).length === 0;
   dataset?.free();
   dataset = next;
-  labSettings();
-  update(true);
+  lab = JSON.parse(dataset.labSettings());
+  keptOnChange = !followsLab;
+  if (followsLab) labSettings();
+  newDataPending = true;
+  update();
 }
 
 /** The command that makes the same run with the estlab command line. */
 function commandLine(current) {
-  const flags = ['--R', current.r.join(','), '--Q', current.q.join(','), '--delta-m', String(current.delta_m)];
+  // The numbers the page runs, each in its shortest form (see settings).
+  const flags = ['--R', current.r.map(String).join(','), '--Q', current.q.map(String).join(','), '--delta-m', String(current.delta_m)];
   if (current.mode === 'batch') flags.push('--batch');
   if (current.known_associations) flags.push('--known-associations');
   const kind = ui.kind.value;
@@ -113,30 +195,36 @@ function commandLine(current) {
   return { flags, text: `${simulate} && ${['estlab run', `data/so_${stem}.txt`, `data/map_${stem}.txt`, ...flags].join(' ')}` };
 }
 
-/** Runs the filter and redraws; `newData` when the data set changed too. */
-function update(newData = false) {
+/** Runs the filter and redraws (the data set's views too when it changed). */
+function update() {
   if (!dataset) return;
+  const newData = newDataPending;
   const start = performance.now();
   const current = settings();
   const lambda = estlab.lambdaM(current.delta_m);
-  ui.lambda.textContent = Number.isFinite(lambda)
+  setText(ui.lambda, Number.isFinite(lambda)
     ? `Λ_M = ${fmt(lambda)}`
-    : 'Λ_M = ∞: no reading is rejected';
+    : 'Λ_M = ∞: no reading is rejected');
+  describeSettings(current);
   let run;
   try {
     run = dataset.run(JSON.stringify(current));
   } catch (error) {
     showError(ui.error, error.message);
+    markStale(newData ? `No run on ${datasetName}.` : 'No run with these settings.');
     return;
   }
   showError(ui.error, null);
   const view = collect(run, dataset);
   run.free();
   views.show(view, newData);
-  byId('summary').textContent = view.report;
+  newDataPending = false;
+  shownName = datasetName;
+  markStale(null);
+  setText(ui.summary, view.report);
   const command = commandLine(current);
-  byId('command').textContent = command.text;
-  byId('command').dataset.flags = JSON.stringify(command.flags);
+  setText(ui.command, command.text);
+  ui.command.dataset.flags = JSON.stringify(command.flags);
   byId('timing').textContent = `re-run and redraw: ${fmt(performance.now() - start, 2)} ms`;
   document.body.dataset.ready = 'true';
 }
@@ -146,7 +234,7 @@ ui.seed.addEventListener('change', loadDataset);
 ui.mapFile.addEventListener('change', loadDataset);
 ui.sensorFile.addEventListener('change', loadDataset);
 for (const input of document.querySelectorAll('#ekf-settings .filter input')) input.addEventListener('input', () => update());
-byId('lab-settings').addEventListener('click', () => { labSettings(); update(); });
+byId('lab-settings').addEventListener('click', () => { labSettings(); keptOnChange = false; update(); });
 byId('download-map').addEventListener('click', () => download(`map_${ui.kind.value}_${ui.seed.value}.txt`, dataset.mapFile()));
 byId('download-sensor').addEventListener('click', () => download(`so_${ui.kind.value}_${ui.seed.value}.txt`, dataset.sensorFile()));
 // A link may choose the data set and the update (the workbench links its graded runs
