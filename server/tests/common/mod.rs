@@ -69,11 +69,15 @@ pub struct App {
 
 impl App {
     pub fn new() -> App {
-        let dir = tempfile::tempdir().unwrap();
+        let clock = Arc::new(FixedClock::new(at("2026-12-01T10:00:00Z")));
+        App::over(tempfile::tempdir().unwrap(), clock)
+    }
+
+    /// The application over a data directory, grading (and regrading) what waits there.
+    fn over(dir: tempfile::TempDir, clock: Arc<FixedClock>) -> App {
         let store = Store::open(dir.path()).unwrap();
         let secret = Secret::load_or_create(dir.path()).unwrap();
         let sandbox = Sandbox::new(PathBuf::from(env!("CARGO_BIN_EXE_estlab")), 1);
-        let clock = Arc::new(FixedClock::new(at("2026-12-01T10:00:00Z")));
         let grader = Grader::new(
             store,
             sandbox,
@@ -81,6 +85,7 @@ impl App {
             1,
             Arc::clone(&clock) as Arc<dyn Clock>,
         );
+        grader.resume().unwrap();
         let state = Arc::new(AppState {
             assets: assets(),
             grader,
@@ -95,6 +100,16 @@ impl App {
             state,
             router,
         }
+    }
+
+    /// The application again over the same data directory, as after a restart.
+    pub fn restart(self) -> App {
+        App::over(self.dir, self.clock)
+    }
+
+    /// The database file, for tests that look at it or change it behind the server.
+    pub fn database(&self) -> PathBuf {
+        self.dir.path().join(estlab::store::FILE)
     }
 
     pub fn store(&self) -> &Store {
@@ -118,6 +133,7 @@ impl App {
             status: parts.status,
             headers: parts.headers,
             body: String::from_utf8_lossy(&bytes).into_owned(),
+            raw: bytes.to_vec(),
         }
     }
 
@@ -334,6 +350,8 @@ pub struct Answer {
     pub status: StatusCode,
     pub headers: HeaderMap,
     pub body: String,
+    /// The body's bytes, for an answer that is not text (a zip).
+    pub raw: Vec<u8>,
 }
 
 impl Answer {
