@@ -397,7 +397,7 @@ test('every plot saves as a PNG and an SVG that show its data', bounded, async (
 
 test('on a phone every page fits the screen: the settings fold above the plots, equations and the editor scroll in their own boxes', bounded, async () => {
   for (const width of [360, 390]) {
-    for (const path of ['/', '/car', '/ekf', '/ekf/code']) {
+    for (const path of ['/', '/car', '/ekf', '/ekf/code', '/signin']) {
       const page = await browser.newPage({ viewport: { width, height: 844 } });
       await page.goto(server.url + path);
       await page.waitForFunction(() => document.body.dataset.ready === 'true', null, { timeout: 120_000 });
