@@ -4,6 +4,7 @@
 
 use super::serve::{cores, default_parallel};
 use super::{file_name, print};
+use crate::courses::export::inert;
 use crate::error::Error;
 use crate::sandbox::{Sandbox, check_size};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -259,7 +260,7 @@ fn write_csv(rows: &[Row], path: &Path) -> Result<(), Error> {
     let failed = |e: csv::Error| Error::Invalid(format!("{}: {e}", path.display()));
     csv.write_record(&header).map_err(failed)?;
     for row in rows {
-        let mut record = vec![row.id.clone(), row.file.clone()];
+        let mut record = vec![inert(&row.id), inert(&row.file)];
         match &row.outcome {
             Outcome::Graded(result) if result.gradable => {
                 record.extend([

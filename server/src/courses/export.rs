@@ -74,9 +74,9 @@ pub fn gradebook(view: &ClassView) -> Vec<u8> {
     for s in &view.students {
         let counting = s.counting.as_ref();
         csv.write_record([
-            s.id.clone(),
-            s.name.clone(),
-            s.email.clone(),
+            inert(&s.id),
+            inert(&s.name),
+            inert(&s.email),
             if s.dropped { "dropped" } else { "enrolled" }.to_string(),
             s.submissions.to_string(),
             number(counting.and_then(|c| c.score)),
@@ -87,6 +87,16 @@ pub fn gradebook(view: &ClassView) -> Vec<u8> {
         .expect("writing to memory");
     }
     csv.into_inner().expect("writing to memory")
+}
+
+/// A text cell a spreadsheet will not run: one that starts like a formula (`=`, `+`, `-`,
+/// `@`, a tab or a carriage return) gets a leading `'`, which spreadsheets show as text.
+pub fn inert(text: &str) -> String {
+    if text.starts_with(['=', '+', '-', '@', '\t', '\r']) {
+        format!("'{text}")
+    } else {
+        text.to_string()
+    }
 }
 
 /// A zip of one file per student with an exported submission.
@@ -150,4 +160,22 @@ pub fn make(
             sources(&view, &texts)
         }
     }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::inert;
+
+    #[test]
+    fn a_cell_that_looks_like_a_formula_is_kept_as_text() {
+        assert_eq!(
+            inert("=HYPERLINK(\"http://x\")"),
+            "'=HYPERLINK(\"http://x\")"
+        );
+        assert_eq!(inert("+46 8 790 60 00"), "'+46 8 790 60 00");
+        assert_eq!(inert("@SUM(A1)"), "'@SUM(A1)");
+        assert_eq!(inert("-1"), "'-1");
+        assert_eq!(inert("Ada Lovelace"), "Ada Lovelace");
+        assert_eq!(inert("u1"), "u1");
+    }
 }
