@@ -16,7 +16,8 @@ use axum::response::{IntoResponse, Redirect, Response};
 use jiff::{SignedDuration, Timestamp};
 use serde::Deserialize;
 use std::net::{IpAddr, Ipv4Addr, SocketAddr};
-use std::sync::Arc;
+use std::sync::{Arc, LazyLock};
+use tokio::sync::Semaphore;
 
 /// How long a session lasts.
 const SESSION: SignedDuration = SignedDuration::from_hours(30 * 24);
@@ -102,6 +103,13 @@ impl Refused {
     }
 }
 
+/// Code checks at once: each takes a core and 19 MiB for Argon2id, so a burst of
+/// sign-ins (or of guesses from many addresses) waits its turn instead of taking the
+/// server's memory.
+static CODE_CHECKS: LazyLock<Semaphore> = LazyLock::new(|| {
+    Semaphore::new(std::thread::available_parallelism().map_or(1, usize::from))
+});
+
 /// Checks a typed code within the limits; counts a failure against them.
 async fn check(
     state: &Arc<AppState>,
@@ -112,6 +120,7 @@ async fn check(
     if let Err(refusal) = state.limiter.check_address(address, now) {
         return Ok(Err(Refused::too_many(&refusal)));
     }
+    let _turn = CODE_CHECKS.acquire().await.expect("the semaphore stays open");
     let Some(found) = blocking(state, move |store| store.find_code(&code)).await? else {
         state.limiter.failed(address, None, now);
         return Ok(Err(Refused::wrong_code()));
