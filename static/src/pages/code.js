@@ -134,9 +134,10 @@ const state = {
  * Who is at the keyboard, as /api/me says: `mode` is 'open' (a server without courses:
  * anyone submits under any id), 'student' (signed in), 'staff', 'anonymous' (a server with
  * courses, nobody signed in) or 'unknown' (the server did not answer); `assignment` is the
- * student's assignment of this exercise, and `clock` the server's time when it answered.
+ * student's assignment of this exercise, with its `standing` as the server decided it
+ * when it answered (open, late with the penalty a submission would lose, or closed).
  */
-const account = { about: me, mode: 'unknown', assignment: null, clock: null };
+const account = { about: me, mode: 'unknown', assignment: null };
 
 function modeOf(about) {
   if (about.courses === false) return 'open';
@@ -150,15 +151,9 @@ function know(about) {
   account.about = about;
   account.mode = modeOf(about);
   account.assignment = (about.assignments ?? []).find((a) => a.lab === LAB) ?? null;
-  // The server's clock, from the standing it computed: the deadline is the server's.
-  const a = account.assignment;
-  let server = Date.now();
-  if (a?.standing.state === 'open') server = Date.parse(a.due) - 1000 * a.standing.seconds_left;
-  else if (a?.standing.state === 'late') server = Date.parse(a.due) + 1000 * a.standing.late_seconds;
-  else if (a?.standing.state === 'closed') server = Math.max(server, Date.parse(a.cutoff) + 1000);
-  account.clock = { server, local: performance.now() };
   showWho();
   showVariant();
+  scheduleRefresh();
 }
 
 /** Asks the server again who is signed in (after a submission, say), keeping what is known if it does not answer. */
@@ -167,29 +162,38 @@ async function refreshAccount() {
   if (about.courses !== null) know(about);
 }
 
-const localTime = (at) => new Date(at).toLocaleString(undefined, { dateStyle: 'medium', timeStyle: 'short' });
+/** How often the standing is asked for again: it reads in minutes. */
+const REFRESH_MS = 60_000;
+let refreshTimer = null;
 
-/** Where the assignment stands now, as the server decides it (see courses::deadline). */
-function standingNow(a) {
-  const now = account.clock.server + (performance.now() - account.clock.local);
-  const due = Date.parse(a.due);
-  const cutoff = Date.parse(a.cutoff);
-  if (now > cutoff) return { state: 'closed' };
-  if (now <= due) return { state: 'open', seconds_left: Math.floor((due - now) / 1000) };
-  const late = Math.max(1, Math.floor((now - due) / 1000));
-  return {
-    state: 'late',
-    late_seconds: late,
-    penalty: Math.min(1, Math.ceil(late / 86400) * a.penalty_per_day),
-    seconds_to_cutoff: Math.floor((cutoff - now) / 1000),
-  };
+/**
+ * Asks the server again in a minute, or sooner when the standing changes before then (the
+ * due date or the cutoff passes): the server alone says whether a submission is late and
+ * what it costs. A page out of sight asks again when it is seen.
+ */
+function scheduleRefresh() {
+  clearTimeout(refreshTimer);
+  if (account.mode !== 'student') return;
+  const standing = account.assignment?.standing;
+  const next = standing?.state === 'open' ? standing.seconds_left
+    : standing?.state === 'late' ? standing.seconds_to_cutoff : Infinity;
+  const wait = Math.min(REFRESH_MS, 1000 * (next + 1));
+  refreshTimer = setTimeout(() => {
+    if (document.visibilityState === 'visible') refreshAccount();
+  }, wait);
 }
 
-/** The assignment's due date and what a submission now would be: on time, late and its penalty, or refused. */
+document.addEventListener('visibilitychange', () => {
+  if (document.visibilityState === 'visible' && account.mode === 'student') refreshAccount();
+});
+
+const localTime = (at) => new Date(at).toLocaleString(undefined, { dateStyle: 'medium', timeStyle: 'short' });
+
+/** The assignment's due date and what a submission now would be (as the server last said): on time, late and its penalty, or refused. */
 function deadline() {
   const a = account.assignment;
   if (!a) return 'Your course has not opened this exercise yet: submissions are not taken.';
-  const standing = standingNow(a);
+  const { standing } = a;
   const due = `Due ${localTime(a.due)}`;
   if (standing.state === 'open') return `${due}: ${span(standing.seconds_left)} left.`;
   if (standing.state === 'closed') {
@@ -227,11 +231,6 @@ function showWho() {
     ui.who.replaceChildren(who, ' (', link('/me', 'your submissions'), '). ', when);
   }
 }
-
-// The time left, or how late a submission would be, as time goes by.
-setInterval(() => {
-  if (account.mode === 'student' && !account.about.member.dropped) byId('deadline').textContent = deadline();
-}, 20_000);
 
 ui.student.value = localStorage.getItem(STORAGE.student) ?? '';
 

@@ -1,11 +1,20 @@
 // The instructor's side of a course's exercise: the class at a glance (a table of the
-// students, what the class gets wrong, regrading, the exports, the staff's actions), and
-// one student's page (their submissions, one read beside its result, an extension).
-// Everything comes from the course's API; the server checks that the reader is staff.
+// students, the scores and each test's pass rate as pictures, what the class gets wrong,
+// regrading, the exports, the staff's actions), and one student's page (their
+// submissions, one read beside its result or compared with another line by line, an
+// extension). Everything comes from the course's API; the server checks that the reader
+// is staff.
 import { javascript } from '@codemirror/lang-javascript';
 import { EditorView, basicSetup } from 'codemirror';
+import { structuredPatch } from 'diff';
+import { BarChart } from 'echarts/charts';
+import * as echarts from 'echarts/core';
 import { byId } from '../controls.js';
-import { ApiError, element, getJson, link, percent, renderSubmission, span } from '../student/results.js';
+import { Plot, colours } from '../plots.js';
+import { ApiError, element, getJson, link, moment, percent, renderSubmission, span } from '../student/results.js';
+
+// The plots module draws lines and points; the class's pictures are bars.
+echarts.use([BarChart]);
 
 const root = byId('dashboard');
 const { course, lab, student } = root.dataset;
@@ -28,7 +37,7 @@ const sleep = (ms) => new Promise((resolve) => setTimeout(resolve, ms));
 /** A score or nothing, for a cell. */
 const score = (value) => (value === null || value === undefined ? '–' : percent(value));
 /** A moment in the reader's time zone. */
-const when = (text) => (text ? new Date(text).toLocaleString(undefined, { dateStyle: 'medium', timeStyle: 'short' }) : '–');
+const when = moment;
 
 /** A table's head and rows, from column titles and rows of cells (text or nodes). */
 function fillTable(table, titles, rows) {
@@ -64,6 +73,13 @@ function describeRegrade(regrade) {
   box.dataset.id = regrade.id;
   box.append(element('p', null,
     `Regrade ${regrade.id} of ${regrade.scope}, asked by ${regrade.requested_by} with ${regrade.grader}: ${progress}`));
+  if (!regrade.finished_at) {
+    const bar = element('progress');
+    bar.max = regrade.total;
+    bar.value = regrade.done;
+    bar.setAttribute('aria-label', `regrade ${regrade.id}: ${regrade.done} of ${regrade.total} submissions`);
+    box.append(bar);
+  }
   if (regrade.changed.length === 0) {
     box.append(element('p', 'unchanged', regrade.finished_at ? 'No score changed.' : 'No score has changed so far.'));
   } else {
@@ -83,18 +99,31 @@ function describeRegrade(regrade) {
   return box;
 }
 
+/** Shows the regrade at `url` in `box` as it goes, until it is done; resolves to it then. */
+async function follow(url, box) {
+  for (;;) {
+    const progress = await getJson(url);
+    box.replaceChildren(describeRegrade(progress));
+    if (progress.finished_at) return progress;
+    await sleep(1000);
+  }
+}
+
+/** The boxes of the regrades this page follows now, by id: a redrawn list keeps them. */
+const followed = new Map();
+
+function followInto(id, box) {
+  followed.set(id, box);
+  return follow(`${api}/regrades/${id}`, box).finally(() => followed.delete(id));
+}
+
 /** Starts a regrade of `scope` and follows it in `box` (and `status`) until it is done. */
 async function regrade(scope, status, box) {
   try {
     const started = await postJson(`${api}/regrades`, { lab, scope });
     status.textContent = `Regrading ${started.total} submission(s) in the background…`;
-    for (;;) {
-      const progress = await getJson(started.url);
-      box.replaceChildren(describeRegrade(progress));
-      if (progress.finished_at) break;
-      await sleep(500);
-    }
-    status.textContent = 'Regrade done.';
+    const done = await followInto(started.id, box);
+    status.textContent = `Regrade done: ${done.changed.length} score(s) changed.`;
   } catch (error) {
     status.textContent = `Not regraded: ${error.message}`;
   }
@@ -125,58 +154,60 @@ const COLUMNS = [
   ['Last submitted', (r) => r.last],
 ];
 
+/** The class table's rows and order; the filters are read from the page at each drawing. */
+const table = { rows: [], sortBy: 0, descending: false };
+
+function drawTable() {
+  const tableElement = byId('class-table');
+  const filter = byId('filter').value;
+  const below = Number(byId('below').value) / 100;
+  const find = byId('find').value.trim().toLowerCase();
+  const shown = table.rows.filter((r) => {
+    if ((filter === 'dropped') !== r.student.dropped) return false;
+    if (filter === 'not-submitted' && r.student.submissions > 0) return false;
+    if (filter === 'below' && !(r.counting === null || r.counting < below)) return false;
+    if (filter === 'late' && !r.late) return false;
+    return !find || r.name.toLowerCase().includes(find) || r.student.id.toLowerCase().includes(find);
+  });
+  const key = COLUMNS[table.sortBy][1];
+  shown.sort((a, b) => {
+    const [x, y] = [key(a), key(b)];
+    const order = typeof x === 'number' ? x - y : String(x).localeCompare(String(y));
+    return table.descending ? -order : order;
+  });
+  fillTable(tableElement, COLUMNS.map(([title]) => title), shown.map((r) => [
+    link(`/courses/${course}/${lab}/students/${encodeURIComponent(r.student.id)}`, r.name),
+    r.student.id,
+    r.student.submissions,
+    score(r.counting),
+    score(r.latest),
+    r.late ? `late, −${percent(r.student.counting.penalty)}` : (r.student.counting ? 'on time' : '–'),
+    when(r.last),
+  ]));
+  tableElement.querySelectorAll('tbody tr').forEach((tr, i) => { tr.dataset.student = shown[i].student.id; });
+  // Each column's title sorts by it; again, the other way round.
+  tableElement.querySelectorAll('th').forEach((th, i) => {
+    th.setAttribute('aria-sort', i === table.sortBy ? (table.descending ? 'descending' : 'ascending') : 'none');
+    const button = element('button', 'link', th.textContent);
+    button.type = 'button';
+    button.addEventListener('click', () => {
+      table.descending = i === table.sortBy ? !table.descending : false;
+      table.sortBy = i;
+      drawTable();
+    });
+    th.replaceChildren(button);
+  });
+  byId('count').textContent = `${shown.length} of ${table.rows.length} student(s)`;
+}
+
 function showClass(answer) {
-  const rows = classRows(answer);
   const policy = answer.policy;
   byId('facts').textContent =
     `Due ${when(policy.due)}, taken until ${when(policy.cutoff)}, ${percent(policy.penalty_per_day)} off per day late; ` +
     `the ${policy.counts} graded submission counts. Graded with ${answer.grader}.`;
   byId('grader').textContent = answer.grader;
-  let sortBy = 0;
-  let descending = false;
-  const table = byId('class-table');
-  const draw = () => {
-    const filter = byId('filter').value;
-    const below = Number(byId('below').value) / 100;
-    const find = byId('find').value.trim().toLowerCase();
-    const shown = rows.filter((r) => {
-      if ((filter === 'dropped') !== r.student.dropped) return false;
-      if (filter === 'not-submitted' && r.student.submissions > 0) return false;
-      if (filter === 'below' && !(r.counting === null || r.counting < below)) return false;
-      if (filter === 'late' && !r.late) return false;
-      return !find || r.name.toLowerCase().includes(find) || r.student.id.toLowerCase().includes(find);
-    });
-    const key = COLUMNS[sortBy][1];
-    shown.sort((a, b) => {
-      const [x, y] = [key(a), key(b)];
-      const order = typeof x === 'number' ? x - y : String(x).localeCompare(String(y));
-      return descending ? -order : order;
-    });
-    fillTable(table, COLUMNS.map(([title]) => title), shown.map((r) => [
-      link(`/courses/${course}/${lab}/students/${encodeURIComponent(r.student.id)}`, r.name),
-      r.student.id,
-      r.student.submissions,
-      score(r.counting),
-      score(r.latest),
-      r.late ? `late, −${percent(r.student.counting.penalty)}` : (r.student.counting ? 'on time' : '–'),
-      when(r.last),
-    ]));
-    // Each column's title sorts by it; again, the other way round.
-    table.querySelectorAll('th').forEach((th, i) => {
-      th.setAttribute('aria-sort', i === sortBy ? (descending ? 'descending' : 'ascending') : 'none');
-      const button = element('button', 'link', th.textContent);
-      button.type = 'button';
-      button.addEventListener('click', () => {
-        descending = i === sortBy ? !descending : false;
-        sortBy = i;
-        draw();
-      });
-      th.replaceChildren(button);
-    });
-    byId('count').textContent = `${shown.length} of ${rows.length} student(s)`;
-  };
-  for (const id of ['filter', 'below', 'find']) byId(id).addEventListener('input', draw);
-  draw();
+  table.rows = classRows(answer);
+  drawTable();
 
   const mistakes = byId('mistakes');
   mistakes.replaceChildren(...answer.mistakes.map((m) => {
@@ -191,7 +222,103 @@ function showClass(answer) {
   }));
   if (answer.mistakes.length === 0) mistakes.replaceChildren(element('li', null, 'No classic mistake in the submissions that count.'));
 
-  byId('regrades').replaceChildren(...answer.regrades.map(describeRegrade));
+  // Regrades still running (started elsewhere, or before this page was opened) are followed.
+  byId('regrades').replaceChildren(...answer.regrades.map((r) => {
+    if (followed.has(r.id)) return followed.get(r.id);
+    const box = element('div', 'regrade-box');
+    box.append(describeRegrade(r));
+    if (!r.finished_at) followInto(r.id, box).catch(() => {});
+    return box;
+  }));
+}
+
+// ---------------------------------------------------------------------------------------
+// The class's results as pictures, each said in words in its caption (and in full in its
+// summary for screen readers): the scores that count, and each test's share passing.
+
+/** The ten bins of the distribution, as the class API counts them: [0, 10 %), ..., [90 %, 100 %]. */
+const BINS = Array.from({ length: 10 }, (_, i) => `${10 * i}–${10 * (i + 1)} %`);
+/** The bins as the axis names them, short enough for a phone's width (the axis says %). */
+const BIN_LABELS = BINS.map((bin) => bin.replace(' %', ''));
+
+/** A test's name as an axis shows it: the function, or the data set and update. */
+const shortName = (name) => name.split(':')[0];
+
+function median(values) {
+  const sorted = values.slice().sort((a, b) => a - b);
+  const middle = Math.floor(sorted.length / 2);
+  return sorted.length % 2 ? sorted[middle] : (sorted[middle - 1] + sorted[middle]) / 2;
+}
+
+/** Says `text` in the figure's caption, before its save buttons. */
+function caption(id, text) {
+  byId(id).textContent = text;
+}
+
+function drawDistribution(plot, answer) {
+  const enrolled = answer.students.filter((s) => !s.dropped);
+  const scores = enrolled.map((s) => s.counting?.final_score).filter((v) => v !== null && v !== undefined);
+  const without = enrolled.length - scores.length;
+  const none = without ? `; ${without} of the roster ${without === 1 ? 'has' : 'have'} no graded submission` : '';
+  caption('distribution-caption', scores.length === 0
+    ? `Scores that count: no student has a graded submission yet${none}.`
+    : `Scores that count: ${scores.length} student${scores.length === 1 ? '' : 's'}, median ${percent(median(scores))}, ` +
+      `${scores.filter((v) => v < 0.5).length} below 50 %${none}.`);
+  plot.describe(`Students per band of the score that counts: ${BINS.map((bin, i) => `${bin}: ${answer.distribution[i]}`).join('; ')}.`);
+  plot.set({
+    animation: false,
+    grid: { left: 56, right: 16, top: 28, bottom: 52 },
+    tooltip: { trigger: 'axis', axisPointer: { type: 'shadow' }, formatter: ([item]) => `${BINS[item.dataIndex]}: ${item.value} student(s)` },
+    xAxis: { type: 'category', data: BIN_LABELS, name: 'score that counts (%)', nameLocation: 'middle', nameGap: 32, axisLabel: { fontSize: 10 } },
+    yAxis: { type: 'value', name: 'students', nameLocation: 'middle', nameGap: 36, minInterval: 1 },
+    series: [{
+      id: 'students',
+      type: 'bar',
+      data: answer.distribution,
+      itemStyle: { color: colours.odometry },
+      label: { show: true, position: 'top', formatter: ({ value }) => (value ? String(value) : '') },
+    }],
+  });
+}
+
+function drawTests(plot, answer) {
+  const tests = answer.tests;
+  const most = Math.max(0, ...tests.map((t) => t.of));
+  if (tests.length === 0) {
+    caption('tests-caption', 'Students passing each test: no graded submission counts yet.');
+    plot.describe('No test has been graded yet.');
+  } else {
+    const share = (t) => (t.of ? t.passed / t.of : 0);
+    const hardest = tests.reduce((a, b) => (share(b) < share(a) ? b : a));
+    const all = tests.filter((t) => t.passed === t.of).length;
+    caption('tests-caption', `Students passing each test, of ${most} with a graded submission that counts: ` +
+      `${all} of ${tests.length} tests passed by all; fewest pass ${shortName(hardest.name)} (${hardest.passed} of ${hardest.of}, ${percent(share(hardest))}).`);
+    plot.describe(`Students passing each test: ${tests.map((t) => `${t.name}: ${t.passed} of ${t.of} (${percent(share(t))})`).join('; ')}.`);
+  }
+  // A bar per test, each as tall as a line of text; the names take at most 40 % of the width.
+  plot.element.style.height = `${Math.max(160, 70 + 26 * tests.length)}px`;
+  const names = Math.round(Math.min(210, Math.max(80, 0.4 * plot.element.clientWidth)));
+  plot.set({
+    animation: false,
+    grid: { left: names + 10, right: 56, top: 16, bottom: 44 },
+    tooltip: {
+      trigger: 'axis',
+      axisPointer: { type: 'shadow' },
+      formatter: ([item]) => {
+        const t = tests[item.dataIndex];
+        return `${t.name}<br>${t.passed} of ${t.of} students pass (${percent(t.of ? t.passed / t.of : 0)})`;
+      },
+    },
+    xAxis: { type: 'value', min: 0, max: 100, name: 'students passing (%)', nameLocation: 'middle', nameGap: 28 },
+    yAxis: { type: 'category', inverse: true, data: tests.map((t) => shortName(t.name)), axisLabel: { width: names, overflow: 'truncate' } },
+    series: [{
+      id: 'passing',
+      type: 'bar',
+      data: tests.map((t) => (t.of ? (100 * t.passed) / t.of : 0)),
+      itemStyle: { color: colours.truth },
+      label: { show: true, position: 'right', formatter: ({ dataIndex }) => `${tests[dataIndex].passed}/${tests[dataIndex].of}` },
+    }],
+  });
 }
 
 async function showAudit() {
@@ -202,20 +329,113 @@ async function showAudit() {
 
 async function classPage() {
   const url = `${api}/labs/${encodeURIComponent(lab)}/class`;
-  showClass(await getJson(url));
+  const plots = {
+    distribution: new Plot(byId('distribution-figure'), `${course}-${lab}-scores`),
+    tests: new Plot(byId('tests-figure'), `${course}-${lab}-tests`),
+  };
+  let shown = null;
+  const showAll = (answer) => {
+    shown = answer;
+    showClass(answer);
+    drawDistribution(plots.distribution, answer);
+    drawTests(plots.tests, answer);
+  };
+  // The test names' room follows the plot's width.
+  let width = plots.tests.element.clientWidth;
+  new ResizeObserver(() => {
+    const now = plots.tests.element.clientWidth;
+    if (shown && Math.abs(now - width) > 20) drawTests(plots.tests, shown);
+    width = now;
+  }).observe(plots.tests.element);
+  const refresh = async () => {
+    const status = byId('refresh-status');
+    try {
+      showAll(await getJson(url));
+      await showAudit();
+      status.textContent = `As of ${new Date().toLocaleTimeString()}.`;
+    } catch (error) {
+      status.textContent = `Not refreshed: ${error.message}`;
+    }
+  };
+  for (const id of ['filter', 'below', 'find']) byId(id).addEventListener('input', drawTable);
+  showAll(await getJson(url));
   await showAudit();
+  byId('refresh-class').addEventListener('click', refresh);
+  // The class as it fills, while the page is in view.
+  setInterval(() => {
+    if (document.visibilityState === 'visible') refresh();
+  }, 60_000);
   byId('regrade-all').addEventListener('click', async () => {
     if (!window.confirm('Regrade every submission of the assignment with the grader as it is now?')) return;
-    const box = element('div');
+    const box = element('div', 'regrade-box');
     byId('regrades').prepend(box);
+    byId('regrade-all').disabled = true;
     await regrade({ kind: 'assignment' }, byId('regrade-status'), box);
-    showClass(await getJson(url));
-    await showAudit();
+    byId('regrade-all').disabled = false;
+    await refresh();
   });
 }
 
 // ---------------------------------------------------------------------------------------
 // One student.
+
+/**
+ * The line differences between two sources (`before` older, `after` newer) in `box`:
+ * a count of lines added and removed, then each changed stretch with three lines of
+ * context, every line numbered in both files and marked +, - or a space, so that a
+ * reader who does not tell the colours apart reads the marks.
+ */
+function showDiff(box, before, after) {
+  const patch = structuredPatch(`submission ${before.id}`, `submission ${after.id}`,
+    before.source ?? '', after.source ?? '', '', '', { context: 3 });
+  let added = 0;
+  let removed = 0;
+  const table = element('table', 'diff');
+  const body = element('tbody');
+  for (const hunk of patch.hunks) {
+    const head = element('tr', 'hunk');
+    const cell = element('td', null,
+      `Lines ${hunk.oldStart}–${hunk.oldStart + Math.max(0, hunk.oldLines - 1)} of submission ${before.id}, ` +
+      `${hunk.newStart}–${hunk.newStart + Math.max(0, hunk.newLines - 1)} of submission ${after.id}`);
+    cell.colSpan = 4;
+    head.append(cell);
+    body.append(head);
+    let [old, now] = [hunk.oldStart, hunk.newStart];
+    for (const line of hunk.lines) {
+      const mark = line[0];
+      if (mark === '\\') continue; // "No newline at end of file"
+      const kind = mark === '+' ? 'added' : mark === '-' ? 'removed' : 'same';
+      const row = element('tr', kind);
+      row.append(
+        element('td', 'number', kind === 'added' ? '' : String(old)),
+        element('td', 'number', kind === 'removed' ? '' : String(now)),
+        element('td', 'mark', mark === ' ' ? '' : mark),
+        element('td', 'code', line.slice(1)),
+      );
+      row.cells[2].title = { added: `added in submission ${after.id}`, removed: `removed from submission ${before.id}`, same: '' }[kind];
+      if (kind !== 'added') old += 1;
+      if (kind !== 'removed') now += 1;
+      if (kind === 'added') added += 1;
+      if (kind === 'removed') removed += 1;
+      body.append(row);
+    }
+  }
+  const head = element('thead');
+  const titles = element('tr');
+  for (const title of [`#${before.id}`, `#${after.id}`, '±', 'line']) {
+    const th = element('th', null, title);
+    th.scope = 'col';
+    titles.append(th);
+  }
+  head.append(titles);
+  table.append(head, body);
+  const summary = element('p', 'diff-summary', patch.hunks.length === 0
+    ? `Submissions ${before.id} and ${after.id} have the same source.`
+    : `From submission ${before.id} to submission ${after.id}: ${added} line(s) added (+), ${removed} removed (-).`);
+  box.replaceChildren(summary, ...(patch.hunks.length ? [table] : []));
+  box.dataset.added = String(added);
+  box.dataset.removed = String(removed);
+}
 
 async function studentPage() {
   const url = `${api}/labs/${encodeURIComponent(lab)}/students/${encodeURIComponent(student)}`;
@@ -224,11 +444,42 @@ async function studentPage() {
     extensions: [basicSetup, javascript(), EditorView.editable.of(false), EditorView.lineWrapping],
     parent: byId('source'),
   });
-  const show = async (id) => {
+  // Reachable from the page (and its tests) through the element it shows in.
+  byId('source').editor = source;
+  const choose = byId('view-submission');
+  const compare = byId('compare-submission');
+  /** Submissions read so far, by id (with their sources). */
+  const read = new Map();
+  const fetchSubmission = async (id) => {
+    if (read.has(id)) return read.get(id);
     const submission = await getJson(`/api/submissions/${id}`);
-    source.dispatch({ changes: { from: 0, to: source.state.doc.length, insert: submission.source ?? '' } });
-    renderSubmission(byId('result'), submission, { open: true });
+    // A graded submission changes only at a regrade, which forgets what was read.
+    if (submission.status === 'graded') read.set(id, submission);
+    return submission;
   };
+  /** Shows the chosen submission's result, and its source or its difference from the one compared. */
+  const show = async () => {
+    const id = choose.value;
+    if (!id) return;
+    const submission = await fetchSubmission(id);
+    renderSubmission(byId('result'), submission, { open: true });
+    const other = compare.value;
+    const diff = byId('diff');
+    if (other && other !== id) {
+      const them = await fetchSubmission(other);
+      const [before, after] = Number(other) < Number(id) ? [them, submission] : [submission, them];
+      showDiff(diff, before, after);
+      diff.hidden = false;
+      byId('source').hidden = true;
+    } else {
+      diff.hidden = true;
+      byId('source').hidden = false;
+      source.dispatch({ changes: { from: 0, to: source.state.doc.length, insert: submission.source ?? '' } });
+    }
+  };
+  const showSafely = () => show().catch((error) => {
+    byId('result').replaceChildren(element('p', 'error', `The submission could not be read: ${error.message}`));
+  });
   const refresh = async () => {
     const answer = await getJson(url);
     const { member, policy, extension } = answer;
@@ -236,16 +487,46 @@ async function studentPage() {
       `${member.name || member.login} (${member.login}, ${member.email || 'no email'})${member.dropped ? ', dropped from the roster' : ''}. ` +
       `Due ${when(policy.due)}, taken until ${when(policy.cutoff)}` +
       (extension ? `, by an extension ${extension.granted_by} granted on ${when(extension.granted_at)}.` : '.');
-    fillTable(byId('student-submissions'), ['#', 'Submitted', 'Status', 'Score', 'Late', 'Counts as'],
-      answer.submissions.slice().reverse().map((s) => [
-        s.id, when(s.submitted_at), s.status, score(s.score),
-        s.late_seconds > 0 ? `${span(s.late_seconds)} (−${percent(s.penalty)})` : 'on time', score(s.final_score),
-      ]));
-    const choose = byId('view-submission');
-    choose.replaceChildren(...answer.submissions.slice().reverse().map((s) => new Option(`submission ${s.id}`, s.id)));
-    if (answer.submissions.length > 0) await show(choose.value);
+    const newest = answer.submissions.slice().reverse();
+    fillTable(byId('student-submissions'), ['#', 'Submitted', 'Status', 'Score', 'Late', 'Counts as', ''],
+      newest.map((s) => {
+        const actions = element('span', 'actions');
+        const view = element('button', 'link', 'Show');
+        view.type = 'button';
+        view.setAttribute('aria-label', `Show submission ${s.id}`);
+        view.addEventListener('click', () => {
+          choose.value = String(s.id);
+          showSafely();
+          byId('view-title').scrollIntoView();
+        });
+        actions.append(view);
+        if (s.status === 'graded') {
+          const again = element('button', 'link', 'Regrade');
+          again.type = 'button';
+          again.setAttribute('aria-label', `Regrade submission ${s.id}`);
+          again.addEventListener('click', async () => {
+            await regrade({ kind: 'submission', of: s.id }, byId('regrade-student-status'), byId('student-regrade'));
+            read.delete(String(s.id));
+            await refresh();
+          });
+          actions.append(' · ', again);
+        }
+        return [
+          s.id, when(s.submitted_at), s.status, score(s.score),
+          s.late_seconds > 0 ? `${span(s.late_seconds)} (−${percent(s.penalty)})` : 'on time', score(s.final_score), actions,
+        ];
+      }));
+    byId('student-submissions').querySelectorAll('tbody tr').forEach((tr, i) => { tr.dataset.id = String(newest[i].id); });
+    const [shown, compared] = [choose.value, compare.value];
+    choose.replaceChildren(...newest.map((s) => new Option(`submission ${s.id} (${score(s.score)})`, s.id)));
+    compare.replaceChildren(new Option('(nothing: its source)', ''),
+      ...newest.map((s) => new Option(`submission ${s.id} (${score(s.score)})`, s.id)));
+    if (newest.some((s) => String(s.id) === shown)) choose.value = shown;
+    if (newest.some((s) => String(s.id) === compared)) compare.value = compared;
+    if (newest.length > 0) await show();
   };
-  byId('view-submission').addEventListener('change', (event) => show(event.target.value));
+  choose.addEventListener('change', showSafely);
+  compare.addEventListener('change', showSafely);
   byId('extension-form').addEventListener('submit', async (event) => {
     event.preventDefault();
     const form = new FormData(event.target);
@@ -259,7 +540,8 @@ async function studentPage() {
     }
   });
   byId('regrade-student').addEventListener('click', async () => {
-    await regrade({ kind: 'student', of: student }, byId('regrade-student-status'), byId('regrade-student-status'));
+    await regrade({ kind: 'student', of: student }, byId('regrade-student-status'), byId('student-regrade'));
+    read.clear();
     await refresh();
   });
   await refresh();

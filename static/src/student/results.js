@@ -209,6 +209,7 @@ export function renderSubmission(box, submission, { comparison = '', open = fals
     line += ` Submitted ${span(submission.late_seconds)} late, which costs ${percent(submission.penalty)} of the score: it counts as ${percent(submission.final_score ?? 0)}.`;
   }
   const parts = [element('p', 'verdict', line)];
+  if (submission.earlier?.length) parts.push(regradeNote(submission));
   if (result.hidden_cases) {
     // The browser knows only the shown cases; the server's differ at every submission.
     const hidden = result.tests.flatMap((test) => (test.failures ?? []).filter((f) => f.hidden));
@@ -228,4 +229,73 @@ export function renderSubmission(box, submission, { comparison = '', open = fals
   tests.append(list);
   parts.push(tests);
   box.replaceChildren(...parts);
+}
+
+// ---------------------------------------------------------------------------------------
+// A submission graded again: each regrade, when and with which grader, and what it changed.
+
+/** A moment in the reader's time zone, or a dash. */
+export function moment(text) {
+  const at = text ? new Date(text) : null;
+  return at && !Number.isNaN(at.getTime()) ? at.toLocaleString(undefined, { dateStyle: 'medium', timeStyle: 'short' }) : '–';
+}
+
+/** A result's score in words: `85 % (93.5 of 110 points)`, or that it was not gradable. */
+function scoreOf(result) {
+  if (!result?.gradable) return 'not gradable';
+  return `${percent(result.score)} (${fmt(result.points, 4)} of ${result.max_points} points)`;
+}
+
+/** The tests whose points differ between two results: { name, before, after, max } each. */
+function changedTests(before, after) {
+  const points = (result) => new Map((result?.gradable ? result.tests : []).map((test) => [test.name, test]));
+  const [old, now] = [points(before), points(after)];
+  const names = [...new Set([...old.keys(), ...now.keys()])];
+  return names.flatMap((name) => {
+    const [a, b] = [old.get(name)?.points ?? 0, now.get(name)?.points ?? 0];
+    if (Math.abs(a - b) < 1e-9) return [];
+    const max = (now.get(name) ?? old.get(name)).max_points;
+    return [{ name, before: a, after: b, max }];
+  });
+}
+
+/**
+ * That `submission` was graded again, once per regrade (its `earlier` results, oldest
+ * first, each replaced by the next and the last by the current one): when, with which
+ * grader, the score before and after, and each test whose points changed.
+ */
+function regradeNote(submission) {
+  const box = element('div', 'regraded');
+  const steps = submission.earlier.map((before, i) => {
+    const next = submission.earlier[i + 1];
+    const after = next ?? { grader: submission.grader, graded_at: submission.graded_at, result: submission.result };
+    return { before, after };
+  });
+  box.append(element('p', 'regraded-title', steps.length === 1
+    ? `This submission was regraded: the result below replaced the one it first had.`
+    : `This submission was regraded ${steps.length} times: the result below replaced the earlier ones, each kept.`));
+  const list = element('ul', 'regrades');
+  for (const { before, after } of steps) {
+    const item = element('li', 'regrade-step');
+    const same = before.result?.gradable === after.result?.gradable &&
+      Math.abs((before.result?.score ?? 0) - (after.result?.score ?? 0)) < 1e-9;
+    let text = `Regraded ${moment(after.graded_at)} with ${after.grader ?? 'an unnamed grader'}` +
+      ` (first graded with ${before.grader ?? 'an earlier grader'}): `;
+    text += same ? `the score stayed ${scoreOf(after.result)}.` : `the score went from ${scoreOf(before.result)} to ${scoreOf(after.result)}.`;
+    if (!same && submission.penalty > 0 && before.result?.gradable && after.result?.gradable) {
+      const counts = (result) => percent(result.score * (1 - submission.penalty));
+      text += ` After the late penalty it counts as ${counts(after.result)} (was ${counts(before.result)}).`;
+    }
+    item.append(element('span', null, text));
+    const tests = changedTests(before.result, after.result);
+    if (tests.length) {
+      const changed = element('ul', 'changed-tests');
+      changed.append(...tests.map((t) => element('li', null,
+        `${t.name}: ${fmt(t.before, 4)} → ${fmt(t.after, 4)} of ${t.max} points`)));
+      item.append(changed);
+    }
+    list.append(item);
+  }
+  box.append(list);
+  return box;
 }
