@@ -191,6 +191,7 @@ async fn a_regrade_lists_every_changed_score_and_keeps_the_replaced_results() {
     assert_eq!(changed.len(), 1, "only s2's score changed: {changed:?}");
     assert_eq!(changed[0]["student"], "s2");
     assert_eq!(changed[0]["old_score"], 0.5);
+    assert_eq!(changed[0]["old_final"], 0.5, "on time: nothing taken off");
     let new_score = changed[0]["new_score"].as_f64().unwrap();
     assert!(new_score < 0.99, "{new_score}");
 
@@ -205,6 +206,8 @@ async fn a_regrade_lists_every_changed_score_and_keeps_the_replaced_results() {
     assert_eq!(earlier.len(), 1);
     assert_eq!(earlier[0]["score"], 0.5);
     assert_eq!(earlier[0]["grader"], "estlab 0.0.1 plan old");
+    assert_eq!(earlier[0]["replaced_by"], started["id"]);
+    assert_eq!(earlier[0]["replaced_on_request_of"], "teacher@kth.example");
     assert!(earlier[0]["result"]["tests"].is_array());
 
     // Nothing to regrade is a clear refusal; the action is logged with its actor.

@@ -132,10 +132,12 @@ impl From<StaffRole> for Role {
 
 /// Who acts, as the audit log names a command: the command line and the system user.
 fn actor() -> String {
-    format!(
-        "command line ({})",
-        std::env::var("USER").unwrap_or_else(|_| "unknown user".into())
-    )
+    let user = ["USER", "LOGNAME"]
+        .iter()
+        .find_map(|name| std::env::var(name).ok())
+        // SAFETY: getuid has no preconditions and cannot fail.
+        .unwrap_or_else(|| format!("uid {}", unsafe { libc::getuid() }));
+    format!("command line ({user})")
 }
 
 /// How long a one-time staff link stays valid.

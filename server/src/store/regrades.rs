@@ -43,6 +43,9 @@ pub struct Change {
     pub student: String,
     pub old_score: Option<f64>,
     pub new_score: Option<f64>,
+    /// The same after the submission's late penalty (which a regrade leaves alone).
+    pub old_final: Option<f64>,
+    pub new_final: Option<f64>,
 }
 
 /// A regrade job and how far it has come.
@@ -66,18 +69,29 @@ pub struct Regrade {
 /// A result a regrade replaced, kept.
 #[derive(Debug, Serialize)]
 pub struct EarlierResult {
+    #[serde(flatten)]
+    pub about: Replaced,
+    pub result: GradeResult,
+}
+
+/// Which result was replaced, and by which regrade.
+#[derive(Debug, Serialize)]
+pub struct Replaced {
     pub grader: Option<String>,
     pub score: Option<f64>,
     pub graded_at: Option<String>,
-    pub result: GradeResult,
+    /// The regrade that replaced it: its id, when it was asked for and by whom.
+    pub replaced_by: Option<i64>,
+    pub replaced_at: Option<Timestamp>,
+    pub replaced_on_request_of: Option<String>,
 }
 
 fn timestamp(seconds: i64) -> Timestamp {
     Timestamp::from_second(seconds).unwrap_or(Timestamp::UNIX_EPOCH)
 }
 
-/// A replaced result as stored: grader, score, when graded, the result's JSON.
-type EarlierRow = (Option<String>, Option<f64>, Option<String>, String);
+/// A replaced result as stored: what it was and what replaced it, and its JSON.
+type EarlierRow = (Replaced, String);
 
 /// Scores within this are the same score.
 const SAME: f64 = 1e-9;
@@ -265,17 +279,21 @@ impl Store {
             return Ok(None);
         };
         let mut statement = connection.prepare(
-            "SELECT i.submission, s.student, i.old_score, i.new_score
+            "SELECT i.submission, s.student, i.old_score, i.new_score, s.penalty
              FROM regrade_items i JOIN submissions s ON s.id = i.submission
              WHERE i.regrade = ?1 AND i.done = 1 ORDER BY s.student, i.submission",
         )?;
         regrade.changed = statement
             .query_map([id], |row| {
+                let (old_score, new_score): (Option<f64>, Option<f64>) = (row.get(2)?, row.get(3)?);
+                let kept = 1.0 - row.get::<_, f64>(4)?;
                 Ok(Change {
                     submission: row.get(0)?,
                     student: row.get(1)?,
-                    old_score: row.get(2)?,
-                    new_score: row.get(3)?,
+                    old_score,
+                    new_score,
+                    old_final: old_score.map(|s| s * kept),
+                    new_final: new_score.map(|s| s * kept),
                 })
             })?
             .filter(|change| {
@@ -295,20 +313,31 @@ impl Store {
         let rows: Vec<EarlierRow> = {
             let connection = self.connection();
             let mut statement = connection.prepare(
-                "SELECT grader, score, graded_at, result FROM results WHERE submission = ?1 ORDER BY id",
+                "SELECT r.grader, r.score, r.graded_at, r.replaced_by, g.created_at,
+                        g.requested_by, r.result
+                 FROM results r LEFT JOIN regrades g ON g.id = r.replaced_by
+                 WHERE r.submission = ?1 ORDER BY r.id",
             )?;
             statement
                 .query_map([submission], |row| {
-                    Ok((row.get(0)?, row.get(1)?, row.get(2)?, row.get(3)?))
+                    Ok((
+                        Replaced {
+                            grader: row.get(0)?,
+                            score: row.get(1)?,
+                            graded_at: row.get(2)?,
+                            replaced_by: row.get(3)?,
+                            replaced_at: row.get::<_, Option<i64>>(4)?.map(timestamp),
+                            replaced_on_request_of: row.get(5)?,
+                        },
+                        row.get(6)?,
+                    ))
                 })?
                 .collect::<Result<_, _>>()?
         };
         rows.into_iter()
-            .map(|(grader, score, graded_at, text)| {
+            .map(|(about, text)| {
                 Ok(EarlierResult {
-                    grader,
-                    score,
-                    graded_at,
+                    about,
                     result: serde_json::from_str(&text).map_err(Error::StoredResult)?,
                 })
             })

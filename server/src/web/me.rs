@@ -174,7 +174,15 @@ fn gather(
                 .choose(history.iter(), |s| s.final_score)
                 .and_then(|s| s.final_score);
             let latest = match history.last() {
-                Some(last) => store.get(last.id, false)?,
+                Some(last) => store
+                    .get(last.id, false)?
+                    .map(|latest| {
+                        Ok::<_, crate::store::Error>(Submission {
+                            earlier: store.earlier_results(last.id)?,
+                            ..latest
+                        })
+                    })
+                    .transpose()?,
                 None => None,
             };
             assignments.push(StudentAssignment {

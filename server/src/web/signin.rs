@@ -106,9 +106,8 @@ impl Refused {
 /// Code checks at once: each takes a core and 19 MiB for Argon2id, so a burst of
 /// sign-ins (or of guesses from many addresses) waits its turn instead of taking the
 /// server's memory.
-static CODE_CHECKS: LazyLock<Semaphore> = LazyLock::new(|| {
-    Semaphore::new(std::thread::available_parallelism().map_or(1, usize::from))
-});
+static CODE_CHECKS: LazyLock<Semaphore> =
+    LazyLock::new(|| Semaphore::new(std::thread::available_parallelism().map_or(1, usize::from)));
 
 /// Checks a typed code within the limits; counts a failure against them.
 async fn check(
@@ -120,7 +119,10 @@ async fn check(
     if let Err(refusal) = state.limiter.check_address(address, now) {
         return Ok(Err(Refused::too_many(&refusal)));
     }
-    let _turn = CODE_CHECKS.acquire().await.expect("the semaphore stays open");
+    let _turn = CODE_CHECKS
+        .acquire()
+        .await
+        .expect("the semaphore stays open");
     let Some(found) = blocking(state, move |store| store.find_code(&code)).await? else {
         state.limiter.failed(address, None, now);
         return Ok(Err(Refused::wrong_code()));
