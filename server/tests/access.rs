@@ -496,15 +496,17 @@ async fn sign_in_limits_and_codes() {
     let student = app.enrol("el2320", "u-limit-1");
     let code = app.code(&student);
 
-    // Per address: 10 wrong codes, then even the right one is refused.
+    // Per address: a burst of 40 wrong codes at once, of which 30 are checked and the
+    // rest refused; then even the right one is refused.
     let guesser = peer(192, 0, 2, 1);
-    for i in 0..10 {
-        let answer = app
-            .send(Req::sign_in(&unknown_code()).sent_from(guesser))
-            .await;
-        assert_eq!(answer.status, StatusCode::UNAUTHORIZED, "wrong code {i}");
-        assert_eq!(answer.session(), None);
-    }
+    let burst: Vec<_> = (0..40)
+        .map(|_| app.send(Req::sign_in(&unknown_code()).sent_from(guesser)))
+        .collect();
+    let answers = futures::future::join_all(burst).await;
+    let count = |status| answers.iter().filter(|a| a.status == status).count();
+    assert_eq!(count(StatusCode::UNAUTHORIZED), 30, "checked");
+    assert_eq!(count(StatusCode::TOO_MANY_REQUESTS), 10, "refused");
+    assert!(answers.iter().all(|a| a.session().is_none()));
     let answer = app.send(Req::sign_in(&code).sent_from(guesser)).await;
     assert_eq!(
         answer.status,
@@ -926,4 +928,60 @@ fn a_database_of_estlab_0_1_0_migrates_forward() {
     let (version, second) = dump(&path);
     assert_eq!(version, newest);
     assert_eq!(first, second, "a second opening changed the database");
+}
+
+/// Proves that a reissued code signs out whoever used the old one; that a student
+/// submits at most twenty times an hour; that the API's answers are kept by no cache; and
+/// that another scheme's `Authorization` (a proxy's Basic) is left alone.
+#[tokio::test(flavor = "multi_thread")]
+async fn reissued_codes_submission_caps_and_caching() {
+    let app = App::new();
+    let now = app.now();
+    let store = app.store();
+    store
+        .create_course("el2320", "Applied Estimation", now)
+        .unwrap();
+    store.assign("el2320", LAB, &open_policy(now)).unwrap();
+    let student = app.enrol("el2320", "u-cap");
+    let who = app.signed_in(&student).await;
+    let me = |who: &Who| Req::get("/api/me").who(who);
+    assert_eq!(app.send(me(&who)).await.json()["member"]["login"], "u-cap");
+
+    for i in 0..20 {
+        app.submit_graded(&who, &quick_source(&format!("try {i}")))
+            .await;
+    }
+    let submit = |who: &Who| {
+        Req::post("/api/submissions")
+            .who(who)
+            .json(json!({ "source": quick_source("one too many") }))
+    };
+    let refused = app.send(submit(&who)).await;
+    assert_eq!(
+        refused.status,
+        StatusCode::TOO_MANY_REQUESTS,
+        "{}",
+        refused.body
+    );
+    assert!(refused.error().contains("20 times in the last hour"));
+    app.clock.set(now + SignedDuration::from_mins(61));
+    let taken = app.send(submit(&who)).await;
+    assert_eq!(taken.status, StatusCode::ACCEPTED, "{}", taken.body);
+    let id = taken.json()["id"].as_i64().unwrap();
+    let read = app
+        .send(Req::get(&format!("/api/submissions/{id}")).who(&who))
+        .await;
+    assert_eq!(read.headers[header::CACHE_CONTROL], "no-store");
+
+    // A proxy's own authentication is not a token.
+    let page = app
+        .send(Req::get("/").header("authorization", "Basic dXNlcjpwYXNz"))
+        .await;
+    assert_eq!(page.status, StatusCode::OK);
+
+    // The teacher reissues the code: the session made with the old one ends.
+    store
+        .add_code(student.id, &new_code(), false, None, app.now())
+        .unwrap();
+    assert!(app.send(me(&who)).await.json()["member"].is_null());
 }

@@ -103,7 +103,7 @@ fn a_course_is_set_up_from_scratch_and_re_imports_change_only_what_changed() {
     let roster = dir.path().join("roster.csv");
     std::fs::write(
         &roster,
-        "id,name,email\nu1,Ada Lovelace,ada@kth.se\nu2,Grace Hopper,grace@kth.se\nu3,Alan Turing,alan@kth.se\n",
+        "id,name,email\nu1,Ada Lovelace,ada@kth.se\nu2,Grace Hopper,grace@kth.se\nu3,=1+1,alan@kth.se\n",
     )
     .unwrap();
     let imported = ok(

@@ -5,7 +5,7 @@ use super::{file_name, print, read};
 use crate::commands::serve::PUBLIC_URL;
 use crate::courses::codes::{self, NewCode};
 use crate::courses::deadline::{Counts, Policy, parse_moment, parse_penalty};
-use crate::courses::export::Format;
+use crate::courses::export::{Format, inert};
 use crate::courses::{check_course_name, roster};
 use crate::error::Error;
 use crate::store::{Member, NewMember, Role, Store};
@@ -452,11 +452,11 @@ fn roster_command(
             )?;
         }
         csv.write_record([
-            member.login.as_str(),
-            member.name.as_str(),
-            member.email.as_str(),
-            code.text.as_str(),
-            link(url, &code).as_str(),
+            inert(&member.login),
+            inert(&member.name),
+            inert(&member.email),
+            code.text.clone(),
+            link(url, &code),
         ])
         .expect("writing to memory");
     }

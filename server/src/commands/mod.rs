@@ -46,6 +46,12 @@ enum Command {
 /// Runs the command the command line names; prints its error, if any, on stderr.
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
+    if matches!(
+        cli.command,
+        Command::Serve(_) | Command::Course(_) | Command::Backup(_) | Command::GradeClass(_)
+    ) {
+        private_files();
+    }
     let result = match cli.command {
         Command::Serve(args) => serve::run(&args),
         Command::Run(args) => run::run(&args),
@@ -64,6 +70,15 @@ pub fn main() -> ExitCode {
             eprintln!("estlab: {err}");
             ExitCode::FAILURE
         }
+    }
+}
+
+/// Files and folders made from here on are the user's alone: the database, its backups,
+/// exports and grades hold students' work, names and emails.
+fn private_files() {
+    // SAFETY: umask only sets the process's file mode mask; it cannot fail.
+    unsafe {
+        libc::umask(0o077);
     }
 }
 

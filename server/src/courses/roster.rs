@@ -62,6 +62,12 @@ pub fn read(text: &str) -> Result<Vec<Student>, String> {
                 student.id
             ));
         }
+        if student.id.contains(['/', '\\']) || student.id.starts_with('.') {
+            return Err(format!(
+                "line {line}: the id {:?} may not contain / or \\ nor start with a dot (it names the student's files in exports)",
+                student.id
+            ));
+        }
         if !student.email.is_empty() && !student.email.contains('@') {
             return Err(format!(
                 "line {line}: {:?} is not an email address",
@@ -122,6 +128,12 @@ mod tests {
             read("id,name,email\nu1,Ada,a@x\nu1,Grace,g@x\n").unwrap_err(),
             "line 3: the id \"u1\" appears a second time"
         );
+        assert!(
+            read("id,name,email\n../../x,Ada,a@x\n")
+                .unwrap_err()
+                .starts_with("line 2: the id \"../../x\" may not contain /")
+        );
+        assert!(read("id,name,email\n.hidden,Ada,a@x\n").is_err());
         assert_eq!(
             read("id,name,email\nu1,Ada,ada.kth.se\n").unwrap_err(),
             "line 2: \"ada.kth.se\" is not an email address"

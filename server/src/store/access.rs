@@ -38,7 +38,8 @@ pub struct TokenInfo {
 
 impl Store {
     /// Stores a new code for a member. `once`: it ends at its first use; `expires_at`:
-    /// it ends then. Their earlier codes end, so a reissued code replaces a lost one.
+    /// it ends then. Their earlier codes end, and so do the sessions signed in with them:
+    /// whoever had a lost code is signed out.
     pub fn add_code(
         &self,
         member: i64,
@@ -50,6 +51,7 @@ impl Store {
         let mut connection = self.connection();
         let transaction = connection.transaction()?;
         transaction.execute("DELETE FROM codes WHERE member = ?1", [member])?;
+        transaction.execute("DELETE FROM sessions WHERE member = ?1", [member])?;
         transaction.execute(
             "INSERT INTO codes (selector, member, hash, once, expires_at, created_at)
              VALUES (?1, ?2, ?3, ?4, ?5, ?6)",

@@ -258,6 +258,21 @@ impl Store {
         .transpose()
     }
 
+    /// How many submissions a student has made to an exercise since `since`.
+    pub fn submitted_since(
+        &self,
+        member: i64,
+        lab: &str,
+        since: Timestamp,
+    ) -> Result<usize, Error> {
+        let count: i64 = self.connection().query_row(
+            "SELECT count(*) FROM submissions WHERE member = ?1 AND lab = ?2 AND submitted_at >= ?3",
+            params![member, lab, moment(since)],
+            |row| row.get(0),
+        )?;
+        Ok(count as usize)
+    }
+
     /// A student's own submissions to an exercise, oldest first.
     pub fn history(&self, member: i64, lab: &str) -> Result<Vec<SubmissionSummary>, Error> {
         let connection = self.connection();

@@ -21,6 +21,11 @@ use labs::grading::{DEFAULT_COURSE, LAB, student_seed};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
+/// Submissions a student may make to an exercise in an hour: plenty for work (tests run
+/// in the browser for free), and a bound on what one student takes of the grading and
+/// the disk.
+const PER_HOUR: usize = 20;
+
 /// The longest student or course id accepted.
 const MAX_ID: usize = 100;
 
@@ -97,14 +102,25 @@ pub async fn submit(
         let lab = submit.lab.clone();
         let course = member.course.clone();
         let id = member.id;
-        let policy = blocking(&state, move |store| store.policy_for(&course, &lab, id))
-            .await?
-            .ok_or_else(|| {
-                Error::Forbidden(format!(
-                    "your course has not opened the exercise {:?}",
-                    submit.lab
-                ))
-            })?;
+        let hour_ago = now - jiff::SignedDuration::from_hours(1);
+        let (recent, policy) = blocking(&state, move |store| {
+            Ok((
+                store.submitted_since(id, &lab, hour_ago)?,
+                store.policy_for(&course, &lab, id)?,
+            ))
+        })
+        .await?;
+        if recent >= PER_HOUR {
+            return Err(Error::TooManyRequests(format!(
+                "you have submitted {recent} times in the last hour, the most this server takes: submit again later (Run tests checks your file in the browser meanwhile)"
+            )));
+        }
+        let policy = policy.ok_or_else(|| {
+            Error::Forbidden(format!(
+                "your course has not opened the exercise {:?}",
+                submit.lab
+            ))
+        })?;
         let (late_seconds, penalty) = match policy.timing(now) {
             Timing::OnTime => (0, 0.0),
             Timing::Late { seconds, penalty } => (seconds, penalty),

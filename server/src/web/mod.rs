@@ -29,6 +29,7 @@ use std::sync::Arc;
 use std::time::Duration;
 use tower_http::compression::CompressionLayer;
 use tower_http::set_header::SetResponseHeaderLayer;
+use tower_http::timeout::RequestBodyTimeoutLayer;
 use tower_http::trace::TraceLayer;
 use tracing::Span;
 
@@ -45,6 +46,10 @@ pub struct AppState {
 
 /// The largest request body: a submission of the largest source, JSON-escaped.
 const MAX_BODY: usize = 4 << 20;
+
+/// How long a request's body may take to arrive: a client that sends it a byte at a
+/// time holds a connection no longer than this.
+const BODY_TIMEOUT: Duration = Duration::from_secs(30);
 
 /// Scripts from this origin only (and the wasm module they compile); styles may be
 /// inline, as the plotting and formula libraries set them on elements.
@@ -96,7 +101,9 @@ pub fn router(state: Arc<AppState>) -> Router {
         .nest_service("/static", static_files)
         .fallback(pages::not_found)
         .layer(axum::middleware::from_fn(origin::same_origin_only))
+        .layer(axum::middleware::from_fn(api_not_stored))
         .layer(DefaultBodyLimit::max(MAX_BODY))
+        .layer(RequestBodyTimeoutLayer::new(BODY_TIMEOUT))
         .layer(CompressionLayer::new())
         .layer(SetResponseHeaderLayer::if_not_present(
             header::CONTENT_SECURITY_POLICY,
@@ -125,6 +132,22 @@ pub fn router(state: Arc<AppState>) -> Router {
                 ),
         )
         .with_state(state)
+}
+
+/// The API's answers (sources and results) are kept by no cache, a shared lab
+/// computer's browser included.
+async fn api_not_stored(
+    request: Request,
+    next: axum::middleware::Next,
+) -> axum::response::Response {
+    let api = request.uri().path().starts_with("/api/");
+    let mut response = next.run(request).await;
+    if api {
+        response
+            .headers_mut()
+            .insert(header::CACHE_CONTROL, HeaderValue::from_static("no-store"));
+    }
+    response
 }
 
 /// A request's span names its method and its route's pattern (`/api/submissions/{id}`),

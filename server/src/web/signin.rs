@@ -6,6 +6,7 @@ use super::limiter::Refusal;
 use super::pages::{Nav, html};
 use super::viewer::{Viewer, session_key};
 use super::{AppState, Error, SESSION_COOKIE, blocking};
+use crate::courses::codes;
 use crate::store::{CodeCheck, Member};
 use askama::Template;
 use axum::Form;
@@ -17,6 +18,7 @@ use jiff::{SignedDuration, Timestamp};
 use serde::Deserialize;
 use std::net::{IpAddr, Ipv4Addr, SocketAddr};
 use std::sync::{Arc, LazyLock};
+use std::time::Duration;
 use tokio::sync::Semaphore;
 
 /// How long a session lasts.
@@ -109,22 +111,30 @@ impl Refused {
 static CODE_CHECKS: LazyLock<Semaphore> =
     LazyLock::new(|| Semaphore::new(std::thread::available_parallelism().map_or(1, usize::from)));
 
-/// Checks a typed code within the limits; counts a failure against them.
+/// How long a sign-in waits for its turn at a code check before it is told to try again.
+const CHECK_WAIT: Duration = Duration::from_secs(10);
+
+/// Checks a typed code within the limits. The attempt counts against its address from the
+/// start (taken back if it succeeds), so simultaneous attempts are held to the limit too.
 async fn check(
     state: &Arc<AppState>,
     address: IpAddr,
     code: String,
     now: Timestamp,
 ) -> Result<Result<Member, Refused>, Error> {
-    if let Err(refusal) = state.limiter.check_address(address, now) {
+    if let Err(refusal) = state.limiter.begin(address, now) {
         return Ok(Err(Refused::too_many(&refusal)));
     }
-    let _turn = CODE_CHECKS
-        .acquire()
-        .await
-        .expect("the semaphore stays open");
+    if codes::read_code(&code).is_none() {
+        return Ok(Err(Refused::wrong_code()));
+    }
+    let Ok(Ok(_turn)) = tokio::time::timeout(CHECK_WAIT, CODE_CHECKS.acquire()).await else {
+        return Ok(Err(Refused(
+            StatusCode::SERVICE_UNAVAILABLE,
+            "Signing in is busy right now: try again in a minute.".into(),
+        )));
+    };
     let Some(found) = blocking(state, move |store| store.find_code(&code)).await? else {
-        state.limiter.failed(address, None, now);
         return Ok(Err(Refused::wrong_code()));
     };
     let course = found.member.course.clone();
@@ -132,9 +142,12 @@ async fn check(
         return Ok(Err(Refused::too_many(&refusal)));
     }
     match blocking(state, move |store| store.use_code(found, now)).await? {
-        CodeCheck::Valid(member) => Ok(Ok(member)),
+        CodeCheck::Valid(member) => {
+            state.limiter.succeeded(address, now);
+            Ok(Ok(member))
+        }
         CodeCheck::Refused => {
-            state.limiter.failed(address, Some(&course), now);
+            state.limiter.failed_for_course(&course, now);
             Ok(Err(Refused::wrong_code()))
         }
     }
