@@ -143,7 +143,11 @@ export async function openPage(browser, url) {
     if (message.type() === 'error') page.problems.push(`console: ${message.text()}`);
   });
   page.on('pageerror', (error) => page.problems.push(`uncaught: ${error.message}`));
-  page.on('requestfailed', (request) => page.problems.push(`request failed: ${request.url()}`));
+  // A request the page's own navigation cancelled (ERR_ABORTED: a fetch still under way
+  // when a link or a test opens the next page) is not a failure of the page.
+  page.on('requestfailed', (request) => {
+    if (request.failure()?.errorText !== 'net::ERR_ABORTED') page.problems.push(`request failed: ${request.url()}`);
+  });
   await page.goto(url);
   try {
     await page.waitForSelector('body[data-ready=true]', { timeout: 20000 });
