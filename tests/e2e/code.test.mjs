@@ -7,7 +7,8 @@ import { readFileSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { after, before, test } from 'node:test';
 import {
-  bounded, correct, estlab, launchBrowser, loopingInPredict, openPage, root, startServer, submission, submit, tempDir, waitForSubmission,
+  bounded, correct, estlab, launchBrowser, loopingInPredict, openPage, root, savedFile as saved, startServer, submission, submit,
+  tempDir, typeInEditor as type, waitForSubmission,
 } from './harness.mjs';
 
 const mistakes = JSON.parse(readFileSync(join(root, 'tests', 'student', 'mistakes.json'), 'utf8'));
@@ -31,19 +32,6 @@ after(async () => {
   await browser.close();
   await server.stop();
 }, bounded);
-
-/** Replaces the editor's whole text by typing it, as a paste would. */
-async function type(page, text) {
-  await page.locator('.cm-content').click();
-  await page.keyboard.press('Control+A');
-  await page.keyboard.press('Delete');
-  await page.keyboard.insertText(text);
-}
-
-/** The file as the page saved it. */
-function saved(page) {
-  return page.evaluate(() => localStorage.getItem('estlab:ekf-localization:source'));
-}
 
 /** Clicks `button` and waits until the run it starts has finished. */
 async function runAndWait(page, button, timeout = 120_000) {

@@ -8,12 +8,14 @@ import assert from 'node:assert/strict';
 import { readFileSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { after, before, test } from 'node:test';
-import { bounded, correct, estlab, launchBrowser, openPage, root, startServer, tempDir, waitFor } from './harness.mjs';
+import {
+  bounded, correct, estlab, launchBrowser, openPage, savedFile as saved, starter, startServer, tempDir, typeInEditor as type,
+  waitFor,
+} from './harness.mjs';
 
 const COURSE = 'el2320';
 const LAB = 'ekf-localization';
 /** The starter file: every function throws at once, so that it is graded quickly. */
-const starter = readFileSync(join(root, 'static', 'src', 'ekf', 'starter.js'), 'utf8');
 
 let server;
 let browser;
@@ -38,19 +40,6 @@ after(async () => {
 /** A moment `days` from now (negative: in the past), as the command line takes it. */
 function fromNow(days) {
   return new Date(Date.now() + days * 86_400_000).toISOString().replace(/\.\d+Z$/, 'Z');
-}
-
-/** Replaces the editor's whole text by typing it, as a paste would (as code.test.mjs does). */
-async function type(page, text) {
-  await page.locator('#editor .cm-content').click();
-  await page.keyboard.press('Control+A');
-  await page.keyboard.press('Delete');
-  await page.keyboard.insertText(text);
-}
-
-/** The file as the workbench saved it in this browser. */
-function saved(page) {
-  return page.evaluate(() => localStorage.getItem('estlab:ekf-localization:source'));
 }
 
 /** Goes to `path` on the server in `page` (keeping its context's cookies) and waits until the page is ready. */

@@ -16,6 +16,9 @@ export const chromiumPath = process.env.CHROMIUM ?? '/usr/bin/chromium';
 
 /** The reference solution of the EKF exercise, as a student would write it. */
 export const correct = readFileSync(join(root, 'tests', 'student', 'correct.js'), 'utf8');
+/** The starter file: every function throws "not implemented", so it grades in milliseconds. */
+export const starter = readFileSync(join(root, 'static', 'src', 'ekf', 'starter.js'), 'utf8');
+
 /** correct.js with an endless loop at the start of `predict`, which the sandboxes stop after 2 s. */
 export const loopingInPredict = correct.replace(/function predict\(([^)]*)\) \{/, 'function predict($1) { while (true) {}');
 
@@ -155,4 +158,37 @@ export async function openPage(browser, url) {
     throw new Error(`${url} never got ready: ${error.message}\nwhat went wrong on the page: ${page.problems.join('\n')}`);
   }
   return page;
+}
+
+/** Runs `task` on every item with at most `limit` at once; resolves to the results in order. */
+export async function mapLimit(items, limit, task) {
+  const results = new Array(items.length);
+  let next = 0;
+  const worker = async () => {
+    while (next < items.length) {
+      const i = next++;
+      results[i] = await task(items[i], i);
+    }
+  };
+  await Promise.all(Array.from({ length: Math.min(limit, items.length) }, worker));
+  return results;
+}
+
+/** A CSV without embedded quotes or line breaks (what `estlab course roster --out` writes in the tests). */
+export function parseCsv(text) {
+  const [header, ...rows] = text.trim().split('\n').map((line) => line.split(','));
+  return rows.map((row) => Object.fromEntries(header.map((name, i) => [name, row[i]])));
+}
+
+/** Replaces the workbench editor's whole text by typing it, as a paste would. */
+export async function typeInEditor(page, text) {
+  await page.locator('#editor .cm-content').click();
+  await page.keyboard.press('Control+A');
+  await page.keyboard.press('Delete');
+  await page.keyboard.insertText(text);
+}
+
+/** The workbench's file as the page saved it in this browser. */
+export function savedFile(page) {
+  return page.evaluate(() => localStorage.getItem('estlab:ekf-localization:source'));
 }

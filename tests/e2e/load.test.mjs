@@ -13,7 +13,9 @@ import assert from 'node:assert/strict';
 import { readFileSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { test } from 'node:test';
-import { bounded, estlab, root, startServer, tempDir, waitFor } from './harness.mjs';
+import {
+  bounded, correct, estlab, mapLimit, parseCsv, starter, startServer, tempDir, waitFor,
+} from './harness.mjs';
 
 const COURSE = 'el2320';
 const LAB = 'ekf-localization';
@@ -22,31 +24,9 @@ const PARALLEL = Number(process.env.ESTLAB_LOAD_PARALLEL ?? 2);
 const SERVER_ARGS = ['--parallel', String(PARALLEL)];
 
 /** The starter file: every function throws "not implemented", so it grades quickly. */
-const starter = readFileSync(join(root, 'static', 'src', 'ekf', 'starter.js'), 'utf8');
-const correct = readFileSync(join(root, 'tests', 'student', 'correct.js'), 'utf8');
 
 /** `source` made unique to a student and a submission by its first line. */
 const unique = (student, n, source) => `// student ${student} submission ${n}\n${source}`;
-
-/** Runs `task` on every item with at most `limit` at once; resolves to the results in order. */
-async function mapLimit(items, limit, task) {
-  const results = new Array(items.length);
-  let next = 0;
-  const worker = async () => {
-    while (next < items.length) {
-      const i = next++;
-      results[i] = await task(items[i], i);
-    }
-  };
-  await Promise.all(Array.from({ length: Math.min(limit, items.length) }, worker));
-  return results;
-}
-
-/** A CSV without embedded quotes or line breaks (what `estlab course roster --out` writes here). */
-function parseCsv(text) {
-  const [header, ...rows] = text.trim().split('\n').map((line) => line.split(','));
-  return rows.map((row) => Object.fromEntries(header.map((name, i) => [name, row[i]])));
-}
 
 /**
  * A course on `server`'s data directory with `count` students (u001, u002, ...) and the

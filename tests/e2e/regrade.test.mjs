@@ -18,7 +18,7 @@ import assert from 'node:assert/strict';
 import { readFileSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { test } from 'node:test';
-import { estlab, root, startServer, tempDir, waitFor } from './harness.mjs';
+import { estlab, mapLimit, parseCsv, starter, startServer, tempDir, waitFor } from './harness.mjs';
 
 const COURSE = 'el2320';
 const LAB = 'ekf-localization';
@@ -32,29 +32,8 @@ const SERVER_ARGS = ['--parallel', '2'];
 /** The bound on the whole test and on each long wait: against hanging, not a speed limit. */
 const BOUND = 20 * 60_000;
 
-const starter = readFileSync(join(root, 'static', 'src', 'ekf', 'starter.js'), 'utf8');
 /** The starter file made unique to a student and a submission by its first line. */
 const quick = (student, n) => `// ${student}, submission ${n}\n${starter}`;
-
-/** Runs `task` on every item with at most `limit` at once; resolves to the results in order. */
-async function mapLimit(items, limit, task) {
-  const results = new Array(items.length);
-  let next = 0;
-  const worker = async () => {
-    while (next < items.length) {
-      const i = next++;
-      results[i] = await task(items[i], i);
-    }
-  };
-  await Promise.all(Array.from({ length: Math.min(limit, items.length) }, worker));
-  return results;
-}
-
-/** A CSV without embedded quotes or line breaks (what `estlab course roster --out` writes here). */
-function parseCsv(text) {
-  const [header, ...rows] = text.trim().split('\n').map((line) => line.split(','));
-  return rows.map((row) => Object.fromEntries(header.map((name, i) => [name, row[i]])));
-}
 
 /** The course from the command line: roster, the exercise due in the future, an instructor's API token. */
 function setUpCourse(server) {

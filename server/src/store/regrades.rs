@@ -2,7 +2,6 @@
 //! each result replacing the current one while the replaced one is kept, so that nobody's
 //! score changes silently and a stop resumes the job where it was.
 
-use super::submissions::ToGrade;
 use super::{Error, Store};
 use jiff::Timestamp;
 use labs::grading::GradeResult;
@@ -166,23 +165,6 @@ impl Store {
                 |row| Ok((row.get(0)?, row.get(1)?)),
             )
             .optional()?)
-    }
-
-    /// What regrading a submission needs; its status stays as it is (graded), so the
-    /// student may go on submitting.
-    pub fn to_regrade(&self, submission: i64) -> Result<ToGrade, Error> {
-        Ok(self.connection().query_row(
-            "SELECT source, seed, course, student FROM submissions WHERE id = ?1",
-            [submission],
-            |row| {
-                Ok(ToGrade {
-                    source: row.get(0)?,
-                    seed: row.get::<_, i64>(1)? as u64,
-                    course: row.get(2)?,
-                    student: row.get(3)?,
-                })
-            },
-        )?)
     }
 
     /// Records a regrade's result for one submission in one transaction: the current

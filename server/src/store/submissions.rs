@@ -158,12 +158,16 @@ impl Store {
 
     /// Marks a submission as being graded and returns what grading needs.
     pub fn start_grading(&self, id: i64) -> Result<ToGrade, Error> {
-        let connection = self.connection();
-        connection.execute(
+        self.connection().execute(
             "UPDATE submissions SET status = ?2 WHERE id = ?1",
             params![id, Status::Grading.as_str()],
         )?;
-        Ok(connection.query_row(
+        self.to_grade(id)
+    }
+
+    /// What grading a submission needs, its status left as it is.
+    pub fn to_grade(&self, id: i64) -> Result<ToGrade, Error> {
+        Ok(self.connection().query_row(
             "SELECT source, seed, course, student FROM submissions WHERE id = ?1",
             [id],
             |row| {

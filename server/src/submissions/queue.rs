@@ -179,7 +179,8 @@ impl Grader {
 
     fn regrade(&self, regrade: i64, submission: i64) -> Result<(), Error> {
         let started = Instant::now();
-        let job = self.store.to_regrade(submission)?;
+        // Its status stays graded: the student may go on submitting meanwhile.
+        let job = self.store.to_grade(submission)?;
         let hidden = self.secret.hidden_seed(submission);
         let result = self.sandbox.grade(&job.source, job.seed, Some(hidden));
         let score = result.gradable.then_some(result.score);
