@@ -16,6 +16,7 @@ pub mod dataset;
 pub mod ekf;
 mod error;
 pub mod grading;
+pub mod odometry;
 pub mod rng;
 
 pub use error::Error;

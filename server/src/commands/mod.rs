@@ -6,6 +6,7 @@ pub mod cases;
 pub mod course;
 pub mod grade;
 pub mod grade_class;
+pub mod odometry;
 pub mod run;
 pub mod sandbox_worker;
 pub mod serve;
@@ -33,6 +34,7 @@ enum Command {
     Run(run::Args),
     Simulate(simulate::Args),
     Car(car::Args),
+    Odometry(odometry::Args),
     Cases(cases::Args),
     Grade(grade::Args),
     GradeClass(grade_class::Args),
@@ -57,6 +59,7 @@ pub fn main() -> ExitCode {
         Command::Run(args) => run::run(&args),
         Command::Simulate(args) => simulate::run(&args),
         Command::Car(args) => car::run(&args),
+        Command::Odometry(args) => odometry::run(&args),
         Command::Cases(args) => cases::run(&args),
         Command::Grade(args) => grade::run(&args),
         Command::GradeClass(args) => grade_class::run(&args),
