@@ -6,6 +6,7 @@ pub mod clock;
 pub mod commands;
 pub mod courses;
 pub mod error;
+pub mod platforms;
 pub mod sandbox;
 pub mod store;
 pub mod submissions;

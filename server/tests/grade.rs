@@ -16,17 +16,16 @@
 //! the table-driven tests collect every problem before failing, so one run shows them
 //! all.
 
+mod student;
+
 use labs::cases::FUNCTIONS;
-use serde::Deserialize;
 use serde_json::Value;
 use std::collections::BTreeSet;
 use std::path::Path;
 use std::process::{Command, Output};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::thread;
-
-const CORRECT: &str = include_str!("../../tests/student/correct.js");
-const MISTAKES: &str = include_str!("../../tests/student/mistakes.json");
+use student::{CORRECT, Mistake};
 
 /// The data sets, each with a test of its own ("o3 data set, sequential update: ...").
 const DATASETS: [&str; 3] = ["o3", "outliers", "no-odometry"];
@@ -297,37 +296,6 @@ fn extra_line() -> usize {
     CORRECT.matches('\n').count() + 2
 }
 
-#[derive(Deserialize)]
-struct Mistake {
-    name: String,
-    breaks: String,
-    /// For a mistake in `init`: the data sets whose runs it breaks (all when absent).
-    #[serde(default)]
-    datasets: Option<Vec<String>>,
-    hint: String,
-    replace: Vec<Replacement>,
-}
-
-#[derive(Deserialize)]
-struct Replacement {
-    from: String,
-    to: String,
-}
-
-/// correct.js with the mistake made.
-fn variant(mistake: &Mistake) -> Result<String, String> {
-    mistake
-        .replace
-        .iter()
-        .try_fold(CORRECT.to_owned(), |source, r| {
-            if source.contains(&r.from) {
-                Ok(source.replace(&r.from, &r.to))
-            } else {
-                Err(format!("{:?} does not occur in correct.js", r.from))
-            }
-        })
-}
-
 // ---- the correct file ----
 
 #[test]
@@ -432,7 +400,7 @@ fn each_student_gets_a_variant_of_their_own() {
 
 /// What is wrong with how the grader handled one mistake.
 fn mistake_problems(mistake: &Mistake) -> Vec<String> {
-    let source = match variant(mistake) {
+    let source = match mistake.source() {
         Ok(source) => source,
         Err(e) => return vec![e],
     };
@@ -491,7 +459,7 @@ fn init_hint_phrase(kind: &str) -> Option<&'static str> {
 
 #[test]
 fn every_classic_mistake_is_caught_and_explained() {
-    let mistakes: Vec<Mistake> = serde_json::from_str(MISTAKES).unwrap();
+    let mistakes = Mistake::all();
     assert!(!mistakes.is_empty());
     let problems = parallel(&mistakes, mistake_problems);
     let named = mistakes

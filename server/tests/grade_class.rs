@@ -8,24 +8,11 @@ use serde::Deserialize;
 use std::collections::HashMap;
 use std::process::Command;
 
-const CORRECT: &str = include_str!("../../tests/student/correct.js");
-const CORRECT_ALT: &str = include_str!("../../tests/student/correct-alt.js");
-const STARTER: &str = include_str!("../../static/src/ekf/starter.js");
-const MISTAKES: &str = include_str!("../../tests/student/mistakes.json");
+mod student;
+
+use student::{CORRECT, CORRECT_ALT, Mistake, STARTER};
+
 const FILES: usize = 200;
-
-#[derive(Deserialize)]
-struct Mistake {
-    name: String,
-    breaks: String,
-    replace: Vec<Replacement>,
-}
-
-#[derive(Deserialize)]
-struct Replacement {
-    from: String,
-    to: String,
-}
 
 /// What a row of the CSV must say of a file.
 enum Expect {
@@ -59,12 +46,8 @@ fn every_file_of_a_class_gets_its_row_with_the_right_score_or_reason() {
     };
     add("correct", "js", CORRECT.as_bytes(), Expect::Perfect);
     add("correct-alt", "js", CORRECT_ALT.as_bytes(), Expect::Perfect);
-    let mistakes: Vec<Mistake> = serde_json::from_str(MISTAKES).unwrap();
-    for mistake in &mistakes {
-        let source = mistake.replace.iter().fold(CORRECT.to_string(), |s, r| {
-            assert!(s.contains(&r.from), "{}: {:?}", mistake.name, r.from);
-            s.replace(&r.from, &r.to)
-        });
+    for mistake in &Mistake::all() {
+        let source = mistake.source().unwrap();
         add(
             &mistake.name,
             "js",

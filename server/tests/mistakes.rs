@@ -13,58 +13,29 @@
 //! `estlab grade` (in `grade.rs`) checks the hints on one seed; here thousands of phases
 //! run in-process, which a full grading per seed would make far too slow.
 
+mod student;
+
 use labs::cases::{Case, FIXTURE_FILES, Tolerance, generate, load_fixtures};
 use rquickjs::{CatchResultExt, Context, Function, Object, Runtime};
-use serde::Deserialize;
 use serde_json::Value;
 use std::collections::BTreeMap;
 use std::thread;
+use student::{CORRECT, CORRECT_ALT, Mistake};
 
 const HARNESS: &str = include_str!("../../static/src/harness.js");
-const CORRECT: &str = include_str!("../../tests/student/correct.js");
-const CORRECT_ALT: &str = include_str!("../../tests/student/correct-alt.js");
-const MISTAKES: &str = include_str!("../../tests/student/mistakes.json");
 
 /// The seeds every mistake must be caught in.
 const SEEDS: u64 = 200;
 /// Cases of each function in a student's variant (`grading::plan::CASES_PER_FUNCTION`).
 const PER_FUNCTION: usize = 6;
 
-#[derive(Deserialize)]
-struct Mistake {
-    name: String,
-    breaks: String,
-    replace: Vec<Replacement>,
-}
-
-#[derive(Deserialize)]
-struct Replacement {
-    from: String,
-    to: String,
-}
-
-impl Mistake {
-    /// correct.js with the mistake made.
-    fn source(&self) -> String {
-        self.replace.iter().fold(CORRECT.to_owned(), |source, r| {
-            assert!(
-                source.contains(&r.from),
-                "{}: {:?} does not occur in correct.js",
-                self.name,
-                r.from
-            );
-            source.replace(&r.from, &r.to)
-        })
-    }
-}
-
 /// The mistakes that break a function with cases of its own.
 fn mistakes() -> Vec<(Mistake, String)> {
-    let all: Vec<Mistake> = serde_json::from_str(MISTAKES).unwrap();
-    all.into_iter()
+    Mistake::all()
+        .into_iter()
         .filter(|m| m.breaks != "init")
         .map(|m| {
-            let source = m.source();
+            let source = m.source().unwrap();
             (m, source)
         })
         .collect()

@@ -159,6 +159,22 @@ test('typing a student id says which variant it gives at once, and keeps the res
   await page.close();
 });
 
+test('a link with ?seed=N (from a Gradescope or PrairieLearn result) opens that variant, graded as the command line grades it', bounded, async () => {
+  const page = await openPage(browser, `${server.url}/ekf/code?seed=4242`);
+  assert.equal(await page.locator('#seed').textContent(), 'the variant of your link: seed 4242');
+  const text = withMistake('threshold-strict');
+  await type(page, text);
+  await runAndWait(page, '#run-tests');
+  await runAndWait(page, '#run-datasets');
+  const file = join(tempDir(), 'linked.js');
+  writeFileSync(file, text);
+  const cli = JSON.parse(estlab('grade', file, '--seed', '4242'));
+  assert.equal(cli.seed, 4242);
+  assert.equal(await browserPoints(page), Number(cli.points.toPrecision(4)));
+  assert.deepEqual(page.problems, []);
+  await page.close();
+});
+
 test('for broken files the browser gives the command line\'s points, test by test', bounded, async () => {
   const page = await openPage(browser, `${server.url}/ekf/code`);
   const dir = tempDir();

@@ -147,8 +147,14 @@ fn function_test(plan: &Plan, function: &str, output: Option<&FunctionOutput>) -
     for failure in &mut failures {
         failure.bound();
     }
+    // Hidden cases come last in a plan, so their lines close the list of failures.
+    let mut hidden_detail = Vec::new();
     for failure in failures.iter().take(SHOWN_FAILURES) {
-        lines.push(failure_line(failure));
+        let line = failure_line(failure);
+        if failure.hidden {
+            hidden_detail.push(line.clone());
+        }
+        lines.push(line);
     }
     if failures.len() > SHOWN_FAILURES {
         lines.push(format!(
@@ -165,6 +171,7 @@ fn function_test(plan: &Plan, function: &str, output: Option<&FunctionOutput>) -
         status: if all { Status::Passed } else { Status::Failed },
         visibility: Visibility::Visible,
         message: lines.join("\n"),
+        hidden_detail: hidden_detail.join("\n"),
         failures,
         run: None,
         hints: Vec::new(),
@@ -302,6 +309,7 @@ fn failed(name: String, message: String) -> Test {
         status: Status::Failed,
         visibility: Visibility::Visible,
         message,
+        hidden_detail: String::new(),
         failures: Vec::new(),
         run: None,
         hints: Vec::new(),
@@ -420,6 +428,7 @@ fn dataset_test(plan: &Plan, outputs: &Outputs, kind: Kind, functions: &Function
         },
         visibility: Visibility::Visible,
         message: lines.join("\n"),
+        hidden_detail: String::new(),
         failures: Vec::new(),
         run: figures,
         hints: Vec::new(),

@@ -12,6 +12,7 @@ mod hints;
 mod job;
 mod outputs;
 mod plan;
+mod platforms;
 mod result;
 
 pub use grade::{LAB, POINTS, grade, student_run};
@@ -19,6 +20,10 @@ pub use hints::{Hint, HintKind};
 pub use job::{CallJob, FunctionPhase, Job, Mode, Phase, PhaseKind, RobotJob, RunPhase, StepJob};
 pub use outputs::{CallResult, FunctionOutput, Outputs, PhaseOutput, Reports, RunOutput, Stopped};
 pub use plan::{FUNCTION_LIMIT_MS, Plan, PlannedCase, RunSpec, Suite, bound};
+pub use platforms::{
+    GraderData, GradescopeResults, GradescopeTest, HIDDEN_LATER, PrairieLearnResults,
+    PrairieLearnTest,
+};
 pub use result::{Failure, GradeResult, RunFigures, Status, Test, Visibility};
 
 /// The course a student's variant belongs to unless another is named.

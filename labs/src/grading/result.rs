@@ -1,10 +1,9 @@
-//! The result of a grading (`DESIGN.md`, "The result") and its exports to the Gradescope and
-//! PrairieLearn `results.json` formats.
+//! The result of a grading (`DESIGN.md`, "The result").
 
 use super::hints::{Hint, HintKind, describe};
 use crate::cases::Mismatch;
 use serde::{Deserialize, Serialize};
-use serde_json::{Value, json};
+use serde_json::Value;
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct GradeResult {
@@ -36,6 +35,10 @@ pub struct Test {
     pub status: Status,
     pub visibility: Visibility,
     pub message: String,
+    /// The lines of `message` about failing hidden cases (which end its list of
+    /// failures), for platforms that show them only after the due date.
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub hidden_detail: String,
     /// The failing cases, in detail, for the browser's view.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub failures: Vec<Failure>,
@@ -219,53 +222,6 @@ impl GradeResult {
 
     pub fn test(&self, name_contains: &str) -> Option<&Test> {
         self.tests.iter().find(|t| t.name.contains(name_contains))
-    }
-
-    /// Gradescope's `results.json` (autograder specification): points per test, the
-    /// message as each test's output. A submission that was not gradable carries the
-    /// reason and no score, so that it costs the student nothing.
-    pub fn gradescope(&self) -> Value {
-        let tests: Vec<Value> = self
-            .tests
-            .iter()
-            .map(|t| {
-                json!({
-                    "name": t.name,
-                    "score": t.points,
-                    "max_score": t.max_points,
-                    "status": t.status,
-                    "visibility": t.visibility,
-                    "output": t.message,
-                })
-            })
-            .collect();
-        if self.gradable {
-            json!({ "score": self.points, "output": self.summary(), "tests": tests })
-        } else {
-            json!({ "output": self.summary(), "tests": tests })
-        }
-    }
-
-    /// PrairieLearn's external grader `results.json`: score in [0, 1], points per test.
-    pub fn prairielearn(&self) -> Value {
-        let tests: Vec<Value> = self
-            .tests
-            .iter()
-            .map(|t| {
-                json!({
-                    "name": t.name,
-                    "points": t.points,
-                    "max_points": t.max_points,
-                    "message": t.message,
-                })
-            })
-            .collect();
-        json!({
-            "gradable": self.gradable,
-            "score": self.score,
-            "message": self.summary(),
-            "tests": tests,
-        })
     }
 
     /// What a result graded without hidden cases leaves out, for a person reading it.

@@ -4,6 +4,7 @@ use super::serve::cores;
 use super::{print, read};
 use crate::error::Error;
 use crate::sandbox::{Sandbox, check_size};
+use crate::submissions::{Secret, grader_version};
 use labs::grading::{DEFAULT_COURSE, GradeResult, LAB, student_seed};
 use std::path::PathBuf;
 
@@ -24,6 +25,14 @@ pub struct Args {
     student: Option<String>,
     #[arg(long, default_value = DEFAULT_COURSE)]
     course: String,
+    /// A secret file (the server's `DATA/secret`, or a package's) to grade hidden cases
+    /// as the server or the package does; without one only the shown cases are graded.
+    #[arg(long)]
+    secret: Option<PathBuf>,
+    /// With --secret: the submission whose hidden cases are drawn (its id on the server,
+    /// on Gradescope the submission's id, on PrairieLearn the variant's seed).
+    #[arg(long, requires = "secret", default_value_t = 0)]
+    submission: i64,
     #[arg(long, value_enum, default_value_t = Format::Json)]
     format: Format,
 }
@@ -49,13 +58,16 @@ pub fn run(args: &Args) -> Result<(), Error> {
         (None, Some(student)) => student_seed(&args.course, student),
         (None, None) => 1,
     };
+    let secret = args.secret.as_deref().map(Secret::read).transpose()?;
+    let grader = grader_version(secret.as_ref());
     let sandbox = Sandbox::current(cores()).map_err(Error::io("the estlab executable"))?;
-    // Without the server's secret there are no hidden cases: the result says so.
-    let result = sandbox.grade(&source, seed, None);
+    // Without a secret there are no hidden cases: the result says so.
+    let hidden = secret.map(|secret| secret.hidden_seed(args.submission));
+    let result = sandbox.grade(&source, seed, hidden);
     let text = match args.format {
         Format::Json => serde_json::to_string_pretty(&result),
-        Format::Gradescope => serde_json::to_string_pretty(&result.gradescope()),
-        Format::Prairielearn => serde_json::to_string_pretty(&result.prairielearn()),
+        Format::Gradescope => serde_json::to_string_pretty(&result.gradescope(&grader)),
+        Format::Prairielearn => serde_json::to_string_pretty(&result.prairielearn(&grader)),
         Format::Text => Ok(result
             .tests
             .iter()

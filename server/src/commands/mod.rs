@@ -1,5 +1,6 @@
 //! One module per subcommand of `estlab`.
 
+pub mod autograde;
 pub mod backup;
 pub mod car;
 pub mod cases;
@@ -7,6 +8,7 @@ pub mod course;
 pub mod grade;
 pub mod grade_class;
 pub mod odometry;
+pub mod package;
 pub mod run;
 pub mod sandbox_worker;
 pub mod serve;
@@ -40,6 +42,8 @@ enum Command {
     GradeClass(grade_class::Args),
     Course(course::Args),
     Backup(backup::Args),
+    Package(package::Args),
+    Autograde(autograde::Args),
     /// The sandbox's worker process (started by `grade` and `serve`).
     #[command(hide = true)]
     SandboxWorker,
@@ -50,7 +54,11 @@ pub fn main() -> ExitCode {
     let cli = Cli::parse();
     if matches!(
         cli.command,
-        Command::Serve(_) | Command::Course(_) | Command::Backup(_) | Command::GradeClass(_)
+        Command::Serve(_)
+            | Command::Course(_)
+            | Command::Backup(_)
+            | Command::GradeClass(_)
+            | Command::Package(_)
     ) {
         private_files();
     }
@@ -65,6 +73,8 @@ pub fn main() -> ExitCode {
         Command::GradeClass(args) => grade_class::run(&args),
         Command::Course(args) => course::run(&args),
         Command::Backup(args) => backup::run(&args),
+        Command::Package(args) => package::run(&args),
+        Command::Autograde(args) => autograde::run(&args),
         Command::SandboxWorker => sandbox_worker::run(),
     };
     match result {

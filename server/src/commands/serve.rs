@@ -114,7 +114,9 @@ async fn serve(args: &Args) -> Result<(), Error> {
 /// malloc serves blocks that large from mmap, but raises that threshold after the first
 /// is freed, and then keeps such blocks in each thread's arena: 200 sign-ins left the
 /// server holding 1.4 GB. A fixed threshold (glibc's default, 128 KiB) returns each block
-/// to the system when it is freed.
+/// to the system when it is freed. (musl's malloc, in the static build, returns such
+/// blocks by itself.)
+#[cfg(target_env = "gnu")]
 fn return_large_blocks() {
     const THRESHOLD: libc::c_int = 128 * 1024;
     // SAFETY: mallopt only sets a parameter of the allocator; it is called before any
@@ -123,6 +125,9 @@ fn return_large_blocks() {
         libc::mallopt(libc::M_MMAP_THRESHOLD, THRESHOLD);
     }
 }
+
+#[cfg(not(target_env = "gnu"))]
+fn return_large_blocks() {}
 
 /// Ctrl-C, or SIGTERM from a service manager: answer what is in flight, then stop.
 /// Gradings cut off by the stop resume at the next start.

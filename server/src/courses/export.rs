@@ -4,8 +4,7 @@
 //! their submission that counts (the latest when none is graded).
 
 use super::class::{self, ClassView, StudentRow};
-use crate::store::{self, Store};
-use labs::grading::GradeResult;
+use crate::store::{self, Store, Submission};
 use std::collections::HashMap;
 use std::io::{Cursor, Write};
 use zip::write::SimpleFileOptions;
@@ -112,17 +111,20 @@ fn zip_of(files: impl IntoIterator<Item = (String, Vec<u8>)>) -> Vec<u8> {
     zip.finish().expect("writing to memory").into_inner()
 }
 
-/// Every student's result in a platform's format (`ID/results.json`).
-pub fn results(view: &ClassView, results: &HashMap<i64, GradeResult>, format: Format) -> Vec<u8> {
+/// Every student's result in a platform's format (`ID/results.json`), naming the grader
+/// that graded it.
+pub fn results(view: &ClassView, graded: &HashMap<i64, Submission>, format: Format) -> Vec<u8> {
     zip_of(view.students.iter().filter_map(|s| {
-        let result = results.get(&exported(s)?)?;
+        let submission = graded.get(&exported(s)?)?;
+        let result = submission.result.as_ref()?;
+        let grader = submission.grader.as_deref().unwrap_or("estlab");
         let json = match format {
-            Format::Prairielearn => result.prairielearn(),
-            _ => result.gradescope(),
+            Format::Prairielearn => serde_json::to_vec_pretty(&result.prairielearn(grader)),
+            _ => serde_json::to_vec_pretty(&result.gradescope(grader)),
         };
         Some((
             format!("{}/results.json", s.id),
-            serde_json::to_vec_pretty(&json).expect("results serialise"),
+            json.expect("results serialise"),
         ))
     }))
 }
@@ -149,7 +151,15 @@ pub fn make(
     let ids: Vec<i64> = view.students.iter().filter_map(exported).collect();
     Ok(Some(match format {
         Format::Csv => gradebook(&view),
-        Format::Gradescope | Format::Prairielearn => results(&view, &store.results(&ids)?, format),
+        Format::Gradescope | Format::Prairielearn => {
+            let mut graded = HashMap::new();
+            for id in ids {
+                if let Some(submission) = store.get(id, false)? {
+                    graded.insert(id, submission);
+                }
+            }
+            results(&view, &graded, format)
+        }
         Format::Sources => {
             let mut texts = HashMap::new();
             for id in ids {

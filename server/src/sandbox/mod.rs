@@ -6,4 +6,4 @@ mod watchdog;
 mod worker;
 
 pub use engine::carry_out;
-pub use worker::{MAX_SOURCE, Sandbox, WorkerInput, check_size};
+pub use worker::{MAX_SOURCE, Sandbox, WorkerInput, check_length, check_size};

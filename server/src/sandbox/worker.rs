@@ -25,10 +25,14 @@ const WORKER_COMMAND: &str = "sandbox-worker";
 pub const MAX_SOURCE: usize = 256 << 10;
 /// Whether a source file is small enough to be graded; if not, why not.
 pub fn check_size(source: &str) -> Result<(), String> {
-    if source.len() > MAX_SOURCE {
+    check_length(source.len() as u64)
+}
+
+/// Whether a file of `bytes` is small enough to be graded (asked before reading it).
+pub fn check_length(bytes: u64) -> Result<(), String> {
+    if bytes > MAX_SOURCE as u64 {
         return Err(format!(
-            "{} bytes; a submission may have at most {} KB",
-            source.len(),
+            "{bytes} bytes; a submission may have at most {} KB",
             MAX_SOURCE >> 10
         ));
     }

@@ -6,4 +6,4 @@ mod queue;
 mod secret;
 
 pub use queue::Grader;
-pub use secret::Secret;
+pub use secret::{FILE as SECRET_FILE, Secret, grader_version};

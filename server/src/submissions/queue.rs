@@ -4,12 +4,10 @@
 //! at a time, so that a regrade of a whole class never holds up a student's submission
 //! by more than one grading.
 
-use super::Secret;
+use super::{Secret, grader_version};
 use crate::clock::Clock;
 use crate::sandbox::Sandbox;
 use crate::store::{Error, NewSubmission, Store};
-use labs::grading::Plan;
-use sha2::{Digest, Sha256};
 use std::sync::Arc;
 use std::time::Instant;
 use tokio::sync::{Notify, Semaphore};
@@ -28,15 +26,6 @@ pub struct Grader {
     clock: Arc<dyn Clock>,
 }
 
-/// The grader's version: the release, and a hash of the job of one plan with hidden
-/// cases (so it changes when the cases, the data sets or the server's secret change).
-fn version(secret: &Secret) -> String {
-    let job = Plan::with_hidden(1, secret.hidden_seed(0)).job();
-    let digest = Sha256::digest(serde_json::to_vec(&job).expect("jobs serialise"));
-    let hash: String = digest[..6].iter().map(|b| format!("{b:02x}")).collect();
-    format!("estlab {} plan {hash}", env!("CARGO_PKG_VERSION"))
-}
-
 impl Grader {
     /// A grader over `store` running at most `parallel` sandboxes at once.
     pub fn new(
@@ -47,7 +36,7 @@ impl Grader {
         clock: Arc<dyn Clock>,
     ) -> Arc<Grader> {
         Arc::new(Grader {
-            version: version(&secret),
+            version: grader_version(Some(&secret)),
             store,
             sandbox,
             secret,

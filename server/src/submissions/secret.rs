@@ -5,13 +5,14 @@
 //! submission again draws the same ones.
 
 use crate::store::Error;
+use labs::grading::Plan;
 use sha2::{Digest, Sha256};
 use std::io::Write;
 use std::os::unix::fs::OpenOptionsExt;
 use std::path::Path;
 
 /// The secret's file inside the data directory.
-const FILE: &str = "secret";
+pub const FILE: &str = "secret";
 const BYTES: usize = 32;
 
 pub struct Secret([u8; BYTES]);
@@ -26,36 +27,53 @@ impl Secret {
     /// The secret in `dir`, made (and written with mode 0600) if there is none yet.
     pub fn load_or_create(dir: &Path) -> Result<Secret, Error> {
         let path = dir.join(FILE);
-        let failed = |source: std::io::Error| Error::Secret {
-            path: path.clone(),
-            source,
-        };
-        match std::fs::read(&path) {
-            Ok(bytes) => {
-                let bytes: [u8; BYTES] = bytes.try_into().map_err(|bytes: Vec<u8>| {
-                    failed(std::io::Error::other(format!(
-                        "holds {} bytes, not {BYTES}; remove it to make a new secret (hidden cases of earlier submissions then change at a regrade)",
-                        bytes.len()
-                    )))
-                })?;
-                Ok(Secret(bytes))
+        match Secret::read(&path) {
+            Err(Error::Secret { source, .. }) if source.kind() == std::io::ErrorKind::NotFound => {
+                let secret = Secret::random(&path)?;
+                secret.write(&path)?;
+                Ok(secret)
             }
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-                let mut bytes = [0; BYTES];
-                getrandom::fill(&mut bytes)
-                    .map_err(|e| failed(std::io::Error::other(e.to_string())))?;
-                let mut file = std::fs::OpenOptions::new()
-                    .write(true)
-                    .create_new(true)
-                    .mode(0o600)
-                    .open(&path)
-                    .map_err(failed)?;
-                file.write_all(&bytes).map_err(failed)?;
-                file.sync_all().map_err(failed)?;
-                Ok(Secret(bytes))
-            }
-            Err(e) => Err(failed(e)),
+            read => read,
         }
+    }
+
+    /// The secret kept in the file `path` (the data directory's `secret`, or a package's).
+    pub fn read(path: &Path) -> Result<Secret, Error> {
+        let bytes = std::fs::read(path).map_err(failed(path))?;
+        let bytes: [u8; BYTES] = bytes.try_into().map_err(|bytes: Vec<u8>| {
+            failed(path)(std::io::Error::other(format!(
+                "holds {} bytes, not {BYTES}; remove it to make a new secret (hidden cases of earlier submissions then change at a regrade)",
+                bytes.len()
+            )))
+        })?;
+        Ok(Secret(bytes))
+    }
+
+    /// A new secret from the system's random source, for the file `path` (named in an
+    /// error).
+    pub fn random(path: &Path) -> Result<Secret, Error> {
+        let mut bytes = [0; BYTES];
+        getrandom::fill(&mut bytes)
+            .map_err(|e| failed(path)(std::io::Error::other(e.to_string())))?;
+        Ok(Secret(bytes))
+    }
+
+    /// Writes the secret to a new file `path`, readable by its owner only; an existing
+    /// file is never replaced.
+    pub fn write(&self, path: &Path) -> Result<(), Error> {
+        let mut file = std::fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .mode(0o600)
+            .open(path)
+            .map_err(failed(path))?;
+        file.write_all(&self.0).map_err(failed(path))?;
+        file.sync_all().map_err(failed(path))
+    }
+
+    /// The secret's bytes, to put in a package.
+    pub fn bytes(&self) -> &[u8; BYTES] {
+        &self.0
     }
 
     /// The seed of the hidden cases of a submission: SHA-256 of the secret and the id,
@@ -70,6 +88,27 @@ impl Secret {
         first.copy_from_slice(&digest[..8]);
         u64::from_le_bytes(first) & ((1 << 53) - 1)
     }
+}
+
+/// An error about the secret's file `path`.
+fn failed(path: &Path) -> impl Fn(std::io::Error) -> Error + '_ {
+    move |source| Error::Secret {
+        path: path.to_owned(),
+        source,
+    }
+}
+
+/// The grader's version: the release, and a hash of the job of one plan (with the hidden
+/// cases the secret draws, if there is one), so that it changes when the cases, the data
+/// sets or the secret change.
+pub fn grader_version(secret: Option<&Secret>) -> String {
+    let plan = match secret {
+        Some(secret) => Plan::with_hidden(1, secret.hidden_seed(0)),
+        None => Plan::new(1),
+    };
+    let digest = Sha256::digest(serde_json::to_vec(&plan.job()).expect("jobs serialise"));
+    let hash: String = digest[..6].iter().map(|b| format!("{b:02x}")).collect();
+    format!("estlab {} plan {hash}", env!("CARGO_PKG_VERSION"))
 }
 
 #[cfg(test)]

@@ -16,6 +16,7 @@ mod viewer;
 pub use assets::Assets;
 pub use error::Error;
 pub use limiter::SignInLimiter;
+pub use pages::STARTER;
 pub use viewer::SESSION_COOKIE;
 
 use crate::clock::Clock;

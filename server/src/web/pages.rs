@@ -45,7 +45,7 @@ struct Code<'a> {
 
 /// The file a student starts from: every function of the contract, documented, throwing
 /// "not implemented".
-const STARTER: &str = include_str!("../../../static/src/ekf/starter.js");
+pub const STARTER: &str = include_str!("../../../static/src/ekf/starter.js");
 
 #[derive(Template)]
 #[template(path = "not_found.html")]

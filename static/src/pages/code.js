@@ -237,8 +237,18 @@ ui.student.value = localStorage.getItem(STORAGE.student) ?? '';
 /** Whether the student id typed in the field says who submits (a server without courses). */
 const typedId = () => account.mode === 'open' || account.mode === 'unknown';
 
+/**
+ * A variant named by the link (`?seed=N`), as the results of estlab's Gradescope and
+ * PrairieLearn packages name it, or null.
+ */
+const linkedSeed = (() => {
+  const text = new URLSearchParams(location.search).get('seed') ?? '';
+  return /^\d{1,16}$/.test(text) && Number(text) < 2 ** 53 ? Number(text) : null;
+})();
+
 function seed() {
   if (account.mode === 'student') return account.about.seed;
+  if (linkedSeed !== null) return linkedSeed;
   const student = typedId() ? ui.student.value.trim() : '';
   return student ? estlab.studentSeed(COURSE, student) : PUBLIC_VARIANT;
 }
@@ -251,6 +261,7 @@ function showVariant() {
   const current = seed();
   let note;
   if (account.mode === 'student') note = `your own variant: seed ${current}`;
+  else if (linkedSeed !== null) note = `the variant of your link: seed ${current}`;
   else if (!typedId()) note = `the public variant, seed ${current}`;
   else if (ui.student.value.trim()) note = `your own variant: seed ${current}`;
   else note = `no id yet: the public variant, seed ${current}`;

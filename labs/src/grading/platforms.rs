@@ -1,0 +1,151 @@
+//! A result in the `results.json` of the platforms courses grade on: Gradescope's
+//! autograder and PrairieLearn's external grader. Each type holds exactly the fields of
+//! the platform's documented format that estlab writes, so a test can read a file back
+//! and refuse any other.
+
+use super::result::{GradeResult, Status, Visibility};
+use serde::{Deserialize, Serialize};
+
+/// Gradescope's `results.json` (the autograder specification).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GradescopeResults {
+    /// The total; absent when the submission was not gradable, so that it costs the
+    /// student nothing (Gradescope then adds up the tests, all worth nothing).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub score: Option<f64>,
+    /// Shown above the tests.
+    pub output: String,
+    pub tests: Vec<GradescopeTest>,
+    pub extra_data: GraderData,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GradescopeTest {
+    pub name: String,
+    pub score: f64,
+    pub max_score: f64,
+    pub status: Status,
+    pub visibility: Visibility,
+    pub output: String,
+}
+
+/// Which grader graded which variant, for the instructor looking at a result.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GraderData {
+    /// The grader's version: estlab's release and a hash of what it grades.
+    pub grader: String,
+    pub lab: String,
+    pub seed: u64,
+}
+
+/// PrairieLearn's external grader `results.json`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PrairieLearnResults {
+    /// False: "invalid, not gradable", which costs the student no attempt.
+    pub gradable: bool,
+    /// In [0, 1].
+    pub score: f64,
+    pub message: String,
+    /// Why the submission was not gradable.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub format_errors: Option<String>,
+    pub tests: Vec<PrairieLearnTest>,
+    /// estlab's own: which grader graded which variant (PrairieLearn keeps any further
+    /// field with the result).
+    pub estlab: GraderData,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PrairieLearnTest {
+    pub name: String,
+    pub points: f64,
+    pub max_points: f64,
+    pub message: String,
+}
+
+/// What a test's output says in place of the failing hidden cases before the due date.
+pub const HIDDEN_LATER: &str = "The failing hidden cases are described after the due date.";
+
+impl GradeResult {
+    /// The summary line with the variant and the grader that graded it.
+    fn signed(&self, grader: &str) -> String {
+        format!(
+            "{}\nVariant: seed {}. Graded by {grader}.",
+            self.summary(),
+            self.seed
+        )
+    }
+
+    fn grader_data(&self, grader: &str) -> GraderData {
+        GraderData {
+            grader: grader.to_owned(),
+            lab: self.lab.clone(),
+            seed: self.seed,
+        }
+    }
+
+    /// Gradescope's `results.json`: points per test and the message as its output. The
+    /// details of failing hidden cases move out of a test's output into a test of their
+    /// own, worth nothing and shown after the due date; their count stays in the test's
+    /// first line, as estlab's own server shows it.
+    pub fn gradescope(&self, grader: &str) -> GradescopeResults {
+        let mut tests = Vec::new();
+        for t in &self.tests {
+            let output = if t.hidden_detail.is_empty() {
+                t.message.clone()
+            } else {
+                t.message.replacen(&t.hidden_detail, HIDDEN_LATER, 1)
+            };
+            tests.push(GradescopeTest {
+                name: t.name.clone(),
+                score: t.points,
+                max_score: t.max_points,
+                status: t.status,
+                visibility: t.visibility,
+                output,
+            });
+            if !t.hidden_detail.is_empty() {
+                tests.push(GradescopeTest {
+                    name: format!("{}: the failing hidden cases", t.name),
+                    score: 0.0,
+                    max_score: 0.0,
+                    status: Status::Failed,
+                    visibility: Visibility::AfterDueDate,
+                    output: t.hidden_detail.clone(),
+                });
+            }
+        }
+        GradescopeResults {
+            score: self.gradable.then_some(self.points),
+            output: self.signed(grader),
+            tests,
+            extra_data: self.grader_data(grader),
+        }
+    }
+
+    /// PrairieLearn's external grader `results.json`: score in [0, 1], points per test.
+    pub fn prairielearn(&self, grader: &str) -> PrairieLearnResults {
+        PrairieLearnResults {
+            gradable: self.gradable,
+            score: self.score,
+            message: self.signed(grader),
+            format_errors: self.reason.clone().filter(|_| !self.gradable),
+            tests: self
+                .tests
+                .iter()
+                .map(|t| PrairieLearnTest {
+                    name: t.name.clone(),
+                    points: t.points,
+                    max_points: t.max_points,
+                    message: t.message.clone(),
+                })
+                .collect(),
+            estlab: self.grader_data(grader),
+        }
+    }
+}

@@ -1,0 +1,139 @@
+//! estlab's grader inside the platforms courses already use: Gradescope's autograder and
+//! PrairieLearn's external grader (`DESIGN.md`, "Grading on Gradescope and PrairieLearn").
+//!
+//! A package carries the statically linked estlab binary, the exercise's settings
+//! ([`Settings`]) and a secret that draws the hidden cases; the platform runs `estlab
+//! autograde` on every submission, which finds the student's file, takes the student's
+//! variant from what the platform passes, grades it exactly as `estlab grade` would with
+//! that secret, and writes the platform's `results.json`.
+
+pub mod elf;
+pub mod gradescope;
+pub mod prairielearn;
+mod submitted;
+
+use crate::error::Error;
+use crate::sandbox::{Sandbox, check_length};
+use crate::submissions::{Secret, grader_version};
+use labs::grading::{GradeResult, LAB};
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+pub use submitted::{STUDENT_FILE, student_file};
+
+/// The file of a package holding its [`Settings`].
+pub const SETTINGS: &str = "estlab-package.json";
+/// The file of a package holding its secret.
+pub const SECRET: &str = "secret";
+
+/// What a package grades: the exercise, and the course whose variants students get.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Settings {
+    pub lab: String,
+    pub course: String,
+}
+
+impl Settings {
+    pub fn read(dir: &Path) -> Result<Settings, Error> {
+        let path = dir.join(SETTINGS);
+        let text = std::fs::read_to_string(&path).map_err(Error::io(&path))?;
+        let settings: Settings = serde_json::from_str(&text)
+            .map_err(|e| Error::Invalid(format!("{}: {e}", path.display())))?;
+        if settings.lab != LAB {
+            return Err(Error::Invalid(format!(
+                "{}: lab '{}' is not one this estlab grades ({LAB})",
+                path.display(),
+                settings.lab
+            )));
+        }
+        Ok(settings)
+    }
+
+    pub fn write(&self, dir: &Path) -> Result<(), Error> {
+        let path = dir.join(SETTINGS);
+        let text = serde_json::to_string_pretty(self).expect("settings serialise");
+        std::fs::write(&path, text + "\n").map_err(Error::io(&path))
+    }
+}
+
+/// A package's grader: its settings and secret, read from the folder the platform put
+/// them in.
+pub struct PackagedGrader {
+    pub settings: Settings,
+    secret: Secret,
+    /// The grader's version, written into every result.
+    pub version: String,
+}
+
+impl PackagedGrader {
+    pub fn read(dir: &Path) -> Result<PackagedGrader, Error> {
+        let settings = Settings::read(dir)?;
+        let secret = Secret::read(&dir.join(SECRET))?;
+        Ok(PackagedGrader {
+            version: grader_version(Some(&secret)),
+            settings,
+            secret,
+        })
+    }
+
+    /// Grades the student's file in `submitted` for the variant `seed`, with the hidden
+    /// cases of the submission `key` (as `estlab grade --secret --submission key` does);
+    /// a submission without one gradable file is not gradable, and says why.
+    pub fn grade(&self, submitted: &Path, seed: u64, key: i64) -> GradeResult {
+        let not_gradable = |reason: String| GradeResult::not_gradable(LAB, seed, reason);
+        let path = match student_file(submitted) {
+            Ok(path) => path,
+            Err(reason) => return not_gradable(reason),
+        };
+        let name = path
+            .strip_prefix(submitted)
+            .unwrap_or(&path)
+            .display()
+            .to_string();
+        let length = std::fs::metadata(&path).map_or(0, |m| m.len());
+        if let Err(problem) = check_length(length) {
+            return not_gradable(format!("{name}: {problem}"));
+        }
+        let source = match std::fs::read(&path) {
+            Ok(bytes) => match String::from_utf8(bytes) {
+                Ok(source) => source,
+                Err(_) => return not_gradable(format!("{name} is not UTF-8 text")),
+            },
+            Err(e) => return not_gradable(format!("{name} could not be read: {e}")),
+        };
+        let sandbox = match Sandbox::current(crate::commands::serve::cores()) {
+            Ok(sandbox) => sandbox,
+            Err(e) => return not_gradable(format!("the grader could not start: {e}")),
+        };
+        sandbox.grade(&source, seed, Some(self.secret.hidden_seed(key)))
+    }
+}
+
+/// Writes the results `graded` made under `root`; when grading could not even start (the
+/// package or the platform's metadata unreadable), writes a result that says why, worth
+/// nothing, in the platform's format (`export`), and returns the error.
+fn write_graded<R: Serialize>(
+    root: &Path,
+    graded: Result<R, Error>,
+    export: impl FnOnce(&GradeResult) -> R,
+) -> Result<(), Error> {
+    match graded {
+        Ok(results) => write_results(root, &results),
+        Err(error) => {
+            let reason = format!("the package could not grade this submission: {error}");
+            write_results(root, &export(&GradeResult::not_gradable(LAB, 0, reason)))?;
+            Err(error)
+        }
+    }
+}
+
+/// Writes `json` to `results/results.json` under `root`, making the folder (neither
+/// platform makes it).
+fn write_results(root: &Path, json: &impl Serialize) -> Result<(), Error> {
+    let dir = root.join("results");
+    std::fs::create_dir_all(&dir).map_err(Error::io(&dir))?;
+    let path = dir.join("results.json");
+    let text = serde_json::to_string_pretty(json).expect("results serialise");
+    std::fs::write(&path, text + "\n").map_err(Error::io(&path))
+}
