@@ -13,7 +13,7 @@ import assert from 'node:assert/strict';
 import { readFileSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { after, before, test } from 'node:test';
-import { bounded, correct, estlab, launchBrowser, openPage, root, startServer, tempDir, waitFor } from './harness.mjs';
+import { bounded, correct, estlab, launchBrowser, openPage, signIn, starter, startServer, tempDir, waitFor } from './harness.mjs';
 
 const COURSE = 'el2320';
 const LAB = 'ekf-localization';
@@ -21,7 +21,6 @@ const CLASS_PAGE = `/courses/${COURSE}/${LAB}`;
 const CLASS_API = `/api/courses/${COURSE}/labs/${LAB}/class`;
 
 /** The starter file: every function throws at once, so that it is graded quickly. */
-const starter = readFileSync(join(root, 'static', 'src', 'ekf', 'starter.js'), 'utf8');
 
 /**
  * correct.js with calculate_odometry 2.4 % slow whenever the wheels' mean speed is above
@@ -65,20 +64,6 @@ after(async () => {
 /** A moment `days` from now, as the command line and the extension form take it. */
 function fromNow(days) {
   return new Date(Date.now() + days * 86_400_000).toISOString().replace(/\.\d+Z$/, 'Z');
-}
-
-/** Signs in with a code through the sign-in form's POST; resolves to the session cookie. */
-async function signIn(code) {
-  const response = await fetch(`${server.url}/signin`, {
-    method: 'POST',
-    headers: { 'content-type': 'application/x-www-form-urlencoded' },
-    body: new URLSearchParams({ code }),
-    redirect: 'manual',
-  });
-  assert.equal(response.status, 303, `sign-in answered ${response.status}`);
-  const cookie = response.headers.getSetCookie().find((c) => c.startsWith('estlab_session='));
-  assert.ok(cookie, 'a session cookie');
-  return cookie.split(';')[0];
 }
 
 /** A request as a student (their cookie) or nobody; resolves to { status, body, location }. */
@@ -198,7 +183,7 @@ test('the instructor signs in from the link and watches the class table fill as 
 
   // The students submit with their own sessions: s1 the reference solution, s2 the
   // starter file, s3 the starter file and then (once graded) a file with a mistake.
-  for (const student of Object.values(students)) student.cookie = await signIn(student.code);
+  for (const student of Object.values(students)) student.cookie = await signIn(server, student.code);
   sent.correct = { id: await submitAs(students.s1, correct), student: 's1' };
   sent.starter = { id: await submitAs(students.s2, starter), student: 's2' };
   sent.first = { id: await submitAs(students.s3, starter), student: 's3' };

@@ -1,7 +1,8 @@
 // What the end-to-end tests share: the real estlab binary, started on a free loopback
 // port, the estlab command line, and headless Chromium (Debian's) driven by Playwright.
+import assert from 'node:assert/strict';
 import { spawn, execFileSync } from 'node:child_process';
-import { existsSync, mkdtempSync, readFileSync } from 'node:fs';
+import { existsSync, mkdtempSync, readFileSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
@@ -191,4 +192,47 @@ export async function typeInEditor(page, text) {
 /** The workbench's file as the page saved it in this browser. */
 export function savedFile(page) {
   return page.evaluate(() => localStorage.getItem('estlab:ekf-localization:source'));
+}
+
+/** Signs in with a code through the sign-in form's POST; resolves to the session cookie (`estlab_session=...`). */
+export async function signIn(server, code) {
+  const response = await fetch(`${server.url}/signin`, {
+    method: 'POST',
+    headers: { 'content-type': 'application/x-www-form-urlencoded' },
+    body: new URLSearchParams({ code }),
+    redirect: 'manual',
+  });
+  assert.equal(response.status, 303, `sign-in answered ${response.status}: ${(await response.text()).slice(0, 300)}`);
+  const cookie = response.headers.getSetCookie().find((c) => c.startsWith('estlab_session='));
+  assert.ok(cookie, 'no session cookie');
+  return cookie.split(';')[0];
+}
+
+/** GETs an API path with some headers (a cookie, a bearer token); resolves to status and body. */
+export async function getJson(server, path, headers) {
+  const response = await fetch(server.url + path, { headers });
+  return { status: response.status, body: await response.json() };
+}
+
+/**
+ * A course on `server`'s data directory, set up through the command line: `count`
+ * students with ids `prefix` and a number (r001, r002, ...), the EKF exercise open until
+ * 2030, and an API token of a staff `role`. Resolves to the students with their codes
+ * (from the codes file the roster import writes) and the token.
+ */
+export function setUpCourse(server, { course = 'el2320', title, prefix, count, role }) {
+  const dir = tempDir();
+  const on = ['--data', server.dataDir, '--url', server.url];
+  estlab('course', 'create', course, '--title', title, ...on);
+  const ids = Array.from({ length: count }, (_, i) => `${prefix}${String(i + 1).padStart(3, '0')}`);
+  const roster = join(dir, 'roster.csv');
+  writeFileSync(roster, ['id,name,email', ...ids.map((id) => `${id},Student ${id},${id}@example.org`)].join('\n') + '\n');
+  const codes = join(dir, 'codes.csv');
+  estlab('course', 'roster', course, roster, '--out', codes, ...on);
+  estlab('course', 'assign', course, 'ekf-localization', '--due', '2030-01-01T00:00Z', '--data', server.dataDir);
+  const token = estlab('course', 'token', course, '--role', role, '--data', server.dataDir).trim().split('\n').at(-1);
+  const students = parseCsv(readFileSync(codes, 'utf8'));
+  assert.deepEqual(students.map((s) => s.id), ids);
+  for (const s of students) assert.ok(s.code, `no code for ${s.id}`);
+  return { students, token };
 }

@@ -11,10 +11,9 @@
 // gradings alone would take two minutes of this 2-core machine.
 import assert from 'node:assert/strict';
 import { readFileSync, writeFileSync } from 'node:fs';
-import { join } from 'node:path';
 import { test } from 'node:test';
 import {
-  bounded, correct, estlab, mapLimit, parseCsv, starter, startServer, tempDir, waitFor,
+  bounded, correct, getJson, mapLimit, setUpCourse, signIn, starter, startServer, waitFor,
 } from './harness.mjs';
 
 const COURSE = 'el2320';
@@ -27,42 +26,6 @@ const SERVER_ARGS = ['--parallel', String(PARALLEL)];
 
 /** `source` made unique to a student and a submission by its first line. */
 const unique = (student, n, source) => `// student ${student} submission ${n}\n${source}`;
-
-/**
- * A course on `server`'s data directory with `count` students (u001, u002, ...) and the
- * exercise open, through the command line; resolves to the students with their codes and
- * an assistant's API token for watching the whole course.
- */
-function setUpCourse(server, count) {
-  const dir = tempDir();
-  const on = ['--data', server.dataDir, '--url', server.url];
-  estlab('course', 'create', COURSE, '--title', 'Estimation under load', ...on);
-  const ids = Array.from({ length: count }, (_, i) => `u${String(i + 1).padStart(3, '0')}`);
-  const roster = join(dir, 'roster.csv');
-  writeFileSync(roster, ['id,name,email', ...ids.map((id) => `${id},Student ${id},${id}@example.org`)].join('\n') + '\n');
-  const codesFile = join(dir, 'codes.csv');
-  estlab('course', 'roster', COURSE, roster, '--out', codesFile, ...on);
-  estlab('course', 'assign', COURSE, LAB, '--due', '2030-01-01T00:00Z', '--data', server.dataDir);
-  const token = estlab('course', 'token', COURSE, '--role', 'assistant', '--data', server.dataDir).trim().split('\n').at(-1);
-  const students = parseCsv(readFileSync(codesFile, 'utf8'));
-  assert.deepEqual(students.map((s) => s.id), ids);
-  for (const s of students) assert.ok(s.code, `no code for ${s.id}`);
-  return { students, token };
-}
-
-/** Signs in with a code; resolves to the session cookie (`estlab_session=...`). */
-async function signIn(server, code) {
-  const response = await fetch(`${server.url}/signin`, {
-    method: 'POST',
-    headers: { 'content-type': 'application/x-www-form-urlencoded' },
-    body: new URLSearchParams({ code }),
-    redirect: 'manual',
-  });
-  assert.equal(response.status, 303, `sign-in answered ${response.status}: ${(await response.text()).slice(0, 300)}`);
-  const cookie = response.headers.getSetCookie().find((c) => c.startsWith('estlab_session='));
-  assert.ok(cookie, 'no session cookie');
-  return cookie.split(';')[0];
-}
 
 /** Signs every student in, 8 at a time; sets `student.cookie`. */
 async function signInAll(server, students) {
@@ -81,15 +44,9 @@ async function post(server, cookie, source) {
   return { status: response.status, body, latency: performance.now() - started };
 }
 
-/** GETs an API path as a cookie's student (or with other headers); resolves to status and body. */
-async function get(server, path, headers) {
-  const response = await fetch(server.url + path, { headers });
-  return { status: response.status, body: await response.json() };
-}
-
 /** Every submission of the course, as its staff sees them (summaries, no sources). */
 async function courseSubmissions(server, token) {
-  const { status, body } = await get(server, `/api/courses/${COURSE}/submissions?lab=${LAB}`, { authorization: `Bearer ${token}` });
+  const { status, body } = await getJson(server, `/api/courses/${COURSE}/submissions?lab=${LAB}`, { authorization: `Bearer ${token}` });
   assert.equal(status, 200, JSON.stringify(body));
   return body;
 }
@@ -142,7 +99,7 @@ test('every student of a course submits at once, then again as each first is gra
   const setupStarted = performance.now();
   const server = await startServer({ args: SERVER_ARGS });
   try {
-    const { students, token } = setUpCourse(server, STUDENTS);
+    const { students, token } = setUpCourse(server, { course: COURSE, title: 'Estimation under load', prefix: 'u', count: STUDENTS, role: 'assistant' });
     await signInAll(server, students);
     const setupSeconds = (performance.now() - setupStarted) / 1000;
 
@@ -195,7 +152,7 @@ test('every student of a course submits at once, then again as each first is gra
     // Every student's own view: their two submissions, their source, their seed; and
     // someone else's submission answers 404.
     const stored = await mapLimit(students, 8, async (student, i) => {
-      const me = await get(server, '/api/me', { cookie: student.cookie });
+      const me = await getJson(server, '/api/me', { cookie: student.cookie });
       assert.equal(me.status, 200);
       assert.equal(me.body.member.login, student.id);
       assert.equal(me.body.seed, student.seed, `${student.id}: the seed of /api/me and of the submission differ`);
@@ -203,14 +160,14 @@ test('every student of a course submits at once, then again as each first is gra
         `${student.id}'s history`);
       const reads = [];
       for (const { id, source } of student.submissions) {
-        reads.push(checkOwn(await get(server, `/api/submissions/${id}`, { cookie: student.cookie }), student, id, source, student.seed));
+        reads.push(checkOwn(await getJson(server, `/api/submissions/${id}`, { cookie: student.cookie }), student, id, source, student.seed));
       }
       const other = students[(i + 1) % students.length];
-      const foreign = await get(server, `/api/submissions/${other.submissions[0].id}`, { cookie: student.cookie });
+      const foreign = await getJson(server, `/api/submissions/${other.submissions[0].id}`, { cookie: student.cookie });
       assert.equal(foreign.status, 404, `${student.id} read ${other.id}'s submission: ${JSON.stringify(foreign.body).slice(0, 200)}`);
       return reads;
     });
-    const anonymous = await get(server, `/api/submissions/${students[0].submissions[0].id}`);
+    const anonymous = await getJson(server, `/api/submissions/${students[0].submissions[0].id}`);
     assert.equal(anonymous.status, 404);
 
     const latencies = posts.map((p) => p.latency);
@@ -250,7 +207,7 @@ test('grading cut off by SIGKILL under load: after the restart every submission 
   const first = await startServer({ args: SERVER_ARGS });
   let students, token, before;
   try {
-    ({ students, token } = setUpCourse(first, STUDENTS));
+    ({ students, token } = setUpCourse(first, { course: COURSE, title: 'Estimation under load', prefix: 'u', count: STUDENTS, role: 'assistant' }));
     await signInAll(first, students);
     const answers = await Promise.all(students.map((s) => post(first, s.cookie, unique(s.id, 1, correct))));
     answers.forEach((answer, i) => {
@@ -272,7 +229,7 @@ test('grading cut off by SIGKILL under load: after the restart every submission 
   try {
     // The sessions are in the database: the cookies of before the kill still sign in.
     await mapLimit(students, 8, async (student) => {
-      const me = await get(second, '/api/me', { cookie: student.cookie });
+      const me = await getJson(second, '/api/me', { cookie: student.cookie });
       assert.equal(me.status, 200);
       assert.equal(me.body.member?.login, student.id, `${student.id}'s session did not survive the restart`);
       assert.equal(me.body.seed, student.seed);
@@ -287,9 +244,9 @@ test('grading cut off by SIGKILL under load: after the restart every submission 
     for (const s of gradedBefore) assert.equal(scoreAfter.get(s.id), s.score, `submission ${s.id}`);
 
     await mapLimit(students, 8, async (student) => {
-      const me = await get(second, '/api/me', { cookie: student.cookie });
+      const me = await getJson(second, '/api/me', { cookie: student.cookie });
       assert.deepEqual(me.body.assignments[0].history.map((h) => h.id), [student.id1], `${student.id}'s history`);
-      const s = checkOwn(await get(second, `/api/submissions/${student.id1}`, { cookie: student.cookie }),
+      const s = checkOwn(await getJson(second, `/api/submissions/${student.id1}`, { cookie: student.cookie }),
         student, student.id1, student.source, student.seed);
       assert.equal(s.result.score, 1, `the correct file scored ${s.result.score} (submission ${student.id1})`);
     });

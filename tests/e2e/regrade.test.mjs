@@ -15,10 +15,8 @@
 // ESTLAB_REGRADE_STUDENTS and ESTLAB_REGRADE_SUBMISSIONS set smaller numbers.
 // Times are printed, never asserted; the waits are bounds against hanging.
 import assert from 'node:assert/strict';
-import { readFileSync, writeFileSync } from 'node:fs';
-import { join } from 'node:path';
 import { test } from 'node:test';
-import { estlab, mapLimit, parseCsv, starter, startServer, tempDir, waitFor } from './harness.mjs';
+import { getJson, mapLimit, setUpCourse, signIn, starter, startServer, waitFor } from './harness.mjs';
 
 const COURSE = 'el2320';
 const LAB = 'ekf-localization';
@@ -35,46 +33,9 @@ const BOUND = 20 * 60_000;
 /** The starter file made unique to a student and a submission by its first line. */
 const quick = (student, n) => `// ${student}, submission ${n}\n${starter}`;
 
-/** The course from the command line: roster, the exercise due in the future, an instructor's API token. */
-function setUpCourse(server) {
-  const dir = tempDir();
-  const on = ['--data', server.dataDir, '--url', server.url];
-  estlab('course', 'create', COURSE, '--title', 'Applied Estimation', ...on);
-  const ids = Array.from({ length: STUDENTS }, (_, i) => `r${String(i + 1).padStart(3, '0')}`);
-  const roster = join(dir, 'roster.csv');
-  writeFileSync(roster, ['id,name,email', ...ids.map((id) => `${id},Student ${id},${id}@example.org`)].join('\n') + '\n');
-  const codes = join(dir, 'codes.csv');
-  estlab('course', 'roster', COURSE, roster, '--out', codes, ...on);
-  estlab('course', 'assign', COURSE, LAB, '--due', '2030-01-01T00:00Z', '--data', server.dataDir);
-  const token = estlab('course', 'token', COURSE, '--role', 'instructor', '--data', server.dataDir).trim().split('\n').at(-1);
-  const students = parseCsv(readFileSync(codes, 'utf8'));
-  assert.deepEqual(students.map((s) => s.id), ids);
-  return { students, token };
-}
-
-/** Signs in with a code; resolves to the session cookie. */
-async function signIn(server, code) {
-  const response = await fetch(`${server.url}/signin`, {
-    method: 'POST',
-    headers: { 'content-type': 'application/x-www-form-urlencoded' },
-    body: new URLSearchParams({ code }),
-    redirect: 'manual',
-  });
-  assert.equal(response.status, 303, `sign-in answered ${response.status}: ${(await response.text()).slice(0, 300)}`);
-  const cookie = response.headers.getSetCookie().find((c) => c.startsWith('estlab_session='));
-  assert.ok(cookie, 'no session cookie');
-  return cookie.split(';')[0];
-}
-
-/** GETs an API path with some headers; resolves to status and body. */
-async function get(server, path, headers) {
-  const response = await fetch(server.url + path, { headers });
-  return { status: response.status, body: await response.json() };
-}
-
 /** The regrade at `url` as the instructor sees it. */
 async function regradeAt(server, url, token) {
-  const { status, body } = await get(server, url, { authorization: `Bearer ${token}` });
+  const { status, body } = await getJson(server, url, { authorization: `Bearer ${token}` });
   assert.equal(status, 200, `GET ${url}: ${JSON.stringify(body)}`);
   return body;
 }
@@ -92,7 +53,7 @@ async function submitAll(server, student) {
     const body = await response.json();
     assert.equal(response.status, 202, `${student.id}'s submission ${n}: ${JSON.stringify(body)}`);
     await waitFor(`${student.id}'s submission ${n} (${body.url}) to be graded`,
-      () => get(server, body.url, { cookie }),
+      () => getJson(server, body.url, { cookie }),
       (read) => read.status === 200 && read.body.status === 'graded',
       { timeout: BOUND, interval: 100 });
     ids.push(body.id);
@@ -107,7 +68,7 @@ test(`a regrade of ${TOTAL} submissions killed with SIGKILL halfway finishes aft
   let students, token, ids, regrade, seenBeforeKill;
   let submittedAt, killedAt;
   try {
-    ({ students, token } = setUpCourse(first));
+    ({ students, token } = setUpCourse(first, { course: COURSE, title: 'Applied Estimation', prefix: 'r', count: STUDENTS, role: 'instructor' }));
     ids = (await mapLimit(students, AT_ONCE, (student) => submitAll(first, student))).flat();
     submittedAt = seconds();
     assert.equal(new Set(ids).size, TOTAL);
@@ -146,7 +107,7 @@ test(`a regrade of ${TOTAL} submissions killed with SIGKILL halfway finishes aft
     // Every submission regraded exactly once: one earlier result, the current one by the regrade's grader.
     const auth = { authorization: `Bearer ${token}` };
     await mapLimit(ids, 8, async (id) => {
-      const { status, body } = await get(second, `/api/submissions/${id}`, auth);
+      const { status, body } = await getJson(second, `/api/submissions/${id}`, auth);
       assert.equal(status, 200, `submission ${id}: ${JSON.stringify(body).slice(0, 300)}`);
       assert.equal(body.status, 'graded', `submission ${id}`);
       assert.equal(body.earlier?.length, 1,
@@ -156,7 +117,7 @@ test(`a regrade of ${TOTAL} submissions killed with SIGKILL halfway finishes aft
       assert.equal(body.earlier[0].score, body.score, `submission ${id}: the regrade changed the score`);
     });
     // Nothing was added or lost.
-    const { status, body: list } = await get(second, `/api/courses/${COURSE}/submissions?lab=${LAB}`, auth);
+    const { status, body: list } = await getJson(second, `/api/courses/${COURSE}/submissions?lab=${LAB}`, auth);
     assert.equal(status, 200);
     assert.deepEqual(list.map((s) => s.id).sort((a, b) => a - b), [...ids].sort((a, b) => a - b));
 

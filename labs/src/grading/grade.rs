@@ -16,7 +16,8 @@ use crate::ekf::{self, Belief, Decision, UpdateMode};
 use nalgebra::{Matrix2, Matrix3, Vector3};
 use serde_json::Value;
 
-pub const LAB: &str = "ekf-localization";
+/// The exercise graded here, by name.
+pub const LAB: &str = crate::Exercise::EkfLocalization.name();
 /// Points of each function's test and of each data-set test.
 pub const POINTS: f64 = 10.0;
 /// Failing cases shown in detail per function.

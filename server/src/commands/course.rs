@@ -10,10 +10,11 @@ use crate::courses::{check_course_name, roster};
 use crate::error::Error;
 use crate::store::{Member, NewMember, Role, Store};
 use jiff::{SignedDuration, Timestamp};
-use labs::grading::LAB;
+use labs::Exercise;
 use std::io::Write;
 use std::os::unix::fs::OpenOptionsExt;
 use std::path::{Path, PathBuf};
+use std::str::FromStr;
 
 /// Set up and run a course: its staff, roster, assignments and API tokens.
 #[derive(clap::Args)]
@@ -74,8 +75,8 @@ enum Command {
     /// Open an exercise for the course with its deadline and late policy.
     Assign {
         course: String,
-        #[arg(value_parser = [LAB])]
-        lab: String,
+        #[arg(value_parser = Exercise::from_str)]
+        lab: Exercise,
         /// The due date, with its time zone: 2026-12-15T23:59+01:00.
         #[arg(long, value_parser = parse_moment)]
         due: Timestamp,
@@ -101,8 +102,8 @@ enum Command {
     /// Export an exercise's grades, results or sources.
     Export {
         course: String,
-        #[arg(value_parser = [LAB])]
-        lab: String,
+        #[arg(value_parser = Exercise::from_str)]
+        lab: Exercise,
         #[arg(long, value_enum)]
         format: Format,
         /// Where the export goes (a CSV, or a zip); an existing file is not overwritten.
@@ -249,7 +250,7 @@ pub fn run(args: &Args) -> Result<(), Error> {
                 penalty_per_day: *late_penalty,
                 counts: *counts,
             };
-            store.assign(course, lab, &policy)?;
+            store.assign(course, lab.name(), &policy)?;
             store.audit(
                 course,
                 &actor(),
@@ -316,7 +317,7 @@ pub fn run(args: &Args) -> Result<(), Error> {
                     out.display()
                 )));
             }
-            let bytes = crate::courses::export::make(&store, course, lab, *format)?.ok_or_else(|| {
+            let bytes = crate::courses::export::make(&store, course, lab.name(), *format)?.ok_or_else(|| {
                 Error::Invalid(format!(
                     "{course} has not opened {lab} (estlab course assign {course} {lab} --due ...)"
                 ))

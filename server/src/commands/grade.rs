@@ -5,16 +5,18 @@ use super::{print, read};
 use crate::error::Error;
 use crate::sandbox::{Sandbox, check_size};
 use crate::submissions::{Secret, grader_version};
-use labs::grading::{DEFAULT_COURSE, GradeResult, LAB, student_seed};
+use labs::Exercise;
+use labs::grading::{DEFAULT_COURSE, GradeResult, student_seed};
 use std::path::PathBuf;
+use std::str::FromStr;
 
 /// Grade a student's JavaScript file and print the result. The exit code is 0 whenever a
 /// result was produced, whatever the score.
 #[derive(clap::Args)]
 pub struct Args {
     /// The exercise; for now the EKF localization exercise.
-    #[arg(long, value_parser = [LAB], default_value = LAB)]
-    lab: String,
+    #[arg(long, value_parser = Exercise::from_str, default_value_t = Exercise::default())]
+    lab: Exercise,
     /// The student's JavaScript file.
     file: PathBuf,
     /// The seed of the student's variant (as the browser shows it).

@@ -8,10 +8,12 @@ use crate::courses::export::inert;
 use crate::error::Error;
 use crate::sandbox::{Sandbox, check_size};
 use indicatif::{ProgressBar, ProgressStyle};
+use labs::Exercise;
 use labs::grading::{DEFAULT_COURSE, GradeResult, LAB, student_seed};
 use std::collections::HashMap;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
+use std::str::FromStr;
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
@@ -23,8 +25,8 @@ pub struct Args {
     /// The folder: one file per student, named by the student's id (u123.js).
     dir: PathBuf,
     /// The exercise; for now the EKF localization exercise.
-    #[arg(long, value_parser = [LAB], default_value = LAB)]
-    lab: String,
+    #[arg(long, value_parser = Exercise::from_str, default_value_t = Exercise::default())]
+    lab: Exercise,
     /// The course, whose students' variants are graded.
     #[arg(long, default_value = DEFAULT_COURSE)]
     course: String,

@@ -4,8 +4,10 @@ use super::file_name;
 use crate::error::Error;
 use crate::platforms::{Settings, elf, gradescope, prairielearn};
 use crate::submissions::Secret;
-use labs::grading::{DEFAULT_COURSE, LAB};
+use labs::Exercise;
+use labs::grading::DEFAULT_COURSE;
 use std::path::{Path, PathBuf};
+use std::str::FromStr;
 
 /// Package the grader for a platform: Gradescope's autograder zip, or PrairieLearn's
 /// grader image and question folders.
@@ -45,8 +47,8 @@ enum Platform {
 #[derive(clap::Args)]
 struct Common {
     /// The exercise.
-    #[arg(long, value_parser = [LAB], default_value = LAB)]
-    lab: String,
+    #[arg(long, value_parser = Exercise::from_str, default_value_t = Exercise::default())]
+    lab: Exercise,
     /// The course whose variants students get (a Gradescope student's variant is their
     /// e-mail address within it, as the workbench computes it).
     #[arg(long, default_value = DEFAULT_COURSE)]
@@ -115,7 +117,7 @@ impl Common {
             None => Secret::random(secret_path)?,
         };
         let settings = Settings {
-            lab: self.lab.clone(),
+            lab: self.lab,
             course: self.course.clone(),
         };
         Ok((binary, settings, secret.bytes().to_vec()))

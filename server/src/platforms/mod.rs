@@ -15,6 +15,7 @@ mod submitted;
 use crate::error::Error;
 use crate::sandbox::{Sandbox, check_length};
 use crate::submissions::{Secret, grader_version};
+use labs::Exercise;
 use labs::grading::{GradeResult, LAB};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -30,7 +31,7 @@ pub const SECRET: &str = "secret";
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Settings {
-    pub lab: String,
+    pub lab: Exercise,
     pub course: String,
 }
 
@@ -38,16 +39,7 @@ impl Settings {
     pub fn read(dir: &Path) -> Result<Settings, Error> {
         let path = dir.join(SETTINGS);
         let text = std::fs::read_to_string(&path).map_err(Error::io(&path))?;
-        let settings: Settings = serde_json::from_str(&text)
-            .map_err(|e| Error::Invalid(format!("{}: {e}", path.display())))?;
-        if settings.lab != LAB {
-            return Err(Error::Invalid(format!(
-                "{}: lab '{}' is not one this estlab grades ({LAB})",
-                path.display(),
-                settings.lab
-            )));
-        }
-        Ok(settings)
+        serde_json::from_str(&text).map_err(|e| Error::Invalid(format!("{}: {e}", path.display())))
     }
 
     pub fn write(&self, dir: &Path) -> Result<(), Error> {

@@ -1,5 +1,6 @@
 //! Courses, their people (students of the roster and staff) and their assignments.
 
+use super::timestamp;
 use super::{Error, Store};
 use crate::courses::deadline::{Counts, Policy};
 use crate::courses::roster;
@@ -102,11 +103,6 @@ fn member(row: &Row) -> rusqlite::Result<Member> {
         dropped: row.get(6)?,
     })
 }
-
-fn timestamp(seconds: i64) -> Timestamp {
-    Timestamp::from_second(seconds).unwrap_or(Timestamp::MAX)
-}
-
 fn assignment(row: &Row) -> rusqlite::Result<Assignment> {
     Ok(Assignment {
         course: row.get(0)?,

@@ -69,6 +69,11 @@ pub enum Error {
     Task(String),
 }
 
+/// A moment stored as whole seconds since 1970 (as `Timestamp::as_second` wrote it).
+fn timestamp(seconds: i64) -> jiff::Timestamp {
+    jiff::Timestamp::from_second(seconds).unwrap_or(jiff::Timestamp::UNIX_EPOCH)
+}
+
 fn known_courses(known: &[String]) -> String {
     if known.is_empty() {
         "no course is set up yet (estlab course create NAME --title TITLE)".into()

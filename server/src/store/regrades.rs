@@ -2,6 +2,7 @@
 //! each result replacing the current one while the replaced one is kept, so that nobody's
 //! score changes silently and a stop resumes the job where it was.
 
+use super::timestamp;
 use super::{Error, Store};
 use jiff::Timestamp;
 use labs::grading::GradeResult;
@@ -84,11 +85,6 @@ pub struct Replaced {
     pub replaced_at: Option<Timestamp>,
     pub replaced_on_request_of: Option<String>,
 }
-
-fn timestamp(seconds: i64) -> Timestamp {
-    Timestamp::from_second(seconds).unwrap_or(Timestamp::UNIX_EPOCH)
-}
-
 /// A replaced result as stored: what it was and what replaced it, and its JSON.
 type EarlierRow = (Replaced, String);
 

@@ -1,6 +1,7 @@
 //! What staff do to a course besides reading it: extensions for one student, and the
 //! audit log of every staff action (regrades, extensions, roster and set-up changes).
 
+use super::timestamp;
 use super::{Error, Store};
 use crate::courses::deadline::Policy;
 use jiff::Timestamp;
@@ -36,11 +37,6 @@ pub struct AuditEntry {
     pub action: String,
     pub detail: String,
 }
-
-fn timestamp(seconds: i64) -> Timestamp {
-    Timestamp::from_second(seconds).unwrap_or(Timestamp::UNIX_EPOCH)
-}
-
 impl Store {
     /// Records a staff action in the course's audit log.
     pub fn audit(

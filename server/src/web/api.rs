@@ -17,6 +17,7 @@ use axum::body::Bytes;
 use axum::extract::{Path, Query, State};
 use axum::http::StatusCode;
 use axum::response::{IntoResponse, Response};
+use labs::Exercise;
 use labs::grading::{DEFAULT_COURSE, LAB, student_seed};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
@@ -36,13 +37,9 @@ const MAX_ID: usize = 100;
 struct Submit {
     student: Option<String>,
     course: Option<String>,
-    #[serde(default = "default_lab")]
+    #[serde(default = "super::default_lab")]
     lab: String,
     source: String,
-}
-
-fn default_lab() -> String {
-    LAB.into()
 }
 
 /// The answer to a submission taken.
@@ -82,12 +79,10 @@ pub async fn submit(
     };
     let submit: Submit = serde_json::from_slice(&body)
         .map_err(|e| Error::BadRequest(format!("the submission body: {e}")))?;
-    if submit.lab != LAB {
-        return Err(Error::BadRequest(format!(
-            "field `lab`: unknown exercise {:?}; the exercise graded here is {LAB:?}",
-            submit.lab
-        )));
-    }
+    submit
+        .lab
+        .parse::<Exercise>()
+        .map_err(|unknown| Error::BadRequest(format!("field `lab`: {unknown}")))?;
     check_size(&submit.source)
         .map_err(|problem| Error::TooLarge(format!("field `source`: {problem}")))?;
     let now = state.clock.now();
@@ -266,20 +261,12 @@ struct CourseView {
     members: Vec<Member>,
 }
 
-fn staff_only(viewer: &Viewer, course: &str) -> Result<(), Error> {
-    if viewer.is_staff_of(course) {
-        Ok(())
-    } else {
-        Err(Error::NotFound(format!("there is no course {course:?}")))
-    }
-}
-
 pub async fn course(
     State(state): State<Arc<AppState>>,
     viewer: Viewer,
     Path(name): Path<String>,
 ) -> Result<Response, Error> {
-    staff_only(&viewer, &name)?;
+    viewer.staff_of(&name)?;
     let view = blocking(&state, move |store| {
         Ok(CourseView {
             course: store.course(&name)?,
@@ -294,7 +281,7 @@ pub async fn course(
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LabQuery {
-    #[serde(default = "default_lab")]
+    #[serde(default = "super::default_lab")]
     lab: String,
 }
 
@@ -306,7 +293,7 @@ pub async fn course_submissions(
     Path(name): Path<String>,
     Query(query): Query<LabQuery>,
 ) -> Result<Response, Error> {
-    staff_only(&viewer, &name)?;
+    viewer.staff_of(&name)?;
     let list = blocking(&state, move |store| {
         store.course_submissions(&name, &query.lab)
     })

@@ -11,7 +11,7 @@ use axum::Json;
 use axum::extract::{Query, State};
 use axum::response::{IntoResponse, Redirect, Response};
 use jiff::Timestamp;
-use labs::grading::{LAB, student_seed};
+use labs::grading::student_seed;
 use serde::{Deserialize, Serialize};
 use std::collections::HashSet;
 use std::sync::Arc;
@@ -218,12 +218,8 @@ pub async fn about(State(state): State<Arc<AppState>>, viewer: Viewer) -> Result
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct HistoryQuery {
-    #[serde(default = "default_lab")]
+    #[serde(default = "super::default_lab")]
     lab: String,
-}
-
-fn default_lab() -> String {
-    LAB.into()
 }
 
 /// `GET /api/me/submissions?lab=...`: the signed-in student's own submissions.

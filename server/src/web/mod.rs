@@ -26,6 +26,7 @@ use axum::Router;
 use axum::extract::{DefaultBodyLimit, MatchedPath, Request};
 use axum::http::{HeaderValue, header};
 use axum::routing::{get, post};
+use labs::Exercise;
 use std::sync::Arc;
 use std::time::Duration;
 use tower_http::compression::CompressionLayer;
@@ -171,4 +172,9 @@ pub async fn blocking<T: Send + 'static>(
         .await
         .map_err(|e| store::Error::Task(e.to_string()))?
         .map_err(Error::from)
+}
+
+/// The exercise a request means when it names none (the default of every `lab` field).
+fn default_lab() -> String {
+    Exercise::default().name().to_owned()
 }

@@ -18,7 +18,7 @@ use axum::body::Bytes;
 use axum::extract::{Path, Query, State};
 use axum::http::{StatusCode, header};
 use axum::response::{IntoResponse, Redirect, Response};
-use labs::grading::LAB;
+use labs::Exercise;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
@@ -31,22 +31,10 @@ fn actor(viewer: &Viewer) -> String {
     }
 }
 
-fn staff_only(viewer: &Viewer, course: &str) -> Result<(), Error> {
-    if viewer.is_staff_of(course) {
-        Ok(())
-    } else {
-        Err(Error::NotFound(format!("there is no course {course:?}")))
-    }
-}
-
-fn known_lab(lab: &str) -> Result<(), Error> {
-    if lab == LAB {
-        Ok(())
-    } else {
-        Err(Error::NotFound(format!(
-            "there is no exercise {lab:?}; the exercise here is {LAB:?}"
-        )))
-    }
+/// The exercise named in a path, which must be one graded here.
+fn known_lab(lab: &str) -> Result<Exercise, Error> {
+    lab.parse()
+        .map_err(|unknown: labs::UnknownExercise| Error::NotFound(unknown.to_string()))
 }
 
 /// `GET /api/courses/{course}/labs/{lab}/class`.
@@ -94,7 +82,7 @@ pub async fn class(
     viewer: Viewer,
     Path((course, lab)): Path<(String, String)>,
 ) -> Result<Response, Error> {
-    staff_only(&viewer, &course)?;
+    viewer.staff_of(&course)?;
     known_lab(&lab)?;
     Ok(Json(class_answer(&state, course, lab).await?).into_response())
 }
@@ -113,7 +101,7 @@ pub async fn student(
     viewer: Viewer,
     Path((course, lab, student)): Path<(String, String, String)>,
 ) -> Result<Response, Error> {
-    staff_only(&viewer, &course)?;
+    viewer.staff_of(&course)?;
     known_lab(&lab)?;
     let missing = Error::NotFound(format!("{course} has no student {student:?}"));
     let answer = blocking(&state, move |store| {
@@ -146,13 +134,9 @@ pub async fn student(
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RegradeRequest {
-    #[serde(default = "default_lab")]
+    #[serde(default = "super::default_lab")]
     lab: String,
     scope: Scope,
-}
-
-fn default_lab() -> String {
-    LAB.into()
 }
 
 #[derive(Serialize)]
@@ -170,7 +154,7 @@ pub async fn start_regrade(
     Path(course): Path<String>,
     body: Bytes,
 ) -> Result<Response, Error> {
-    staff_only(&viewer, &course)?;
+    viewer.staff_of(&course)?;
     let request: RegradeRequest = serde_json::from_slice(&body)
         .map_err(|e| Error::BadRequest(format!("the regrade request: {e}")))?;
     known_lab(&request.lab)?;
@@ -224,7 +208,7 @@ pub async fn regrade(
     viewer: Viewer,
     Path((course, id)): Path<(String, String)>,
 ) -> Result<Response, Error> {
-    staff_only(&viewer, &course)?;
+    viewer.staff_of(&course)?;
     let missing = Error::NotFound(format!("there is no regrade {id:?}"));
     let Ok(number) = id.parse::<i64>() else {
         return Err(missing);
@@ -239,7 +223,7 @@ pub async fn regrade(
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct ExtensionRequest {
-    #[serde(default = "default_lab")]
+    #[serde(default = "super::default_lab")]
     lab: String,
     student: String,
     due: String,
@@ -254,7 +238,7 @@ pub async fn extend(
     Path(course): Path<String>,
     body: Bytes,
 ) -> Result<Response, Error> {
-    staff_only(&viewer, &course)?;
+    viewer.staff_of(&course)?;
     let request: ExtensionRequest = serde_json::from_slice(&body)
         .map_err(|e| Error::BadRequest(format!("the extension request: {e}")))?;
     known_lab(&request.lab)?;
@@ -299,7 +283,7 @@ pub async fn audit(
     viewer: Viewer,
     Path(course): Path<String>,
 ) -> Result<Response, Error> {
-    staff_only(&viewer, &course)?;
+    viewer.staff_of(&course)?;
     let log: Vec<AuditEntry> = blocking(&state, move |store| store.audit_log(&course)).await?;
     Ok(Json(log).into_response())
 }
@@ -317,7 +301,7 @@ pub async fn export(
     Path((course, lab)): Path<(String, String)>,
     Query(query): Query<ExportQuery>,
 ) -> Result<Response, Error> {
-    staff_only(&viewer, &course)?;
+    viewer.staff_of(&course)?;
     known_lab(&lab)?;
     let name = query.format.file_name(&course, &lab);
     let bytes = blocking(&state, move |store| {
@@ -363,7 +347,7 @@ async fn dashboard_page(
     if matches!(viewer, Viewer::Anonymous) {
         return Ok(Redirect::to("/signin").into_response());
     }
-    staff_only(viewer, &course)?;
+    viewer.staff_of(&course)?;
     known_lab(&lab)?;
     html(&Dashboard {
         page: "dashboard",

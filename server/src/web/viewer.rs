@@ -35,6 +35,16 @@ impl Viewer {
             Viewer::Anonymous => false,
         }
     }
+
+    /// Nothing, for the staff of `course`; for anyone else the answer a course that does
+    /// not exist gets, so that nobody learns which courses exist.
+    pub fn staff_of(&self, course: &str) -> Result<(), Error> {
+        if self.is_staff_of(course) {
+            Ok(())
+        } else {
+            Err(Error::NotFound(format!("there is no course {course:?}")))
+        }
+    }
 }
 
 /// The value of the session cookie in a `Cookie` header, if there is one.
