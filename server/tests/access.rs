@@ -15,7 +15,9 @@
 //!   injected clock, a dropped student, a course without the exercise;
 //! - `secrets_are_not_stored_in_clear`: codes, session keys and API tokens are not in
 //!   the database files;
-//! - `a_database_of_estlab_0_1_0_migrates_forward`: nothing of an 0.1.0 database is lost.
+//! - `a_database_of_estlab_0_1_0_migrates_forward`: nothing of an 0.1.0 database is lost;
+//! - `refusals_of_the_api_are_json_naming_what_is_wrong`: a body too large, a query that
+//!   does not parse and a body of the wrong JSON are answered with `{"error": ...}`.
 //!
 //! The server grades submissions on tasks of its own; a test waits for a result by
 //! polling the database, for at most `GRADING_BOUND`.
@@ -984,4 +986,51 @@ async fn reissued_codes_submission_caps_and_caching() {
         .add_code(student.id, &new_code(), false, None, app.now())
         .unwrap();
     assert!(app.send(me(&who)).await.json()["member"].is_null());
+}
+
+#[tokio::test]
+async fn refusals_of_the_api_are_json_naming_what_is_wrong() {
+    let app = App::new();
+    let now = app.now();
+    let store = app.store();
+    store
+        .create_course("el2320", "Applied Estimation", now)
+        .unwrap();
+    store.assign("el2320", LAB, &open_policy(now)).unwrap();
+    let student = app.enrol("el2320", "u-shapes");
+    let who = app.signed_in(&student).await;
+
+    // A body over the router's limit: 413, said in JSON.
+    let huge = Req::post("/api/submissions")
+        .who(&who)
+        .json(json!({ "source": "x".repeat(5 << 20) }));
+    let answer = app.send(huge).await;
+    assert_eq!(answer.status, StatusCode::PAYLOAD_TOO_LARGE);
+    assert!(
+        answer.error().starts_with("the request body: "),
+        "{}",
+        answer.body
+    );
+
+    // A query that does not parse: 400, naming the query and the field.
+    for uri in [
+        "/api/me/submissions?lab=ekf-localization&lab=odometry",
+        "/api/me/submissions?exercise=ekf-localization",
+    ] {
+        let answer = app.send(Req::get(uri).who(&who)).await;
+        assert_eq!(answer.status, StatusCode::BAD_REQUEST, "{uri}");
+        let error = answer.error();
+        assert!(
+            error.starts_with("the query: ") && error.contains("field"),
+            "{uri}: {error}"
+        );
+    }
+
+    // A body that is not the JSON asked for: 400, naming the line and column.
+    let broken = Req::post("/api/submissions").who(&who).json(json!(null));
+    let error = app.send(broken).await.error();
+    assert!(
+        error.starts_with("the submission body: ") && error.contains("line 1 column 4"),
+        "{error}"
+    );
 }

@@ -7,14 +7,14 @@
 //! submission is read by its student and their course's staff, and by nobody else:
 //! someone else's submission answers 404 exactly as one that does not exist.
 
+use super::extract::{Body, Query};
 use super::viewer::Viewer;
 use super::{AppState, Error, blocking};
 use crate::courses::deadline::Timing;
 use crate::sandbox::check_size;
 use crate::store::{Assignment, Course, Member, NewSubmission};
 use axum::Json;
-use axum::body::Bytes;
-use axum::extract::{Path, Query, State};
+use axum::extract::{Path, State};
 use axum::http::StatusCode;
 use axum::response::{IntoResponse, Response};
 use labs::Exercise;
@@ -68,7 +68,7 @@ struct Submitter {
 pub async fn submit(
     State(state): State<Arc<AppState>>,
     viewer: Viewer,
-    body: Bytes,
+    body: Body,
 ) -> Result<Response, Error> {
     let courses = blocking(&state, |store| store.any_course()).await?;
     // Who asks is checked before what they send.
@@ -77,8 +77,7 @@ pub async fn submit(
     } else {
         None
     };
-    let submit: Submit = serde_json::from_slice(&body)
-        .map_err(|e| Error::BadRequest(format!("the submission body: {e}")))?;
+    let submit: Submit = body.json("the submission body")?;
     submit
         .lab
         .parse::<Exercise>()

@@ -1,6 +1,7 @@
 //! The signed-in person's side: `/me` (a student's assignments with their deadlines,
 //! scores and history; a member of staff's course at a glance) and the API behind it.
 
+use super::extract::Query;
 use super::pages::{Nav, html};
 use super::viewer::Viewer;
 use super::{AppState, Error, blocking};
@@ -8,7 +9,7 @@ use crate::courses::deadline::{Policy, Timing};
 use crate::store::{Assignment, Course, Member, Status, Store, Submission, SubmissionSummary};
 use askama::Template;
 use axum::Json;
-use axum::extract::{Query, State};
+use axum::extract::State;
 use axum::response::{IntoResponse, Redirect, Response};
 use jiff::Timestamp;
 use labs::grading::student_seed;

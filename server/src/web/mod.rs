@@ -5,6 +5,7 @@
 mod api;
 mod assets;
 mod error;
+mod extract;
 mod limiter;
 mod me;
 mod origin;

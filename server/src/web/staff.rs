@@ -3,6 +3,7 @@
 //! route is for the course's staff (signed in, or with the course's API token); anyone
 //! else gets the same 404 as for a course that does not exist.
 
+use super::extract::{Body, Query};
 use super::pages::{Nav, html};
 use super::viewer::Viewer;
 use super::{AppState, Error, blocking};
@@ -14,8 +15,7 @@ use crate::store::{
 };
 use askama::Template;
 use axum::Json;
-use axum::body::Bytes;
-use axum::extract::{Path, Query, State};
+use axum::extract::{Path, State};
 use axum::http::{StatusCode, header};
 use axum::response::{IntoResponse, Redirect, Response};
 use labs::Exercise;
@@ -152,11 +152,10 @@ pub async fn start_regrade(
     State(state): State<Arc<AppState>>,
     viewer: Viewer,
     Path(course): Path<String>,
-    body: Bytes,
+    body: Body,
 ) -> Result<Response, Error> {
     viewer.staff_of(&course)?;
-    let request: RegradeRequest = serde_json::from_slice(&body)
-        .map_err(|e| Error::BadRequest(format!("the regrade request: {e}")))?;
+    let request: RegradeRequest = body.json("the regrade request")?;
     known_lab(&request.lab)?;
     let who = actor(&viewer);
     let now = state.clock.now();
@@ -236,11 +235,10 @@ pub async fn extend(
     State(state): State<Arc<AppState>>,
     viewer: Viewer,
     Path(course): Path<String>,
-    body: Bytes,
+    body: Body,
 ) -> Result<Response, Error> {
     viewer.staff_of(&course)?;
-    let request: ExtensionRequest = serde_json::from_slice(&body)
-        .map_err(|e| Error::BadRequest(format!("the extension request: {e}")))?;
+    let request: ExtensionRequest = body.json("the extension request")?;
     known_lab(&request.lab)?;
     let due =
         parse_moment(&request.due).map_err(|e| Error::BadRequest(format!("field `due`: {e}")))?;
