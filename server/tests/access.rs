@@ -56,6 +56,7 @@ const MATRIX: &[(&str, &str, [u16; 9])] = &[
     //                                        anon  A    B    TA   inst other token rev  bad
     ("GET",  "/",                              [200, 200, 200, 200, 200, 200, 200, 401, 401]),
     ("GET",  "/car",                           [200, 200, 200, 200, 200, 200, 200, 401, 401]),
+    ("GET",  "/odometry",                      [200, 200, 200, 200, 200, 200, 200, 401, 401]),
     ("GET",  "/ekf",                           [200, 200, 200, 200, 200, 200, 200, 401, 401]),
     ("GET",  "/ekf/code",                      [200, 200, 200, 200, 200, 200, 200, 401, 401]),
     ("GET",  "/ekf/starter.js",                [200, 200, 200, 200, 200, 200, 200, 200, 200]),
@@ -1025,6 +1026,16 @@ async fn refusals_of_the_api_are_json_naming_what_is_wrong() {
             "{uri}: {error}"
         );
     }
+
+    // An exercise that is not graded here: 400, naming the field and the known ones.
+    let answer = app
+        .send(Req::get("/api/me/submissions?lab=particle-filter").who(&who))
+        .await;
+    assert_eq!(answer.status, StatusCode::BAD_REQUEST);
+    assert_eq!(
+        answer.error(),
+        "field `lab`: unknown exercise \"particle-filter\"; the exercises graded here: ekf-localization"
+    );
 
     // A body that is not the JSON asked for: 400, naming the line and column.
     let broken = Req::post("/api/submissions").who(&who).json(json!(null));

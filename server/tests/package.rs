@@ -164,9 +164,9 @@ impl Gradescope {
         self.root.path().join(part)
     }
 
-    /// Lays out a submission of `files` by `email` with the submission id `id`, runs the
-    /// autograder and reads its results.
-    fn grade(&self, files: &[(&str, &str)], email: &str, id: i64) -> GradescopeResults {
+    /// Lays out a submission of `files` by the Gradescope users `users` with the
+    /// submission id `id`, runs the autograder and reads its results.
+    fn grade(&self, files: &[(&str, &str)], users: &[i64], id: i64) -> GradescopeResults {
         let submission = self.path("submission");
         let _ = std::fs::remove_dir_all(&submission);
         let _ = std::fs::remove_dir_all(self.path("results"));
@@ -181,7 +181,14 @@ impl Gradescope {
             "created_at": "2026-11-30T14:22:32.365935-07:00",
             "assignment": { "id": 25828, "title": "Lab 1", "total_points": "110.0" },
             "submission_method": "upload",
-            "users": [{ "email": email, "id": 1234, "name": "Student User" }],
+            "users": users
+                .iter()
+                .map(|user| serde_json::json!({
+                    "email": format!("user{user}@example.org"),
+                    "id": user,
+                    "name": format!("Student {user}")
+                }))
+                .collect::<Vec<_>>(),
             "previous_submissions": []
         });
         std::fs::write(self.path("submission_metadata.json"), metadata.to_string()).unwrap();
@@ -191,24 +198,23 @@ impl Gradescope {
     }
 
     /// `estlab grade --format gradescope` (the packaged estlab, whose C library computes
-    /// the student's Math functions) for the same file, student and hidden cases.
-    fn graded_alone(&self, source: &str, email: &str, id: i64) -> GradescopeResults {
+    /// the student's Math functions) for the same file, student and hidden cases (the
+    /// key the results name).
+    fn graded_alone(&self, source: &str, graded: &GradescopeResults) -> GradescopeResults {
+        let seed = graded.extra_data.seed;
+        let key = graded
+            .extra_data
+            .hidden_key
+            .expect("hidden cases were graded");
         let file = self.path("alone.js");
         std::fs::write(&file, source).unwrap();
         let output = Command::new(self.path("source/estlab"))
             .arg("grade")
             .arg(&file)
-            .args([
-                "--student",
-                email,
-                "--course",
-                "el2320",
-                "--format",
-                "gradescope",
-            ])
+            .args(["--seed", &seed.to_string(), "--format", "gradescope"])
             .arg("--secret")
             .arg(self.path("source/secret"))
-            .args(["--submission", &id.to_string()])
+            .args(["--submission", &key.to_string()])
             .output()
             .unwrap();
         serde_json::from_str(&succeeded(&output, "estlab grade")).unwrap()
@@ -218,11 +224,11 @@ impl Gradescope {
 #[test]
 fn gradescope_grades_as_estlab_grade_does_with_hidden_cases_after_the_due_date() {
     let gradescope = Gradescope::new();
-    let email = "ada@example.org";
-    let seed = student_seed("el2320", email);
+    let ada = 4201;
+    let seed = student_seed("el2320", "4201");
 
-    let correct = gradescope.grade(&[("ekf_localization.js", CORRECT)], email, 7001);
-    assert_eq!(correct, gradescope.graded_alone(CORRECT, email, 7001));
+    let correct = gradescope.grade(&[("ekf_localization.js", CORRECT)], &[ada], 7001);
+    assert_eq!(correct, gradescope.graded_alone(CORRECT, &correct));
     assert_eq!(correct.score, Some(110.0));
     assert_eq!(correct.extra_data.seed, seed);
     assert!(correct.extra_data.grader.starts_with("estlab 0.1.0 plan "));
@@ -241,10 +247,21 @@ fn gradescope_grades_as_estlab_grade_does_with_hidden_cases_after_the_due_date()
         correct.tests[0].output
     );
 
-    // Another student gets another variant; another submission other hidden cases.
-    let other = gradescope.grade(&[("mine.js", CORRECT)], "grace@example.org", 7002);
+    // Another student gets another variant; another submission other hidden cases; the
+    // same submission graded again the same ones.
+    let other = gradescope.grade(&[("mine.js", CORRECT)], &[4202], 7002);
     assert_ne!(other.extra_data.seed, seed);
     assert_eq!(other.score, Some(110.0));
+    assert_ne!(other.extra_data.hidden_key, correct.extra_data.hidden_key);
+    let again = gradescope.grade(&[("ekf_localization.js", CORRECT)], &[ada], 7001);
+    assert_eq!(again.extra_data.hidden_key, correct.extra_data.hidden_key);
+    // A group keeps one variant whoever uploads: its smallest user id.
+    let group = gradescope.grade(
+        &[("ekf_localization.js", CORRECT)],
+        &[4300, ada, 4299],
+        7005,
+    );
+    assert_eq!(group.extra_data.seed, seed);
 
     let mut later = 0;
     for name in [
@@ -253,10 +270,10 @@ fn gradescope_grades_as_estlab_grade_does_with_hidden_cases_after_the_due_date()
         "threshold-strict",
     ] {
         let (source, breaks) = mistaken(name);
-        let results = gradescope.grade(&[("ekf_localization.js", &source)], email, 7003);
+        let results = gradescope.grade(&[("ekf_localization.js", &source)], &[ada], 7003);
         assert_eq!(
             results,
-            gradescope.graded_alone(&source, email, 7003),
+            gradescope.graded_alone(&source, &results),
             "{name}"
         );
         let score = results.score.unwrap();
@@ -293,10 +310,10 @@ fn gradescope_grades_as_estlab_grade_does_with_hidden_cases_after_the_due_date()
     assert!(later > 0, "no failing hidden case waits for the due date");
 
     for (what, source, says) in hostile() {
-        let results = gradescope.grade(&[("ekf_localization.js", &source)], email, 7004);
+        let results = gradescope.grade(&[("ekf_localization.js", &source)], &[ada], 7004);
         assert_eq!(
             results,
-            gradescope.graded_alone(&source, email, 7004),
+            gradescope.graded_alone(&source, &results),
             "{what}"
         );
         assert!(results.score.unwrap() < 110.0, "{what}");
@@ -308,14 +325,14 @@ fn gradescope_grades_as_estlab_grade_does_with_hidden_cases_after_the_due_date()
 #[test]
 fn gradescope_says_which_file_it_wants_and_refuses_what_it_cannot_grade() {
     let gradescope = Gradescope::new();
-    let email = "ada@example.org";
+    let ada = [4201];
     // Several files: the one named like the starter is graded.
     let picked = gradescope.grade(
         &[
             ("notes.js", "// notes"),
             ("lab/ekf_localization.js", CORRECT),
         ],
-        email,
+        &ada,
         1,
     );
     assert_eq!(picked.score, Some(110.0));
@@ -330,13 +347,13 @@ fn gradescope_says_which_file_it_wants_and_refuses_what_it_cannot_grade() {
             "no JavaScript file was submitted (found report.pdf)",
         ),
     ] {
-        let results = gradescope.grade(&files, email, 2);
+        let results = gradescope.grade(&files, &ada, 2);
         assert_eq!(results.score, None, "{says}");
         assert!(results.tests.is_empty());
         assert!(results.output.contains(says), "{}", results.output);
     }
     let huge = "// x\n".repeat(60_000);
-    let results = gradescope.grade(&[("ekf_localization.js", &huge)], email, 3);
+    let results = gradescope.grade(&[("ekf_localization.js", &huge)], &ada, 3);
     assert_eq!(results.score, None);
     assert!(
         results
@@ -479,7 +496,10 @@ fn prairielearn_grades_as_estlab_grade_does_from_the_question_folder() {
         succeeded(&run, "the entrypoint");
         read(&root.join("results/results.json"))
     };
-    let alone = |source: &str, seed: u64| -> PrairieLearnResults {
+    // `estlab grade` with the variant and the key the results name.
+    let alone = |source: &str, graded: &PrairieLearnResults| -> PrairieLearnResults {
+        let seed = graded.estlab.seed;
+        let key = graded.estlab.hidden_key.expect("hidden cases were graded");
         let file = dir.path().join("alone.js");
         std::fs::write(&file, source).unwrap();
         let output = Command::new(&binary)
@@ -488,14 +508,14 @@ fn prairielearn_grades_as_estlab_grade_does_from_the_question_folder() {
             .args(["--seed", &seed.to_string(), "--format", "prairielearn"])
             .arg("--secret")
             .arg(&secret)
-            .args(["--submission", &seed.to_string()])
+            .args(["--submission", &key.to_string()])
             .output()
             .unwrap();
         serde_json::from_str(&succeeded(&output, "estlab grade")).unwrap()
     };
 
     let correct = grade(Some(CORRECT), 4242);
-    assert_eq!(correct, alone(CORRECT, 4242));
+    assert_eq!(correct, alone(CORRECT, &correct));
     assert!(
         correct.gradable && correct.score == 1.0,
         "{}",
@@ -503,10 +523,17 @@ fn prairielearn_grades_as_estlab_grade_does_from_the_question_folder() {
     );
     assert_eq!(correct.estlab.seed, 4242);
     assert!(correct.estlab.grader.starts_with("estlab 0.1.0 plan "));
+    // A variant submitted again: the same file draws the same hidden cases (a regrade
+    // agrees), any other file other ones, so what one attempt revealed of a hidden case
+    // is of no use to the next.
+    let again = grade(Some(CORRECT), 4242);
+    assert_eq!(again.estlab.hidden_key, correct.estlab.hidden_key);
+    let edited = grade(Some(&format!("{CORRECT}\n// one more line")), 4242);
+    assert_ne!(edited.estlab.hidden_key, correct.estlab.hidden_key);
     for name in ["predict-transposed", "outlier-any-landmark"] {
         let (source, breaks) = mistaken(name);
         let results = grade(Some(&source), 99);
-        assert_eq!(results, alone(&source, 99), "{name}");
+        assert_eq!(results, alone(&source, &results), "{name}");
         assert!(results.score < 1.0, "{name}");
         let broken = results
             .tests
@@ -516,7 +543,8 @@ fn prairielearn_grades_as_estlab_grade_does_from_the_question_folder() {
         assert!(broken.points < broken.max_points, "{name}");
     }
     let (_, source, _) = &hostile()[0];
-    assert_eq!(grade(Some(source), 5), alone(source, 5));
+    let thrown = grade(Some(source), 5);
+    assert_eq!(thrown, alone(source, &thrown));
 
     let nothing = grade(None, 5);
     assert!(!nothing.gradable);
@@ -555,6 +583,41 @@ fn packaging_refuses_a_dynamic_binary_an_existing_output_and_an_unknown_exercise
         text(&dynamic.stderr).contains("is dynamically linked"),
         "{}",
         text(&dynamic.stderr)
+    );
+    assert!(!zip.exists());
+
+    // A static estlab built from other sources (here: the static build with another
+    // source hash written into it) would package another grader: refused.
+    let static_build = Path::new(env!("CARGO_BIN_EXE_estlab"))
+        .parent()
+        .and_then(Path::parent)
+        .unwrap()
+        .join("x86_64-unknown-linux-musl/release/estlab");
+    let mut bytes = std::fs::read(&static_build).unwrap();
+    let marker = b"(sources ";
+    let at = bytes
+        .windows(marker.len())
+        .position(|w| w == marker)
+        .expect("the version in the static build")
+        + marker.len();
+    bytes[at] = if bytes[at] == b'0' { b'1' } else { b'0' };
+    let other = dir.path().join("estlab-other");
+    std::fs::write(&other, &bytes).unwrap();
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::set_permissions(&other, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let stale = estlab(&[
+        "package",
+        "gradescope",
+        "--out",
+        zip.to_str().unwrap(),
+        "--binary",
+        other.to_str().unwrap(),
+    ]);
+    assert!(!stale.status.success());
+    assert!(
+        text(&stale.stderr).contains("it was built from other sources"),
+        "{}",
+        text(&stale.stderr)
     );
     assert!(!zip.exists());
 

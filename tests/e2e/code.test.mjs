@@ -161,7 +161,8 @@ test('typing a student id says which variant it gives at once, and keeps the res
 
 test('a link with ?seed=N (from a Gradescope or PrairieLearn result) opens that variant, graded as the command line grades it', bounded, async () => {
   const page = await openPage(browser, `${server.url}/ekf/code?seed=4242`);
-  assert.equal(await page.locator('#seed').textContent(), 'the variant of your link: seed 4242');
+  assert.equal(await page.locator('#seed').textContent(),
+    'the variant of your link: seed 4242 (Submit sends your file to this server, which grades the variant of your student id)');
   const text = withMistake('threshold-strict');
   await type(page, text);
   await runAndWait(page, '#run-tests');

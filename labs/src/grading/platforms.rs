@@ -10,8 +10,8 @@ use serde::{Deserialize, Serialize};
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct GradescopeResults {
-    /// The total; absent when the submission was not gradable, so that it costs the
-    /// student nothing (Gradescope then adds up the tests, all worth nothing).
+    /// The total; absent when the submission was not gradable (Gradescope then adds up
+    /// the tests, none, so the submission scores 0 and says why).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub score: Option<f64>,
     /// Shown above the tests.
@@ -39,6 +39,10 @@ pub struct GraderData {
     pub grader: String,
     pub lab: String,
     pub seed: u64,
+    /// What drew the hidden cases with the grader's secret (`estlab grade --secret FILE
+    /// --submission KEY` grades the same file the same way); none without hidden cases.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hidden_key: Option<i64>,
 }
 
 /// PrairieLearn's external grader `results.json`.
@@ -81,11 +85,12 @@ impl GradeResult {
         )
     }
 
-    fn grader_data(&self, grader: &str) -> GraderData {
+    fn grader_data(&self, grader: &str, hidden_key: Option<i64>) -> GraderData {
         GraderData {
             grader: grader.to_owned(),
             lab: self.lab.clone(),
             seed: self.seed,
+            hidden_key: hidden_key.filter(|_| self.hidden_cases),
         }
     }
 
@@ -93,7 +98,7 @@ impl GradeResult {
     /// details of failing hidden cases move out of a test's output into a test of their
     /// own, worth nothing and shown after the due date; their count stays in the test's
     /// first line, as estlab's own server shows it.
-    pub fn gradescope(&self, grader: &str) -> GradescopeResults {
+    pub fn gradescope(&self, grader: &str, hidden_key: Option<i64>) -> GradescopeResults {
         let mut tests = Vec::new();
         for t in &self.tests {
             let output = if t.hidden_detail.is_empty() {
@@ -124,12 +129,12 @@ impl GradeResult {
             score: self.gradable.then_some(self.points),
             output: self.signed(grader),
             tests,
-            extra_data: self.grader_data(grader),
+            extra_data: self.grader_data(grader, hidden_key),
         }
     }
 
     /// PrairieLearn's external grader `results.json`: score in [0, 1], points per test.
-    pub fn prairielearn(&self, grader: &str) -> PrairieLearnResults {
+    pub fn prairielearn(&self, grader: &str, hidden_key: Option<i64>) -> PrairieLearnResults {
         PrairieLearnResults {
             gradable: self.gradable,
             score: self.score,
@@ -145,7 +150,7 @@ impl GradeResult {
                     message: t.message.clone(),
                 })
                 .collect(),
-            estlab: self.grader_data(grader),
+            estlab: self.grader_data(grader, hidden_key),
         }
     }
 }

@@ -1,9 +1,8 @@
 //! `estlab grade`: grade one student file, as the server would.
 
-use super::serve::cores;
 use super::{print, read};
 use crate::error::Error;
-use crate::sandbox::{Sandbox, check_size};
+use crate::sandbox::{Sandbox, check_size, cores};
 use crate::submissions::{Secret, grader_version};
 use labs::Exercise;
 use labs::grading::{DEFAULT_COURSE, GradeResult, student_seed};
@@ -31,8 +30,8 @@ pub struct Args {
     /// as the server or the package does; without one only the shown cases are graded.
     #[arg(long)]
     secret: Option<PathBuf>,
-    /// With --secret: the submission whose hidden cases are drawn (its id on the server,
-    /// on Gradescope the submission's id, on PrairieLearn the variant's seed).
+    /// With --secret: the key that draws the hidden cases (a submission's id on the
+    /// server; the `hidden_key` a package's results name).
     #[arg(long, requires = "secret", default_value_t = 0)]
     submission: i64,
     #[arg(long, value_enum, default_value_t = Format::Json)]
@@ -64,12 +63,13 @@ pub fn run(args: &Args) -> Result<(), Error> {
     let grader = grader_version(secret.as_ref());
     let sandbox = Sandbox::current(cores()).map_err(Error::io("the estlab executable"))?;
     // Without a secret there are no hidden cases: the result says so.
+    let key = secret.is_some().then_some(args.submission);
     let hidden = secret.map(|secret| secret.hidden_seed(args.submission));
     let result = sandbox.grade(&source, seed, hidden);
     let text = match args.format {
         Format::Json => serde_json::to_string_pretty(&result),
-        Format::Gradescope => serde_json::to_string_pretty(&result.gradescope(&grader)),
-        Format::Prairielearn => serde_json::to_string_pretty(&result.prairielearn(&grader)),
+        Format::Gradescope => serde_json::to_string_pretty(&result.gradescope(&grader, key)),
+        Format::Prairielearn => serde_json::to_string_pretty(&result.prairielearn(&grader, key)),
         Format::Text => Ok(result
             .tests
             .iter()

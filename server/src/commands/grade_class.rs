@@ -2,11 +2,11 @@
 //! with one file per student, named by the student's id), graded as the server grades
 //! them, each with that student's variant.
 
-use super::serve::{cores, default_parallel};
+use super::serve::default_parallel;
 use super::{file_name, print};
 use crate::courses::export::inert;
 use crate::error::Error;
-use crate::sandbox::{Sandbox, check_size};
+use crate::sandbox::{Sandbox, check_size, cores};
 use indicatif::{ProgressBar, ProgressStyle};
 use labs::Exercise;
 use labs::grading::{DEFAULT_COURSE, GradeResult, LAB, student_seed};

@@ -19,10 +19,19 @@ use clap::{Parser, Subcommand};
 use std::path::Path;
 use std::process::ExitCode;
 
+/// What `estlab --version` prints: the release and the hash of the sources it was built
+/// from (`build.rs`).
+pub const VERSION: &str = concat!(
+    env!("CARGO_PKG_VERSION"),
+    " (sources ",
+    env!("ESTLAB_SOURCES"),
+    ")"
+);
+
 #[derive(Parser)]
 #[command(
     name = "estlab",
-    version,
+    version = VERSION,
     about = "Kalman filtering and EKF localization, taught and graded"
 )]
 struct Cli {
@@ -54,11 +63,7 @@ pub fn main() -> ExitCode {
     let cli = Cli::parse();
     if matches!(
         cli.command,
-        Command::Serve(_)
-            | Command::Course(_)
-            | Command::Backup(_)
-            | Command::GradeClass(_)
-            | Command::Package(_)
+        Command::Serve(_) | Command::Course(_) | Command::Backup(_) | Command::GradeClass(_)
     ) {
         private_files();
     }

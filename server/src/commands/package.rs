@@ -1,6 +1,6 @@
 //! `estlab package`: the grader packaged for Gradescope or PrairieLearn.
 
-use super::file_name;
+use super::VERSION;
 use crate::error::Error;
 use crate::platforms::{Settings, elf, gradescope, prairielearn};
 use crate::submissions::Secret;
@@ -39,7 +39,7 @@ enum Platform {
         image: String,
         /// The address of an estlab site where students can run the tests in their
         /// browser, linked from the question (e.g. https://estlab.example.org).
-        #[arg(long)]
+        #[arg(long, value_parser = site_address)]
         workbench: Option<String>,
     },
 }
@@ -92,7 +92,7 @@ pub fn run(args: &Args) -> Result<(), Error> {
                     image,
                     uuid: uuid()?,
                     starter: crate::web::STARTER,
-                    workbench: workbench.as_deref().map(|url| url.trim_end_matches('/')),
+                    workbench: workbench.as_deref(),
                 },
             )?;
             println!(
@@ -111,7 +111,8 @@ impl Common {
     /// The binary, the settings and the secret's bytes; `secret_path` names the secret in
     /// errors when a new one is made.
     fn contents(&self, secret_path: &Path) -> Result<(Vec<u8>, Settings, Vec<u8>), Error> {
-        let binary = static_binary(self.binary.as_deref())?;
+        let (path, binary) = static_binary(self.binary.as_deref())?;
+        println!("Packaging {} (estlab {VERSION}).", path.display());
         let secret = match &self.secret {
             Some(path) => Secret::read(path)?,
             None => Secret::random(secret_path)?,
@@ -124,42 +125,70 @@ impl Common {
     }
 }
 
-/// The bytes of the statically linked estlab to package: `given`, or this estlab if it
-/// is static, or the static build beside this one's target folder.
-fn static_binary(given: Option<&Path>) -> Result<Vec<u8>, Error> {
+/// The statically linked estlab to package and its bytes: `given`, or this estlab if it
+/// is static, or the static build beside this one's target folder. It must be built from
+/// the same sources as this estlab (`estlab --version` says which), so that a package
+/// never carries an older grader than the one that made it.
+fn static_binary(given: Option<&Path>) -> Result<(PathBuf, Vec<u8>), Error> {
     let this = std::env::current_exe().map_err(Error::io("the estlab executable"))?;
-    let beside = this
-        .parent()
-        .and_then(Path::parent)
-        .map(|target| target.join("x86_64-unknown-linux-musl/release/estlab"));
-    let candidates: Vec<PathBuf> = match given {
-        Some(path) => vec![path.to_owned()],
-        None => std::iter::once(this).chain(beside).collect(),
-    };
-    for path in &candidates {
-        let Ok(bytes) = std::fs::read(path) else {
-            if given.is_some() {
-                return Err(Error::io(path)(std::io::Error::last_os_error()));
-            }
-            continue;
-        };
-        match elf::is_static(&bytes) {
-            Ok(true) => return Ok(bytes),
-            Ok(false) if given.is_some() => {
-                return Err(Error::Invalid(format!(
-                    "{} is dynamically linked: it would need the platform's C library to be like this machine's. Build the static estlab with scripts/build-static.",
-                    path.display()
-                )));
-            }
-            Err(problem) if given.is_some() => {
-                return Err(Error::Invalid(format!("{}: {problem}", file_name(path))));
-            }
-            _ => {}
+    let path = match given {
+        Some(path) => path.to_owned(),
+        None => {
+            let beside = this
+                .parent()
+                .and_then(Path::parent)
+                .map(|target| target.join("x86_64-unknown-linux-musl/release/estlab"));
+            let static_one = std::iter::once(this.clone()).chain(beside).find(|path| {
+                std::fs::read(path).is_ok_and(|bytes| elf::is_static(&bytes) == Ok(true))
+            });
+            static_one.ok_or_else(|| {
+                Error::Invalid(
+                    "this estlab is dynamically linked and there is no static build beside it: build one with scripts/build-static (or pass --binary)".to_owned(),
+                )
+            })?
         }
+    };
+    let bytes = std::fs::read(&path).map_err(Error::io(&path))?;
+    match elf::is_static(&bytes) {
+        Ok(true) => {}
+        Ok(false) => {
+            return Err(Error::Invalid(format!(
+                "{} is dynamically linked: it would need the platform's C library to be like this machine's. Build the static estlab with scripts/build-static.",
+                path.display()
+            )));
+        }
+        Err(problem) => return Err(Error::Invalid(format!("{}: {problem}", path.display()))),
     }
-    Err(Error::Invalid(
-        "this estlab is dynamically linked and there is no static build beside it: build one with scripts/build-static (or pass --binary)".to_owned(),
-    ))
+    let said = std::process::Command::new(&path)
+        .arg("--version")
+        .output()
+        .map_err(Error::io(&path))?;
+    let theirs = String::from_utf8_lossy(&said.stdout).trim().to_owned();
+    let ours = format!("estlab {VERSION}");
+    if theirs != ours {
+        return Err(Error::Invalid(format!(
+            "{} is {theirs:?}, not this {ours:?}: it was built from other sources. Rebuild it with scripts/build-static (or package with the estlab it is).",
+            path.display()
+        )));
+    }
+    Ok((path, bytes))
+}
+
+/// An http(s) address without a path's end slash, safe to write into an HTML attribute.
+fn site_address(text: &str) -> Result<String, String> {
+    let address = text.trim().trim_end_matches('/');
+    let rest = address
+        .strip_prefix("https://")
+        .or_else(|| address.strip_prefix("http://"))
+        .ok_or("an address starting with https:// (or http://)")?;
+    if rest.is_empty()
+        || rest
+            .chars()
+            .any(|c| c.is_whitespace() || c.is_control() || "\"'<>`\\".contains(c))
+    {
+        return Err("an address of a site, without quotes, spaces or angle brackets".into());
+    }
+    Ok(address.to_owned())
 }
 
 /// A random (version 4) UUID, as PrairieLearn wants one per question.

@@ -2,7 +2,7 @@
 
 use crate::clock::{Clock, SystemClock};
 use crate::error::Error;
-use crate::sandbox::Sandbox;
+use crate::sandbox::{Sandbox, cores};
 use crate::store::Store;
 use crate::submissions::{Grader, Secret};
 use crate::web::{self, AppState, Assets, SignInLimiter};
@@ -41,11 +41,6 @@ pub struct Args {
 
 /// The setting under which the server records its public address for `estlab course`.
 pub const PUBLIC_URL: &str = "public_url";
-
-/// The cores this process may use.
-pub fn cores() -> usize {
-    std::thread::available_parallelism().map_or(1, usize::from)
-}
 
 /// Gradings at once: one per two cores, each with two engines side by side, which keeps
 /// a lone grading quick.

@@ -119,8 +119,11 @@ pub fn results(view: &ClassView, graded: &HashMap<i64, Submission>, format: Form
         let result = submission.result.as_ref()?;
         let grader = submission.grader.as_deref().unwrap_or("estlab");
         let json = match format {
-            Format::Prairielearn => serde_json::to_vec_pretty(&result.prairielearn(grader)),
-            _ => serde_json::to_vec_pretty(&result.gradescope(grader)),
+            // The server draws a submission's hidden cases from its id.
+            Format::Prairielearn => {
+                serde_json::to_vec_pretty(&result.prairielearn(grader, Some(submission.summary.id)))
+            }
+            _ => serde_json::to_vec_pretty(&result.gradescope(grader, Some(submission.summary.id))),
         };
         Some((
             format!("{}/results.json", s.id),

@@ -6,7 +6,7 @@
 //! files in `/autograder/submission` and `/autograder/submission_metadata.json` beside
 //! them, and shows `/autograder/results/results.json`.
 
-use super::{PackagedGrader, SECRET, SETTINGS, Settings, write_graded};
+use super::{Drawn, PackagedGrader, SECRET, SETTINGS, Settings, write_graded};
 use crate::error::Error;
 use labs::grading::{GradescopeResults, student_seed};
 use serde::Deserialize;
@@ -74,16 +74,20 @@ struct Metadata {
 
 #[derive(Deserialize)]
 struct User {
-    email: String,
+    /// The user's Gradescope id.
+    id: i64,
 }
 
 /// Grades the submission under `root` (Gradescope's `/autograder`) and writes its
-/// results. The variant is the submitter's e-mail address within the package's course
-/// (the first submitter's, for a group), as the workbench computes it from the same
-/// address typed as the student id. When the package or the metadata cannot be read,
-/// the results say so (worth nothing) and the error is returned.
+/// results. The variant is the submitter's Gradescope user id within the package's
+/// course (for a group the smallest of its members' ids, so that whoever uploads, the
+/// group keeps its variant); the results name its seed, which the workbench opens with
+/// `/ekf/code?seed=N`. When the package or the metadata cannot be read, the results say
+/// so (worth nothing) and the error is returned.
 pub fn autograde(root: &Path) -> Result<(), Error> {
-    write_graded(root, graded(root), |result| result.gradescope("estlab"))
+    write_graded(root, graded(root), |result| {
+        result.gradescope("estlab", None)
+    })
 }
 
 fn graded(root: &Path) -> Result<GradescopeResults, Error> {
@@ -95,13 +99,17 @@ fn graded(root: &Path) -> Result<GradescopeResults, Error> {
             serde_json::from_str(&text)
                 .map_err(|e| Error::Invalid(format!("{}: {e}", metadata_path.display())))
         })?;
-    let Some(first) = metadata.users.first() else {
+    let Some(user) = metadata.users.iter().map(|user| user.id).min() else {
         return Err(Error::Invalid(format!(
             "{}: no users: whose submission is this?",
             metadata_path.display()
         )));
     };
-    let seed = student_seed(&grader.settings.course, &first.email);
-    let result = grader.grade(&root.join("submission"), seed, metadata.id);
-    Ok(result.gradescope(&grader.version))
+    let seed = student_seed(&grader.settings.course, &user.to_string());
+    let (result, key) = grader.grade(
+        &root.join("submission"),
+        seed,
+        Drawn::GradescopeSubmission(metadata.id),
+    );
+    Ok(result.gradescope(&grader.version, key))
 }

@@ -13,11 +13,12 @@ pub mod prairielearn;
 mod submitted;
 
 use crate::error::Error;
-use crate::sandbox::{Sandbox, check_length};
+use crate::sandbox::{Sandbox, check_length, cores};
 use crate::submissions::{Secret, grader_version};
 use labs::Exercise;
 use labs::grading::{GradeResult, LAB};
 use serde::{Deserialize, Serialize};
+use sha2::{Digest, Sha256};
 use std::path::Path;
 
 pub use submitted::{STUDENT_FILE, student_file};
@@ -70,10 +71,11 @@ impl PackagedGrader {
     }
 
     /// Grades the student's file in `submitted` for the variant `seed`, with the hidden
-    /// cases of the submission `key` (as `estlab grade --secret --submission key` does);
-    /// a submission without one gradable file is not gradable, and says why.
-    pub fn grade(&self, submitted: &Path, seed: u64, key: i64) -> GradeResult {
-        let not_gradable = |reason: String| GradeResult::not_gradable(LAB, seed, reason);
+    /// cases `drawn` says (as `estlab grade --secret --submission KEY` does with the key
+    /// returned beside the result); a submission without one gradable file is not
+    /// gradable, and says why.
+    pub fn grade(&self, submitted: &Path, seed: u64, drawn: Drawn) -> (GradeResult, Option<i64>) {
+        let not_gradable = |reason: String| (GradeResult::not_gradable(LAB, seed, reason), None);
         let path = match student_file(submitted) {
             Ok(path) => path,
             Err(reason) => return not_gradable(reason),
@@ -94,11 +96,46 @@ impl PackagedGrader {
             },
             Err(e) => return not_gradable(format!("{name} could not be read: {e}")),
         };
-        let sandbox = match Sandbox::current(crate::commands::serve::cores()) {
+        let sandbox = match Sandbox::current(cores()) {
             Ok(sandbox) => sandbox,
             Err(e) => return not_gradable(format!("the grader could not start: {e}")),
         };
-        sandbox.grade(&source, seed, Some(self.secret.hidden_seed(key)))
+        let key = drawn.key(&source);
+        let result = sandbox.grade(&source, seed, Some(self.secret.hidden_seed(key)));
+        (result, Some(key))
+    }
+}
+
+/// What a submission's hidden cases are drawn from on a platform, besides the secret. A
+/// submission gets hidden cases of its own, so that what a hidden case revealed (what the
+/// student's code threw with its arguments) is of no use the next time; grading the same
+/// submission again draws the same. The platform's name goes into the key, so a package
+/// made with a server's secret draws other cases than the server.
+pub enum Drawn {
+    /// Gradescope: the submission's id.
+    GradescopeSubmission(i64),
+    /// PrairieLearn, which passes no submission id: the variant's seed and the file
+    /// graded (a variant may be submitted many times; every other file gets other cases).
+    PrairieLearnVariant(u64),
+}
+
+impl Drawn {
+    /// The key `Secret::hidden_seed` takes: a SHA-256 of the platform, what identifies
+    /// the submission and the file's text, cut to a whole number below 2^53.
+    fn key(&self, source: &str) -> i64 {
+        let hash = match self {
+            Drawn::GradescopeSubmission(id) => Sha256::new()
+                .chain_update(b"gradescope submission ")
+                .chain_update(id.to_le_bytes()),
+            Drawn::PrairieLearnVariant(seed) => Sha256::new()
+                .chain_update(b"prairielearn variant ")
+                .chain_update(seed.to_le_bytes())
+                .chain_update(source.as_bytes()),
+        }
+        .finalize();
+        let mut first = [0; 8];
+        first.copy_from_slice(&hash[..8]);
+        (u64::from_le_bytes(first) & ((1 << 53) - 1)) as i64
     }
 }
 

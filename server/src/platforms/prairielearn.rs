@@ -6,7 +6,7 @@
 //! question's data in `/grade/data/data.json`, runs the entrypoint, and reads
 //! `/grade/results/results.json`.
 
-use super::{PackagedGrader, SECRET, STUDENT_FILE, Settings, write_graded};
+use super::{Drawn, PackagedGrader, SECRET, STUDENT_FILE, Settings, write_graded};
 use crate::error::Error;
 use labs::grading::PrairieLearnResults;
 use serde::{Deserialize, Serialize};
@@ -209,11 +209,13 @@ struct Params {
 
 /// Grades the submission under `root` (PrairieLearn's `/grade`) and writes its results.
 /// The variant is the seed `server.py` made (PrairieLearn's variant seed, if the question
-/// has no such `server.py`), which also draws the hidden cases: each variant has its own,
-/// and a regrade draws the same. When the package or the data cannot be read, the
-/// results say so (not gradable, which costs no attempt) and the error is returned.
+/// has no such `server.py`); the hidden cases are drawn from it and the file (see
+/// [`Drawn`]). When the package or the data cannot be read, the results say so (not
+/// gradable, which costs no attempt) and the error is returned.
 pub fn autograde(root: &Path) -> Result<(), Error> {
-    write_graded(root, graded(root), |result| result.prairielearn("estlab"))
+    write_graded(root, graded(root), |result| {
+        result.prairielearn("estlab", None)
+    })
 }
 
 fn graded(root: &Path) -> Result<PrairieLearnResults, Error> {
@@ -228,7 +230,10 @@ fn graded(root: &Path) -> Result<PrairieLearnResults, Error> {
             path.display()
         ))
     })? & ((1 << 53) - 1);
-    let key = i64::try_from(seed).expect("below 2^53");
-    let result = grader.grade(&root.join("student"), seed, key);
-    Ok(result.prairielearn(&grader.version))
+    let (result, key) = grader.grade(
+        &root.join("student"),
+        seed,
+        Drawn::PrairieLearnVariant(seed),
+    );
+    Ok(result.prairielearn(&grader.version, key))
 }

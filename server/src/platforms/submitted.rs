@@ -6,26 +6,35 @@ use std::path::{Path, PathBuf};
 pub const STUDENT_FILE: &str = "ekf_localization.js";
 /// Folders below the submission's that are looked into (a zip of a folder adds one).
 const DEPTH: usize = 4;
-/// Files looked at, at most: a submission of thousands of files is not a lab's.
-const FILES: usize = 1000;
+/// Entries (files, folders, links) looked at, at most: a submission of thousands is not
+/// a lab's, and walking it would only cost the grader's time.
+const ENTRIES: usize = 1000;
 
 /// The JavaScript file to grade among those under `dir`: the only `.js` file, or else the
 /// one named like the starter. Hidden files and macOS's `__MACOSX` folders are not the
-/// student's. The error says what was found, for the student.
+/// student's; links are not followed (a link to the grader's own files grades nothing).
+/// The error says what was found, for the student.
 pub fn student_file(dir: &Path) -> Result<PathBuf, String> {
-    let mut found = Vec::new();
-    walk(dir, 0, &mut found);
+    let mut found = Found::default();
+    found.walk(dir, 0)?;
     let relative = |path: &PathBuf| path.strip_prefix(dir).unwrap_or(path).display().to_string();
     let scripts: Vec<&PathBuf> = found
+        .files
         .iter()
         .filter(|p| p.extension().is_some_and(|e| e.eq_ignore_ascii_case("js")))
         .collect();
     match scripts.as_slice() {
         [one] => Ok((*one).clone()),
-        [] if found.is_empty() => Err(format!("nothing was submitted: submit your {STUDENT_FILE}")),
+        [] if found.files.is_empty() && !found.skipped.is_empty() => Err(format!(
+            "only links or special files were submitted ({}), which are not graded: submit your {STUDENT_FILE} itself",
+            list(found.skipped.iter().map(relative))
+        )),
+        [] if found.files.is_empty() => Err(format!(
+            "nothing was submitted (files more than {DEPTH} folders deep are not looked at): submit your {STUDENT_FILE}"
+        )),
         [] => Err(format!(
             "no JavaScript file was submitted (found {}): submit your {STUDENT_FILE}",
-            list(found.iter().map(relative))
+            list(found.files.iter().map(relative))
         )),
         several => {
             let named: Vec<&&PathBuf> = several
@@ -43,31 +52,53 @@ pub fn student_file(dir: &Path) -> Result<PathBuf, String> {
     }
 }
 
-/// Regular files under `dir`, depth first in name order, skipping hidden entries and
-/// `__MACOSX`; symbolic links are not followed.
-fn walk(dir: &Path, depth: usize, found: &mut Vec<PathBuf>) {
-    let Ok(entries) = std::fs::read_dir(dir) else {
-        return;
-    };
-    let mut entries: Vec<_> = entries.filter_map(Result::ok).collect();
-    entries.sort_by_key(|e| e.file_name());
-    for entry in entries {
-        if found.len() >= FILES {
-            return;
-        }
-        let name = entry.file_name();
-        let name = name.to_string_lossy();
-        if name.starts_with('.') || name == "__MACOSX" {
-            continue;
-        }
-        let Ok(kind) = entry.file_type() else {
-            continue;
+/// What a walk of the submission found.
+#[derive(Default)]
+struct Found {
+    /// Regular files.
+    files: Vec<PathBuf>,
+    /// Links, sockets, pipes and devices: never read.
+    skipped: Vec<PathBuf>,
+    /// Entries seen, of every kind.
+    entries: usize,
+}
+
+impl Found {
+    /// Walks `dir` depth first in name order, skipping hidden entries and `__MACOSX`;
+    /// refuses a submission of more than `ENTRIES` entries.
+    fn walk(&mut self, dir: &Path, depth: usize) -> Result<(), String> {
+        let Ok(entries) = std::fs::read_dir(dir) else {
+            return Ok(());
         };
-        if kind.is_file() {
-            found.push(entry.path());
-        } else if kind.is_dir() && depth < DEPTH {
-            walk(&entry.path(), depth + 1, found);
+        let mut entries: Vec<_> = entries.filter_map(Result::ok).collect();
+        entries.sort_by_key(|e| e.file_name());
+        for entry in entries {
+            self.entries += 1;
+            if self.entries > ENTRIES {
+                return Err(format!(
+                    "more than {ENTRIES} files and folders were submitted: submit your {STUDENT_FILE} alone"
+                ));
+            }
+            let name = entry.file_name();
+            let name = name.to_string_lossy();
+            if name.starts_with('.') || name == "__MACOSX" {
+                continue;
+            }
+            // The entry's own type: a link is a link, whatever it points to.
+            let Ok(kind) = entry.file_type() else {
+                continue;
+            };
+            if kind.is_file() {
+                self.files.push(entry.path());
+            } else if kind.is_dir() {
+                if depth < DEPTH {
+                    self.walk(&entry.path(), depth + 1)?;
+                }
+            } else {
+                self.skipped.push(entry.path());
+            }
         }
+        Ok(())
     }
 }
 
@@ -84,6 +115,7 @@ fn list(names: impl Iterator<Item = String>) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::os::unix::ffi::OsStrExt;
 
     fn folder(files: &[&str]) -> tempfile::TempDir {
         let dir = tempfile::tempdir().unwrap();
@@ -120,6 +152,60 @@ mod tests {
     }
 
     #[test]
+    fn links_pipes_and_floods_are_not_graded() {
+        use std::os::unix::fs::symlink;
+        let grader = tempfile::tempdir().unwrap();
+        let secret = grader.path().join("secret");
+        std::fs::write(&secret, [7u8; 32]).unwrap();
+
+        // A link named like the starter, to the grader's secret: not read.
+        let dir = tempfile::tempdir().unwrap();
+        symlink(&secret, dir.path().join("ekf_localization.js")).unwrap();
+        let error = student_file(dir.path()).unwrap_err();
+        assert!(
+            error.contains("only links or special files were submitted (ekf_localization.js)"),
+            "{error}"
+        );
+        // Beside a real file, the link is passed over.
+        std::fs::write(dir.path().join("mine.js"), "x").unwrap();
+        assert!(student_file(dir.path()).unwrap().ends_with("mine.js"));
+
+        // A linked folder is not entered; a named pipe is not opened.
+        let dir = tempfile::tempdir().unwrap();
+        symlink(grader.path(), dir.path().join("lab")).unwrap();
+        let fifo = dir.path().join("pipe.js");
+        let made = std::process::Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .unwrap();
+        assert!(made.success());
+        let error = student_file(dir.path()).unwrap_err();
+        assert!(error.contains("lab, pipe.js"), "{error}");
+
+        // A name that is not UTF-8 is still listed.
+        let dir = tempfile::tempdir().unwrap();
+        let odd = std::ffi::OsStr::from_bytes(b"r\xe9sum\xe9.txt");
+        std::fs::write(dir.path().join(odd), "x").unwrap();
+        let error = student_file(dir.path()).unwrap_err();
+        assert!(
+            error.contains("no JavaScript file was submitted (found r"),
+            "{error}"
+        );
+
+        // A flood of empty folders or files is refused without walking it all.
+        let dir = tempfile::tempdir().unwrap();
+        for i in 0..=ENTRIES {
+            std::fs::create_dir(dir.path().join(format!("d{i:04}"))).unwrap();
+        }
+        std::fs::write(dir.path().join("ekf_localization.js"), "x").unwrap();
+        let error = student_file(dir.path()).unwrap_err();
+        assert!(
+            error.contains("more than 1000 files and folders"),
+            "{error}"
+        );
+    }
+
+    #[test]
     fn none_or_several_say_what_was_found() {
         let none = pick(&["report.pdf", "notes.txt"]).unwrap_err();
         assert!(
@@ -136,6 +222,9 @@ mod tests {
         let twice = pick(&["x/ekf_localization.js", "y/ekf_localization.js"]).unwrap_err();
         assert!(twice.contains("several"), "{twice}");
         let deep = pick(&["a/b/c/d/e/f/deep.js"]).unwrap_err();
-        assert!(deep.contains("nothing was submitted"), "{deep}");
+        assert!(
+            deep.contains("nothing was submitted (files more than 4 folders deep"),
+            "{deep}"
+        );
     }
 }

@@ -6,4 +6,4 @@ mod queue;
 mod secret;
 
 pub use queue::Grader;
-pub use secret::{FILE as SECRET_FILE, Secret, grader_version};
+pub use secret::{Secret, grader_version};

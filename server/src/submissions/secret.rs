@@ -12,7 +12,7 @@ use std::os::unix::fs::OpenOptionsExt;
 use std::path::Path;
 
 /// The secret's file inside the data directory.
-pub const FILE: &str = "secret";
+const FILE: &str = "secret";
 const BYTES: usize = 32;
 
 pub struct Secret([u8; BYTES]);

@@ -9,7 +9,7 @@
 
 use super::extract::{Body, Query};
 use super::viewer::Viewer;
-use super::{AppState, Error, blocking};
+use super::{AppState, Error, blocking, lab_field};
 use crate::courses::deadline::Timing;
 use crate::sandbox::check_size;
 use crate::store::{Assignment, Course, Member, NewSubmission};
@@ -17,7 +17,6 @@ use axum::Json;
 use axum::extract::{Path, State};
 use axum::http::StatusCode;
 use axum::response::{IntoResponse, Response};
-use labs::Exercise;
 use labs::grading::{DEFAULT_COURSE, LAB, student_seed};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
@@ -78,10 +77,7 @@ pub async fn submit(
         None
     };
     let submit: Submit = body.json("the submission body")?;
-    submit
-        .lab
-        .parse::<Exercise>()
-        .map_err(|unknown| Error::BadRequest(format!("field `lab`: {unknown}")))?;
+    lab_field(&submit.lab)?;
     check_size(&submit.source)
         .map_err(|problem| Error::TooLarge(format!("field `source`: {problem}")))?;
     let now = state.clock.now();
@@ -293,8 +289,9 @@ pub async fn course_submissions(
     Query(query): Query<LabQuery>,
 ) -> Result<Response, Error> {
     viewer.staff_of(&name)?;
+    let lab = lab_field(&query.lab)?;
     let list = blocking(&state, move |store| {
-        store.course_submissions(&name, &query.lab)
+        store.course_submissions(&name, lab.name())
     })
     .await?;
     Ok(Json(list).into_response())

@@ -4,7 +4,7 @@
 use super::extract::Query;
 use super::pages::{Nav, html};
 use super::viewer::Viewer;
-use super::{AppState, Error, blocking};
+use super::{AppState, Error, blocking, lab_field};
 use crate::courses::deadline::{Policy, Timing};
 use crate::store::{Assignment, Course, Member, Status, Store, Submission, SubmissionSummary};
 use askama::Template;
@@ -234,7 +234,8 @@ pub async fn history(
             "sign in to see your submissions".into(),
         ));
     };
-    let list = blocking(&state, move |store| store.history(member.id, &query.lab)).await?;
+    let lab = lab_field(&query.lab)?;
+    let list = blocking(&state, move |store| store.history(member.id, lab.name())).await?;
     Ok(Json(list).into_response())
 }
 

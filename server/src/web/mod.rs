@@ -179,3 +179,10 @@ pub async fn blocking<T: Send + 'static>(
 fn default_lab() -> String {
     Exercise::default().name().to_owned()
 }
+
+/// The exercise a request's `lab` field names; an unknown one is refused, naming the field
+/// and the exercises graded here.
+fn lab_field(lab: &str) -> Result<Exercise, Error> {
+    lab.parse()
+        .map_err(|unknown| Error::BadRequest(format!("field `lab`: {unknown}")))
+}

@@ -6,7 +6,7 @@
 use super::extract::{Body, Query};
 use super::pages::{Nav, html};
 use super::viewer::Viewer;
-use super::{AppState, Error, blocking};
+use super::{AppState, Error, blocking, lab_field};
 use crate::courses::class::{self, ClassView};
 use crate::courses::deadline::{Policy, parse_moment};
 use crate::courses::export::{self, Format};
@@ -156,7 +156,7 @@ pub async fn start_regrade(
 ) -> Result<Response, Error> {
     viewer.staff_of(&course)?;
     let request: RegradeRequest = body.json("the regrade request")?;
-    known_lab(&request.lab)?;
+    lab_field(&request.lab)?;
     let who = actor(&viewer);
     let now = state.clock.now();
     let grader = state.grader.version().to_string();
@@ -239,7 +239,7 @@ pub async fn extend(
 ) -> Result<Response, Error> {
     viewer.staff_of(&course)?;
     let request: ExtensionRequest = body.json("the extension request")?;
-    known_lab(&request.lab)?;
+    lab_field(&request.lab)?;
     let due =
         parse_moment(&request.due).map_err(|e| Error::BadRequest(format!("field `due`: {e}")))?;
     let cutoff = match &request.cutoff {

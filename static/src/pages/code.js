@@ -261,7 +261,10 @@ function showVariant() {
   const current = seed();
   let note;
   if (account.mode === 'student') note = `your own variant: seed ${current}`;
-  else if (linkedSeed !== null) note = `the variant of your link: seed ${current}`;
+  else if (linkedSeed !== null) {
+    note = `the variant of your link: seed ${current}`;
+    if (typedId()) note += ' (Submit sends your file to this server, which grades the variant of your student id)';
+  }
   else if (!typedId()) note = `the public variant, seed ${current}`;
   else if (ui.student.value.trim()) note = `your own variant: seed ${current}`;
   else note = `no id yet: the public variant, seed ${current}`;
