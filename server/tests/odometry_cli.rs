@@ -270,6 +270,18 @@ fn bad_settings_are_named() {
             stderr(&out)
         );
     };
+    // Flags that would be ignored are refused instead.
+    fails(
+        &["--shape", "line", "--direction", "cw"],
+        1,
+        "estlab: --direction: only a circle or a square goes round one way or the other\n",
+    );
+    fails(
+        &["--points", "0,0;1,0", "--size", "2"],
+        1,
+        "estlab: --size: a polyline's size is its points (--points)\n",
+    );
+    fails(&["--runs", "3"], 2, "--umbmark");
     fails(
         &["--wheel-base", "0"],
         1,

@@ -29,7 +29,8 @@ use crate::angle::wrap;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
-/// The smallest and largest E_d and E_b: errors of real robots are a few per cent at most.
+/// The smallest and largest E_d and E_b. A real robot is off by a few per cent at most;
+/// the range lets the experiment exaggerate an error until its effect is plain to see.
 pub const SYSTEMATIC_RANGE: (f64, f64) = (0.5, 2.0);
 
 /// How the real robot differs from the nominal one. (1, 1): not at all.

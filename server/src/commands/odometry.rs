@@ -4,9 +4,10 @@
 use super::{numbers, print, short};
 use crate::error::Error;
 use labs::odometry::{
-    Direction, MonteCarloParams, OdometryParams, Shape, SystematicErrors, UmbmarkParams,
-    monte_carlo, propagate, systematic, umbmark,
+    Direction, MonteCarlo, MonteCarloParams, OdometryParams, Propagation, Shape, SystematicErrors,
+    SystematicRun, Umbmark, UmbmarkParams, monte_carlo, propagate, systematic, umbmark,
 };
+use serde::Serialize;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 enum ShapeName {
@@ -37,9 +38,9 @@ pub struct Args {
     /// (default 4, 2, 1.5 and 4).
     #[arg(long)]
     size: Option<f64>,
-    /// Which way the circle or square goes round.
-    #[arg(long, value_enum, default_value = "ccw")]
-    direction: Turn,
+    /// Which way the circle or square goes round (default: counter-clockwise).
+    #[arg(long, value_enum)]
+    direction: Option<Turn>,
     /// The polyline's points, x,y;x,y;... (quote them for the shell).
     #[arg(long, value_parser = points, allow_hyphen_values = true)]
     points: Option<Points>,
@@ -74,9 +75,9 @@ pub struct Args {
     /// with E_d, E_b and the wheel noise.
     #[arg(long, value_name = "SIDE", num_args = 0..=1, default_missing_value = "4")]
     umbmark: Option<f64>,
-    /// UMBmark runs in each direction.
-    #[arg(long, default_value_t = 5)]
-    runs: usize,
+    /// UMBmark runs in each direction (default 5).
+    #[arg(long, requires = "umbmark")]
+    runs: Option<usize>,
     /// Print everything as JSON: the parameters, every step's pose and covariance, and
     /// the Monte Carlo, systematic and UMBmark results asked for.
     #[arg(long)]
@@ -108,7 +109,18 @@ fn params(args: &Args) -> Result<OdometryParams, Error> {
             ));
         }
     };
-    let direction = match args.direction {
+    let goes_round = matches!(name, ShapeName::Circle | ShapeName::Square);
+    if args.direction.is_some() && !goes_round {
+        return Err(Error::Invalid(
+            "--direction: only a circle or a square goes round one way or the other".into(),
+        ));
+    }
+    if args.size.is_some() && name == ShapeName::Polyline {
+        return Err(Error::Invalid(
+            "--size: a polyline's size is its points (--points)".into(),
+        ));
+    }
+    let direction = match args.direction.unwrap_or(Turn::Ccw) {
         Turn::Cw => Direction::Clockwise,
         Turn::Ccw => Direction::CounterClockwise,
     };
@@ -156,6 +168,32 @@ fn row(v: &[f64; 3]) -> String {
     format!("({:.6e}, {:.6e}, {:.6e})", v[0], v[1], v[2])
 }
 
+/// What `--json` prints: the settings, the propagation, and what else was asked for.
+#[derive(Serialize)]
+struct Report<'a> {
+    params: &'a OdometryParams,
+    propagation: &'a Propagation,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    monte_carlo: Option<&'a MonteCarlo>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    systematic: Option<SystematicReport<'a>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    umbmark: Option<UmbmarkReport<'a>>,
+}
+
+#[derive(Serialize)]
+struct SystematicReport<'a> {
+    errors: &'a SystematicErrors,
+    run: &'a SystematicRun,
+}
+
+#[derive(Serialize)]
+struct UmbmarkReport<'a> {
+    errors: &'a SystematicErrors,
+    test: &'a UmbmarkParams,
+    result: &'a Umbmark,
+}
+
 pub fn run(args: &Args) -> Result<(), Error> {
     let params = params(args)?;
     let propagation = propagate(&params)?;
@@ -181,7 +219,7 @@ pub fn run(args: &Args) -> Result<(), Error> {
         .transpose()?;
     let umbmark_test = args.umbmark.map(|side| UmbmarkParams {
         side,
-        runs: args.runs,
+        runs: args.runs.unwrap_or(5),
         seed: args.seed,
     });
     let umbmark = umbmark_test
@@ -190,18 +228,24 @@ pub fn run(args: &Args) -> Result<(), Error> {
         .transpose()?;
 
     if args.json {
-        let mut json = serde_json::json!({ "params": params, "propagation": propagation });
-        if let Some(result) = &monte_carlo {
-            json["monte_carlo"] = serde_json::json!(result);
-        }
-        if let Some(run) = &systematic {
-            json["systematic"] = serde_json::json!({ "errors": errors, "run": run });
-        }
-        if let (Some(test), Some(result)) = (&umbmark_test, &umbmark) {
-            json["umbmark"] =
-                serde_json::json!({ "errors": errors, "test": test, "result": result });
-        }
-        return print(&json.to_string());
+        let report = Report {
+            params: &params,
+            propagation: &propagation,
+            monte_carlo: monte_carlo.as_ref(),
+            systematic: systematic.as_ref().map(|run| SystematicReport {
+                errors: &errors,
+                run,
+            }),
+            umbmark: umbmark_test
+                .as_ref()
+                .zip(umbmark.as_ref())
+                .map(|(test, result)| UmbmarkReport {
+                    errors: &errors,
+                    test,
+                    result,
+                }),
+        };
+        return print(&serde_json::to_string(&report).expect("reports serialise"));
     }
 
     let mut lines = vec![
