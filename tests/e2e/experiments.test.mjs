@@ -195,7 +195,8 @@ test('the EKF: a file that does not load leaves no summary or command of another
   await page.locator('#dataset-kind').selectOption('files');
   await page.locator('#map-file').setInputFiles(join(dir, 'map_o3_5.txt'));
   await page.locator('#sensor-file').setInputFiles(broken);
-  await page.locator('#error').waitFor({ state: 'visible' });
+  // The message before the file's ("Choose a map file ...") stays until the page has read it.
+  await page.waitForFunction(() => document.getElementById('error').textContent.startsWith('so_broken.txt'));
   assert.match(await page.locator('#error').textContent(), /^so_broken\.txt:5: /);
   assert.equal(await page.locator('#stale').isVisible(), true);
   assert.match(await page.locator('#stale').textContent(), /still those of the last run, on o3, seed 1, dimmed/);

@@ -299,7 +299,9 @@ test('the EKF: a malformed file shows the parser message, and good files run', b
   await page.locator('#map-file').setInputFiles(map);
   await page.locator('#sensor-file').setInputFiles(broken);
   const error = page.locator('#error');
-  await error.waitFor({ state: 'visible' });
+  // The page reads the files before it parses them: the message before theirs ("Choose
+  // a map file ...") stays until then, however long reading takes.
+  await page.waitForFunction(() => document.getElementById('error').textContent.startsWith('so_broken.txt'));
   assert.match(await error.textContent(), /^so_broken\.txt:3: n = \d+ readings \(id bearing range each\) need \d+ values on the line, found \d+: reading \d+ of \d+ is incomplete$/);
   // The run before the error (o3, seed 1) is not passed off as the broken file's: its
   // summary and command go, its plots stay dimmed under a note that says whose they are.
