@@ -10,7 +10,7 @@ import { join, relative } from 'node:path';
 import { brotliCompressSync, constants, gzipSync } from 'node:zlib';
 
 const [pkg, out] = process.argv.slice(2);
-const pages = ['home', 'car', 'ekf', 'code', 'signin', 'me', 'dashboard'];
+const pages = ['home', 'car', 'odometry', 'ekf', 'code', 'signin', 'me', 'dashboard'];
 
 rmSync(out, { recursive: true, force: true });
 const result = await esbuild.build({

@@ -1,11 +1,13 @@
 // Measures the browser side in headless Chromium and prints a Markdown report:
 // wasm whole runs (median of many) beside native, the wasm module's size, every page's
 // first-load transferred bytes, the time from moving a control to the redrawn plots, the
-// re-plot on /ekf with o3 in detail, and grading in the browser.
+// re-plot on /ekf with o3 in detail, the odometry page's Monte Carlo and re-plot, and
+// grading in the browser.
 //
 //   node tests/bench/web.mjs [SECTION...]   (scripts/bench-web builds what it needs first)
 //
-// SECTION is any of wasm, loads, redraw, replot, grading; all of them when none is named.
+// SECTION is any of wasm, loads, redraw, replot, odometry, grading; all of them when none
+// is named.
 // ESTLAB_WEB picks the browser build, as for the end-to-end tests.
 import { readFileSync } from 'node:fs';
 import { brotliCompressSync, gzipSync } from 'node:zlib';
@@ -21,8 +23,8 @@ const say = (line = '') => { lines.push(line); console.error(line); };
 const browser = await launchBrowser();
 let server = null;
 
-// --- wasm whole runs, and the wasm module ---
-async function wasmRuns() {
+/** A page of an origin of its own with the wasm build loaded as `window.estlab`. */
+async function wasmPage() {
   const page = await browser.newPage();
   await page.route('http://wasm.test/**', (route) => {
     const name = new URL(route.request().url()).pathname.slice(1);
@@ -34,6 +36,12 @@ async function wasmRuns() {
     window.estlab = await import('/estlab_wasm.js');
     await window.estlab.default({ module_or_path: '/estlab_wasm_bg.wasm' });
   });
+  return page;
+}
+
+// --- wasm whole runs, and the wasm module ---
+async function wasmRuns() {
+  const page = await wasmPage();
 
   const originals = [
     ['so_o3_ie', 'so_o3_ie.txt', 'map_o3.txt', 'o3'],
@@ -91,7 +99,7 @@ async function firstLoads() {
   say();
   say('| page | requests | transferred on first load |');
   say('| --- | ---: | ---: |');
-  for (const path of ['/', '/car', '/ekf', '/ekf/code']) {
+  for (const path of ['/', '/car', '/ekf', '/ekf/code', '/odometry']) {
     const context = await browser.newContext();
     const fresh = await context.newPage();
     const cdp = await context.newCDPSession(fresh);
@@ -232,6 +240,124 @@ async function replot() {
   }
 }
 
+// --- the odometry page: 1,000 robots over a 500-step path ---
+/**
+ * The Monte Carlo of `robots` robots along a straight line of 25 m at 5 cm per step (500
+ * steps): the wasm calls alone (median of 30), then the page's re-plot after the k_r
+ * slider moves, measured as the /ekf re-plot above is.
+ */
+async function odometry() {
+  const robots = 1000;
+  const wasm = await wasmPage();
+  const times = await wasm.evaluate((robots) => {
+    const e = window.estlab;
+    const params = JSON.stringify({ shape: { kind: 'line', length: 25 } });
+    const median = (f) => {
+      for (let i = 0; i < 5; i++) f();
+      const samples = [];
+      for (let i = 0; i < 30; i++) {
+        const start = performance.now();
+        f();
+        samples.push(performance.now() - start);
+      }
+      return samples.sort((a, b) => a - b)[15];
+    };
+    const steps = (() => { const run = e.propagateOdometry(params); const n = run.steps(); run.free(); return n; })();
+    return {
+      steps,
+      propagate: median(() => e.propagateOdometry(params).free()),
+      monteCarlo: median(() => e.odometryMonteCarlo(params, JSON.stringify({ robots, seed: 1, cloud_every: 0 })).free()),
+      clouds: median(() => e.odometryMonteCarlo(params, JSON.stringify({ robots, seed: 1, cloud_every: 25 })).free()),
+      umbmark: median(() => e.odometryUmbmark(params, '{"e_d": 1.002, "e_b": 1.01}', '{"side": 4, "runs": 5}').free()),
+    };
+  }, robots);
+  await wasm.close();
+  say();
+  say(`/odometry: ${robots} robots along a straight line of 25 m at 0.05 m per step (${times.steps} steps).`);
+  say('The wasm calls alone, median of 30:');
+  say();
+  say('| call | time |');
+  say('| --- | ---: |');
+  say(`| propagate (the covariance at every step) | ${times.propagate.toFixed(1)} ms |`);
+  say(`| Monte Carlo, ${robots} robots, final poses only | ${times.monteCarlo.toFixed(1)} ms |`);
+  say(`| Monte Carlo, ${robots} robots, poses kept every 25 steps too (21 clouds) | ${times.clouds.toFixed(1)} ms |`);
+  say('| UMBmark, 5 runs each way round the 4 m square | ' + `${times.umbmark.toFixed(1)} ms |`);
+
+  const moves = [
+    // Clicks far along the track: every move changes the robots' spread a lot.
+    ['k_r, jumps between 10^-3 and 10^-4.5', ['-3.5', '-4.5', '-4', '-3']],
+    // A drag: one step of the slider (0.05 in log10) at a time.
+    ['k_r, dragged a step at a time', ['-4', '-3.95', '-3.9', '-3.85', '-3.9', '-3.95']],
+  ];
+  const rows = [];
+  let steps;
+  let onScreen;
+  for (const [what, values] of moves) {
+    const p = await openPage(browser, `${server.url}/odometry`);
+    await p.locator('#shape').selectOption('line');
+    await p.locator('#size').fill('25');
+    // The path plot at the top of the window, the first plot of σ under it.
+    await p.evaluate(() => document.querySelector('figure[data-name="path"]').scrollIntoView());
+    await p.waitForTimeout(300);
+    const move = (value) => p.evaluate((value) => new Promise((resolve, reject) => {
+      setTimeout(() => reject(new Error('no frame within 5 s after moving k_r')), 5000);
+      const input = document.querySelector('#k-r');
+      const start = performance.now();
+      input.value = value;
+      input.dispatchEvent(new Event('input', { bubbles: true }));
+      const script = performance.now() - start;
+      let painted;
+      requestAnimationFrame(() => {
+        setTimeout(() => { painted = performance.now() - start; });
+        requestAnimationFrame(() => resolve({ script, painted, twoFrames: performance.now() - start }));
+      });
+    }), value);
+    const samples = { script: [], painted: [], twoFrames: [] };
+    for (let i = -5; i < 60; i++) {
+      const sample = await move(values[(i + 5) % values.length]);
+      if (i < 0) continue;
+      for (const key of Object.keys(samples)) samples[key].push(sample[key]);
+    }
+    onScreen = await p.evaluate(() => [...document.querySelectorAll('figure.plot')]
+      .filter((figure) => figure.getBoundingClientRect().top < innerHeight && figure.getBoundingClientRect().bottom > 0)
+      .map((figure) => figure.dataset.name));
+    steps = await p.evaluate(() => document.querySelector('figure[data-name="path"] .plot-summary').textContent.match(/: (\d+) steps/)[1]);
+    // The main thread's own CPU time per move (which other processes do not lengthen), as
+    // for /ekf above: in the input handler, and in every task of the thread.
+    await browser.startTracing(p, { categories: ['toplevel', 'devtools.timeline'] });
+    const traced = 20;
+    for (let i = 0; i < traced; i++) {
+      await p.evaluate((value) => new Promise((resolve) => {
+        const input = document.querySelector('#k-r');
+        input.value = value;
+        input.dispatchEvent(new Event('input', { bubbles: true }));
+        requestAnimationFrame(() => requestAnimationFrame(() => setTimeout(resolve, 20)));
+      }), values[i % values.length]);
+    }
+    const { traceEvents } = JSON.parse((await browser.stopTracing()).toString());
+    const main = new Set(traceEvents.filter((e) => e.ph === 'M' && e.name === 'thread_name' && e.args.name === 'CrRendererMain').map((e) => `${e.pid}:${e.tid}`));
+    const cpu = (name) => traceEvents
+      .filter((e) => e.ph === 'X' && e.name === name && main.has(`${e.pid}:${e.tid}`))
+      .reduce((sum, e) => sum + (e.tdur ?? 0), 0) / 1000 / traced;
+    await p.close();
+    const at = (xs, q) => xs[Math.min(xs.length - 1, Math.floor(q * xs.length))].toFixed(1);
+    const row = (xs) => {
+      xs.sort((a, b) => a - b);
+      return `${at(xs, 0.5)} / ${at(xs, 0.9)} / ${xs.at(-1).toFixed(1)}`;
+    };
+    rows.push(`| ${what} | ${row(samples.script)} | ${row(samples.painted)} | ${row(samples.twoFrames)} | ` +
+      `${cpu('EventDispatch').toFixed(1)} / ${cpu('ThreadControllerImpl::RunTask').toFixed(1)} |`);
+  }
+  say();
+  say(`The page, 1400 x 1000, the line of ${steps} steps, the path plot scrolled to the top (on screen: ${onScreen.join(', ')});`);
+  say(`the k_r slider moved 60 times after 5 not counted (each move runs the propagation, the ${robots} robots`);
+  say('and UMBmark again); median / 90th percentile / max, in ms:');
+  say();
+  say('| control moved | script | until painted (frame, then a task) | until the second frame | main-thread CPU per move: handler / all |');
+  say('| --- | ---: | ---: | ---: | ---: |');
+  for (const line of rows) say(line);
+}
+
 // --- grading in the browser: the correct student file, every test and every run ---
 async function grading() {
   say();
@@ -260,7 +386,7 @@ async function grading() {
   }
 }
 
-const sections = { wasm: wasmRuns, loads: firstLoads, redraw: redraws, replot, grading };
+const sections = { wasm: wasmRuns, loads: firstLoads, redraw: redraws, replot, odometry, grading };
 const asked = process.argv.slice(2);
 for (const name of asked) {
   if (!sections[name]) throw new Error(`no section ${name}: the sections are ${Object.keys(sections).join(', ')}`);

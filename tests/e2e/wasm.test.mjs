@@ -1,6 +1,6 @@
 // The wasm build gives the native build's numbers: the car, the simulated data sets
-// (byte for byte), whole EKF runs and the generated test cases, run in headless
-// Chromium and compared with the estlab command line.
+// (byte for byte), whole EKF runs, the generated test cases and the odometry model (bit
+// for bit), run in headless Chromium and compared with the estlab command line.
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
@@ -169,5 +169,121 @@ test('generated test cases', bounded, async () => {
       const { path: at, expected: was, got: is, problem } = verdict[0];
       assert.deepEqual({ at, was, is, problem }, { at: path, was: expected, is: got, problem: 'differs' }, `${c.id} with ${path} wrong`);
     }
+  }
+});
+
+test('odometry: the propagation, the robots, systematic errors and UMBmark', bounded, async () => {
+  const cases = [
+    {
+      params: { sigma0: [[0.01, 0, 0], [0, 0.02, 0], [0, 0, 0.03]] },
+      robots: 200, seed: 9, errors: { e_d: 1.01, e_b: 0.98 }, umbmark: { side: 3, runs: 4 },
+      flags: ['--sigma0', '0.01,0.02,0.03', '--monte-carlo', '200', '--seed', '9', '--e-d', '1.01', '--e-b', '0.98', '--umbmark', '3', '--runs', '4'],
+    },
+    {
+      params: { shape: { kind: 'figure-eight', radius: 1.2 }, speed: 0.1, wheel_base: 0.5, k_r: 1e-3, k_l: 2e-5, sigma0: [[0, 0, 0], [0, 0, 0], [0, 0, 0.04]] },
+      robots: 150, seed: 3, errors: { e_d: 0.995, e_b: 1.02 }, umbmark: { side: 4, runs: 2 },
+      flags: ['--shape', 'figure-eight', '--size', '1.2', '--speed', '0.1', '--wheel-base', '0.5', '--k-r', '0.001', '--k-l', '0.00002',
+        '--sigma0', '0,0,0.04', '--monte-carlo', '150', '--seed', '3', '--e-d', '0.995', '--e-b', '1.02', '--umbmark', '4', '--runs', '2'],
+    },
+    {
+      params: { shape: { kind: 'polyline', points: [[0.5, -1], [2.25, -1], [2.25, 1.5], [-0.75, 0.3]] }, speed: 0.02 },
+      robots: 64, seed: 1, errors: { e_d: 1, e_b: 1.05 }, umbmark: { side: 1, runs: 1 },
+      flags: ['--points', '0.5,-1;2.25,-1;2.25,1.5;-0.75,0.3', '--speed', '0.02', '--monte-carlo', '64', '--e-b', '1.05', '--umbmark', '1', '--runs', '1'],
+    },
+  ];
+  for (const c of cases) {
+    const wasm = await page.evaluate((c) => {
+      const e = window.estlab;
+      const params = JSON.stringify(c.params);
+      const errors = JSON.stringify(c.errors);
+      const run = e.propagateOdometry(params);
+      const steps = run.steps();
+      const every = Math.max(1, Math.floor(steps / 3));
+      const mc = e.odometryMonteCarlo(params, JSON.stringify({ robots: c.robots, seed: c.seed, cloud_every: every }));
+      const sys = e.odometrySystematic(params, errors);
+      const umb = e.odometryUmbmark(params, errors, JSON.stringify({ ...c.umbmark, seed: c.seed }));
+      const list = (v) => [...v];
+      const out = {
+        steps,
+        pose: [0, 1, 2].map((i) => list(run.pose(i))),
+        covariance: [0, 1, 2].map((i) => [0, 1, 2].map((j) => list(run.covariance(i, j)))),
+        finalCovariance: list(run.finalCovariance()),
+        robots: mc.robots(),
+        finalPoses: [0, 1, 2].map((i) => list(mc.finalPoses(i))),
+        finalPositions: list(mc.finalPositions()),
+        cloudSteps: list(mc.cloudSteps()),
+        clouds: list(mc.cloudSteps()).map((_, k) => [0, 1, 2].map((i) => list(mc.cloud(k, i)))),
+        cloudPositions: list(mc.cloudSteps()).map((_, k) => list(mc.cloudPositions(k))),
+        nominal: list(mc.nominal()),
+        mcCovariance: list(mc.covariance()),
+        sampleMean: list(mc.sampleMean()),
+        sampleCovariance: list(mc.sampleCovariance()),
+        inside: mc.insideThreeSigma(),
+        gaussian: mc.gaussianInsideThreeSigma(),
+        systematic: { odometry: [0, 1, 2].map((i) => list(sys.odometry(i))), truth: [0, 1, 2].map((i) => list(sys.truth(i))), error: list(sys.finalError()) },
+        umbmark: {
+          runs: umb.runs(),
+          directions: [0, 1].map((d) => ({
+            odometry: [0, 1, 2].map((i) => list(umb.odometry(d, i))),
+            truths: [0, 1, 2].map((i) => list(umb.truths(d, i))),
+            errors: [0, 1, 2].map((i) => list(umb.errors(d, i))),
+            centre: list(umb.centre(d)),
+            r: umb.r(d),
+          })),
+          eMax: umb.eMaxSyst(),
+        },
+      };
+      for (const object of [run, mc, sys, umb]) object.free();
+      return out;
+    }, c);
+    const native = JSON.parse(estlab('odometry', '--json', ...c.flags));
+    const what = c.flags.join(' ');
+    /** Bit for bit (0 and -0 alike). */
+    const same = (got, expected, name) => {
+      assert.equal(got.length, expected.length, `${what}: ${name}: length`);
+      expected.forEach((v, i) => assert.ok(got[i] === v, `${what}: ${name}[${i}]: wasm ${got[i]}, native ${v}`));
+    };
+    const column = (poses, i) => poses.map((p) => p[i]);
+    const { propagation, monte_carlo: mc, systematic, umbmark } = native;
+    assert.equal(wasm.steps, propagation.path.increments.length, `${what}: steps`);
+    for (const i of [0, 1, 2]) {
+      same(wasm.pose[i], column(propagation.poses, i), `pose ${i}`);
+      for (const j of [0, 1, 2]) same(wasm.covariance[i][j], propagation.covariances.map((s) => s[i][j]), `covariance ${i}${j}`);
+      same(wasm.finalPoses[i], column(mc.final_poses, i), `the robots' final poses ${i}`);
+      same(wasm.systematic.odometry[i], column(systematic.run.odometry, i), `systematic odometry ${i}`);
+      same(wasm.systematic.truth[i], column(systematic.run.truth, i), `systematic truth ${i}`);
+    }
+    same(wasm.finalPositions, mc.final_poses.flatMap(([x, y]) => [x, y]), "the robots' final positions");
+    same(wasm.finalCovariance, propagation.covariances.at(-1).flat(), 'the final covariance');
+    same(wasm.mcCovariance, mc.covariance.flat(), "the Monte Carlo's covariance");
+    same(wasm.nominal, mc.nominal, 'the nominal pose');
+    same(wasm.sampleMean, mc.sample_mean, 'the sample mean');
+    same(wasm.sampleCovariance, mc.sample_covariance.flat(), 'the sample covariance');
+    same([wasm.robots, wasm.inside, wasm.gaussian], [mc.robots, mc.inside_3_sigma, mc.gaussian_inside_3_sigma], 'the shares inside 3σ');
+    same(wasm.systematic.error, systematic.run.final_error, 'the systematic error');
+    // The clouds are the robots along the way: the one at the last step holds the final poses.
+    assert.ok(wasm.cloudSteps.length >= 3 && wasm.cloudSteps[0] === 0, `${what}: clouds at ${wasm.cloudSteps}`);
+    const last = wasm.cloudSteps.indexOf(wasm.steps);
+    if (last >= 0) for (const i of [0, 1, 2]) same(wasm.clouds[last][i], column(mc.final_poses, i), `the last cloud ${i}`);
+    wasm.clouds.forEach(([x, y], k) => same(wasm.cloudPositions[k], x.flatMap((v, r) => [v, y[r]]), `cloud ${k}'s positions`));
+    assert.equal(wasm.umbmark.runs, umbmark.test.runs);
+    for (const [d, direction] of [[0, umbmark.result.clockwise], [1, umbmark.result.counter_clockwise]]) {
+      const w = wasm.umbmark.directions[d];
+      for (const i of [0, 1, 2]) {
+        same(w.odometry[i], column(direction.odometry, i), `UMBmark ${d} odometry ${i}`);
+        // One run after the other, each ended by a NaN.
+        const runs = [[]];
+        for (const v of w.truths[i]) {
+          if (Number.isNaN(v)) runs.push([]);
+          else runs.at(-1).push(v);
+        }
+        assert.deepEqual(runs.pop(), [], `${what}: UMBmark ${d} truths end with a NaN`);
+        assert.equal(runs.length, direction.truths.length, `${what}: UMBmark ${d} runs`);
+        runs.forEach((run, k) => same(run, column(direction.truths[k], i), `UMBmark ${d} run ${k} truth ${i}`));
+        same(w.errors[i], column(direction.errors, i), `UMBmark ${d} errors ${i}`);
+      }
+      same([...w.centre, w.r], [...direction.centre, direction.r], `UMBmark ${d} centre and r`);
+    }
+    same([wasm.umbmark.eMax], [umbmark.result.e_max_syst], 'E_max,syst');
   }
 });

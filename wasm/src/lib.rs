@@ -7,11 +7,17 @@ mod car;
 mod cases;
 mod ekf;
 mod grading;
+mod odometry;
 
 pub use car::{CarMonteCarlo, CarRun, car_defaults, car_monte_carlo, run_car};
 pub use cases::{check_case, generate_cases};
 pub use ekf::{Dataset, EkfRun, lambda_m};
 pub use grading::{Grader, student_seed};
+pub use odometry::{
+    OdometryMonteCarlo, OdometryPropagation, OdometrySystematic, OdometryUmbmark,
+    odometry_defaults, odometry_monte_carlo, odometry_systematic, odometry_umbmark,
+    propagate_odometry,
+};
 
 use wasm_bindgen::JsError;
 

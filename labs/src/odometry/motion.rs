@@ -47,11 +47,9 @@ fn midpoint_heading(pose: &Vector3<f64>, increment: Increment, wheel_base: f64) 
 /// the heading wrapped to [-pi, pi).
 pub fn step(pose: &Vector3<f64>, increment: Increment, wheel_base: f64) -> Vector3<f64> {
     let (ds, dtheta, phi) = midpoint_heading(pose, increment, wheel_base);
-    Vector3::new(
-        pose.x + ds * libm::cos(phi),
-        pose.y + ds * libm::sin(phi),
-        wrap(pose.z + dtheta),
-    )
+    // One argument reduction for both (exactly libm's sin and cos: see the test of `Rng`).
+    let (sin, cos) = libm::sincos(phi);
+    Vector3::new(pose.x + ds * cos, pose.y + ds * sin, wrap(pose.z + dtheta))
 }
 
 /// `F_p = d p' / d p`, with `phi = theta + dtheta/2`:

@@ -31,7 +31,16 @@ pub struct PageAssets<'a> {
 }
 
 /// The pages that have a script of their own.
-pub const PAGES: [&str; 7] = ["home", "car", "ekf", "code", "signin", "me", "dashboard"];
+pub const PAGES: [&str; 8] = [
+    "home",
+    "car",
+    "odometry",
+    "ekf",
+    "code",
+    "signin",
+    "me",
+    "dashboard",
+];
 
 /// The name of the Web Worker that runs students' code starts so.
 const WORKER_PREFIX: &str = "student-worker-";

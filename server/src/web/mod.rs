@@ -65,6 +65,7 @@ pub fn router(state: Arc<AppState>) -> Router {
     Router::new()
         .route("/", get(pages::home))
         .route("/car", get(pages::car))
+        .route("/odometry", get(pages::odometry))
         .route("/ekf", get(pages::ekf))
         .route("/ekf/code", get(pages::code))
         .route("/ekf/starter.js", get(pages::starter))

@@ -26,6 +26,14 @@ struct Car<'a> {
 }
 
 #[derive(Template)]
+#[template(path = "odometry.html")]
+struct Odometry<'a> {
+    page: &'a str,
+    assets: PageAssets<'a>,
+    nav: Nav,
+}
+
+#[derive(Template)]
 #[template(path = "ekf.html")]
 struct Ekf<'a> {
     page: &'a str,
@@ -105,6 +113,17 @@ pub async fn car(State(state): State<Arc<AppState>>, viewer: Viewer) -> Result<R
     html(&Car {
         page: "car",
         assets: state.assets.page("car"),
+        nav: Nav::of(&state, &viewer).await?,
+    })
+}
+
+pub async fn odometry(
+    State(state): State<Arc<AppState>>,
+    viewer: Viewer,
+) -> Result<Response, Error> {
+    html(&Odometry {
+        page: "odometry",
+        assets: state.assets.page("odometry"),
         nav: Nav::of(&state, &viewer).await?,
     })
 }
