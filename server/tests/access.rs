@@ -389,13 +389,7 @@ async fn open_mode_until_a_course_exists() {
 #[tokio::test(flavor = "multi_thread")]
 async fn changes_from_other_sites_are_refused() {
     let app = App::new();
-    let now = app.now();
-    app.store()
-        .create_course("el2320", "Applied Estimation", now)
-        .unwrap();
-    app.store()
-        .assign("el2320", LAB, &open_policy(now))
-        .unwrap();
+    app.open_course("el2320");
     let student = app.enrol("el2320", "u-cross-1");
     let code = app.code(&student);
     // The session cookie itself is out of other sites' and scripts' reach.
@@ -940,11 +934,7 @@ fn a_database_of_estlab_0_1_0_migrates_forward() {
 async fn reissued_codes_submission_caps_and_caching() {
     let app = App::new();
     let now = app.now();
-    let store = app.store();
-    store
-        .create_course("el2320", "Applied Estimation", now)
-        .unwrap();
-    store.assign("el2320", LAB, &open_policy(now)).unwrap();
+    app.open_course("el2320");
     let student = app.enrol("el2320", "u-cap");
     let who = app.signed_in(&student).await;
     let me = |who: &Who| Req::get("/api/me").who(who);
@@ -983,7 +973,7 @@ async fn reissued_codes_submission_caps_and_caching() {
     assert_eq!(page.status, StatusCode::OK);
 
     // The teacher reissues the code: the session made with the old one ends.
-    store
+    app.store()
         .add_code(student.id, &new_code(), false, None, app.now())
         .unwrap();
     assert!(app.send(me(&who)).await.json()["member"].is_null());
@@ -992,12 +982,7 @@ async fn reissued_codes_submission_caps_and_caching() {
 #[tokio::test]
 async fn refusals_of_the_api_are_json_naming_what_is_wrong() {
     let app = App::new();
-    let now = app.now();
-    let store = app.store();
-    store
-        .create_course("el2320", "Applied Estimation", now)
-        .unwrap();
-    store.assign("el2320", LAB, &open_policy(now)).unwrap();
+    app.open_course("el2320");
     let student = app.enrol("el2320", "u-shapes");
     let who = app.signed_in(&student).await;
 

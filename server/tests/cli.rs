@@ -1,23 +1,10 @@
 //! The `estlab` command line, run as a user runs it.
 
+mod command;
+
+use command::{estlab, stderr, stdout};
 use labs::car::{CarParams, CarRun};
 use std::path::Path;
-use std::process::{Command, Output};
-
-fn estlab(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_estlab"))
-        .args(args)
-        .output()
-        .unwrap()
-}
-
-fn stdout(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stdout).into_owned()
-}
-
-fn stderr(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stderr).into_owned()
-}
 
 /// The three numbers of a printed "(a, b, c)" line that starts with `label`.
 fn triple(text: &str, label: &str) -> [f64; 3] {

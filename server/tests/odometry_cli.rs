@@ -1,26 +1,13 @@
 //! `estlab odometry`, run as a user runs it: the printed figures are the reference
 //! model's, every flag lands in its field, bad settings are named.
 
+mod command;
+
+use command::{estlab, stderr, stdout};
 use labs::odometry::{
     Direction, MonteCarlo, MonteCarloParams, OdometryParams, Propagation, Shape, SystematicErrors,
     UmbmarkParams, monte_carlo, propagate, systematic, umbmark,
 };
-use std::process::{Command, Output};
-
-fn estlab(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_estlab"))
-        .args(args)
-        .output()
-        .unwrap()
-}
-
-fn stdout(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stdout).into_owned()
-}
-
-fn stderr(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stderr).into_owned()
-}
 
 /// Every number of the line that starts with `label`, after the label.
 fn numbers_on(text: &str, label: &str) -> Vec<f64> {

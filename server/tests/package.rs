@@ -23,16 +23,11 @@ use serde::de::DeserializeOwned;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+mod command;
 mod student;
 
+use command::estlab;
 use student::{CORRECT, Mistake, STARTER};
-
-fn estlab(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_estlab"))
-        .args(args)
-        .output()
-        .unwrap()
-}
 
 fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()

@@ -49,13 +49,7 @@ struct Class {
 
 async fn class() -> Class {
     let app = App::new();
-    let now = app.now();
-    app.store()
-        .create_course("el2320", "Applied Estimation", now)
-        .unwrap();
-    app.store()
-        .assign("el2320", LAB, &open_policy(now))
-        .unwrap();
+    app.open_course("el2320");
     let instructor = app.staff("el2320", "teacher@kth.example", Role::Instructor);
     let instructor = app.signed_in(&instructor).await;
     let sources = [
@@ -275,12 +269,7 @@ async fn a_regrade_cut_off_by_a_stop_resumes_at_the_next_start() {
 async fn an_extension_moves_one_students_dates() {
     let app = App::new();
     let now = app.now();
-    app.store()
-        .create_course("el2320", "Applied Estimation", now)
-        .unwrap();
-    app.store()
-        .assign("el2320", LAB, &open_policy(now))
-        .unwrap();
+    app.open_course("el2320");
     // After the class's cutoff (and signed in then: a session lasts 30 days).
     app.clock.set(now + SignedDuration::from_hours(40 * 24));
     let teacher = app.staff("el2320", "teacher@kth.example", Role::Assistant);

@@ -258,6 +258,24 @@ export function pairs(xs, ys) {
   return out;
 }
 
+/**
+ * The closed outlines (ellipses drawn by the wasm build) in a flat
+ * [x, y, x, y, ..., NaN, NaN, ...] array, as the data of a `lines` series.
+ */
+export function outlines(flat) {
+  const shapes = [];
+  let current = [];
+  for (let i = 0; i < flat.length; i += 2) {
+    if (Number.isNaN(flat[i])) {
+      if (current.length) shapes.push({ coords: current });
+      current = [];
+    } else {
+      current.push([flat[i], flat[i + 1]]);
+    }
+  }
+  return shapes;
+}
+
 /** A line through (xs, ys). */
 export function line(name, xs, ys, colour, extra = {}) {
   return {

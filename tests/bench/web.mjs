@@ -171,6 +171,22 @@ async function replotTimes(selector, values, count = 60) {
   // The map at the top of the window: the time slider and the first error plot below it.
   await p.evaluate(() => document.querySelector('figure[data-name="map"]').scrollIntoView());
   await p.waitForTimeout(300);
+  const times = await moveTimes(p, selector, values, count);
+  await p.close();
+  console.error(`(${selector}: the plots on screen: ${times.onScreen.join(', ')})`);
+  return times;
+}
+
+/**
+ * Moves the control `selector` of page `p` through `values`, `count` times after 5 not
+ * counted, and times each move until the script returns, until painted and until the
+ * second frame; then traces 20 more moves for the main thread's own CPU time (which
+ * other processes on the machine do not lengthen as they do the wall-clock times): in
+ * the page's input handler, and in all (the handler, style, layout, paint, commit).
+ * Resolves to each time as "median / 90th percentile / max" in ms, the CPU times as
+ * "handler / all", and the plots on screen.
+ */
+async function moveTimes(p, selector, values, count) {
   const onScreen = await p.evaluate(() => [...document.querySelectorAll('figure.plot')]
     .filter((figure) => figure.getBoundingClientRect().top < innerHeight && figure.getBoundingClientRect().bottom > 0)
     .map((figure) => figure.dataset.name));
@@ -192,9 +208,6 @@ async function replotTimes(selector, values, count = 60) {
     if (i < 0) continue;
     for (const key of Object.keys(samples)) samples[key].push(sample[key]);
   }
-  // The CPU time the renderer's main thread spends per move (the thread's own time, which
-  // other processes on the machine do not lengthen as they do the wall-clock times above):
-  // in the page's input handler, and in all (the handler, style, layout, paint, commit).
   await browser.startTracing(p, { categories: ['toplevel', 'devtools.timeline'] });
   const traced = 20;
   for (let i = 0; i < traced; i++) {
@@ -210,8 +223,6 @@ async function replotTimes(selector, values, count = 60) {
   const cpu = (name) => traceEvents
     .filter((e) => e.ph === 'X' && e.name === name && main.has(`${e.pid}:${e.tid}`))
     .reduce((sum, e) => sum + (e.tdur ?? 0), 0) / 1000 / traced;
-  await p.close();
-  console.error(`(${selector}: the plots on screen: ${onScreen.join(', ')})`);
   const at = (xs, q) => xs[Math.min(xs.length - 1, Math.floor(q * xs.length))].toFixed(1);
   return {
     ...Object.fromEntries(Object.entries(samples).map(([key, xs]) => {
@@ -219,6 +230,7 @@ async function replotTimes(selector, values, count = 60) {
       return [key, `${at(xs, 0.5)} / ${at(xs, 0.9)} / ${xs.at(-1).toFixed(1)}`];
     })),
     cpu: `${cpu('EventDispatch').toFixed(1)} / ${cpu('ThreadControllerImpl::RunTask').toFixed(1)}`,
+    onScreen,
   };
 }
 
@@ -299,54 +311,11 @@ async function odometry() {
     // The path plot at the top of the window, the first plot of σ under it.
     await p.evaluate(() => document.querySelector('figure[data-name="path"]').scrollIntoView());
     await p.waitForTimeout(300);
-    const move = (value) => p.evaluate((value) => new Promise((resolve, reject) => {
-      setTimeout(() => reject(new Error('no frame within 5 s after moving k_r')), 5000);
-      const input = document.querySelector('#k-r');
-      const start = performance.now();
-      input.value = value;
-      input.dispatchEvent(new Event('input', { bubbles: true }));
-      const script = performance.now() - start;
-      let painted;
-      requestAnimationFrame(() => {
-        setTimeout(() => { painted = performance.now() - start; });
-        requestAnimationFrame(() => resolve({ script, painted, twoFrames: performance.now() - start }));
-      });
-    }), value);
-    const samples = { script: [], painted: [], twoFrames: [] };
-    for (let i = -5; i < 60; i++) {
-      const sample = await move(values[(i + 5) % values.length]);
-      if (i < 0) continue;
-      for (const key of Object.keys(samples)) samples[key].push(sample[key]);
-    }
-    onScreen = await p.evaluate(() => [...document.querySelectorAll('figure.plot')]
-      .filter((figure) => figure.getBoundingClientRect().top < innerHeight && figure.getBoundingClientRect().bottom > 0)
-      .map((figure) => figure.dataset.name));
+    const t = await moveTimes(p, '#k-r', values, 60);
+    onScreen = t.onScreen;
     steps = await p.evaluate(() => document.querySelector('figure[data-name="path"] .plot-summary').textContent.match(/: (\d+) steps/)[1]);
-    // The main thread's own CPU time per move (which other processes do not lengthen), as
-    // for /ekf above: in the input handler, and in every task of the thread.
-    await browser.startTracing(p, { categories: ['toplevel', 'devtools.timeline'] });
-    const traced = 20;
-    for (let i = 0; i < traced; i++) {
-      await p.evaluate((value) => new Promise((resolve) => {
-        const input = document.querySelector('#k-r');
-        input.value = value;
-        input.dispatchEvent(new Event('input', { bubbles: true }));
-        requestAnimationFrame(() => requestAnimationFrame(() => setTimeout(resolve, 20)));
-      }), values[i % values.length]);
-    }
-    const { traceEvents } = JSON.parse((await browser.stopTracing()).toString());
-    const main = new Set(traceEvents.filter((e) => e.ph === 'M' && e.name === 'thread_name' && e.args.name === 'CrRendererMain').map((e) => `${e.pid}:${e.tid}`));
-    const cpu = (name) => traceEvents
-      .filter((e) => e.ph === 'X' && e.name === name && main.has(`${e.pid}:${e.tid}`))
-      .reduce((sum, e) => sum + (e.tdur ?? 0), 0) / 1000 / traced;
     await p.close();
-    const at = (xs, q) => xs[Math.min(xs.length - 1, Math.floor(q * xs.length))].toFixed(1);
-    const row = (xs) => {
-      xs.sort((a, b) => a - b);
-      return `${at(xs, 0.5)} / ${at(xs, 0.9)} / ${xs.at(-1).toFixed(1)}`;
-    };
-    rows.push(`| ${what} | ${row(samples.script)} | ${row(samples.painted)} | ${row(samples.twoFrames)} | ` +
-      `${cpu('EventDispatch').toFixed(1)} / ${cpu('ThreadControllerImpl::RunTask').toFixed(1)} |`);
+    rows.push(`| ${what} | ${t.script} | ${t.painted} | ${t.twoFrames} | ${t.cpu} |`);
   }
   say();
   say(`The page, 1400 x 1000, the line of ${steps} steps, the path plot scrolled to the top (on screen: ${onScreen.join(', ')});`);

@@ -5,10 +5,10 @@
 import assert from 'node:assert/strict';
 import { readFileSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { after, before, test } from 'node:test';
+import { test } from 'node:test';
 import {
-  bounded, correct, estlab, launchBrowser, loopingInPredict, openPage, root, savedFile as saved, startServer, submission, submit,
-  tempDir, typeInEditor as type, waitForSubmission,
+  bounded, correct, estlab, loopingInPredict, openPage, root, savedFile as saved, submission, submit,
+  tempDir, typeInEditor as type, waitForSubmission, withServerAndBrowser,
 } from './harness.mjs';
 
 const mistakes = JSON.parse(readFileSync(join(root, 'tests', 'student', 'mistakes.json'), 'utf8'));
@@ -24,14 +24,10 @@ function withMistake(name) {
 
 let server;
 let browser;
-before(async () => {
-  server = await startServer();
-  browser = await launchBrowser();
-}, bounded);
-after(async () => {
-  await browser.close();
-  await server.stop();
-}, bounded);
+withServerAndBrowser((started, launched) => {
+  server = started;
+  browser = launched;
+});
 
 /** Clicks `button` and waits until the run it starts has finished. */
 async function runAndWait(page, button, timeout = 120_000) {

@@ -8,22 +8,15 @@
 import assert from 'node:assert/strict';
 import { readFileSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { after, before, test } from 'node:test';
-import { bounded, correct, estlab, launchBrowser, startServer, tempDir, waitFor } from './harness.mjs';
+import { test } from 'node:test';
+import { bounded, correct, estlab, laptop, phone, tempDir, waitFor, withServerAndBrowser } from './harness.mjs';
 
 let server;
 let browser;
-before(async () => {
-  server = await startServer();
-  browser = await launchBrowser();
-}, bounded);
-after(async () => {
-  await browser.close();
-  await server.stop();
-}, bounded);
-
-const phone = { width: 390, height: 844 };
-const laptop = { width: 1400, height: 1000 };
+withServerAndBrowser((started, launched) => {
+  server = started;
+  browser = launched;
+});
 
 /**
  * A new page of `viewport`'s size that records console errors and uncaught exceptions in

@@ -5,6 +5,7 @@ import { spawn, execFileSync } from 'node:child_process';
 import { existsSync, mkdtempSync, readFileSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { dirname, join } from 'node:path';
+import { after, before } from 'node:test';
 import { fileURLToPath } from 'node:url';
 import { chromium } from 'playwright-core';
 
@@ -235,4 +236,26 @@ export function setUpCourse(server, { course = 'el2320', title, prefix, count, r
   assert.deepEqual(students.map((s) => s.id), ids);
   for (const s of students) assert.ok(s.code, `no code for ${s.id}`);
   return { students, token };
+}
+
+/** The screen sizes the layout tests take: a phone held upright, and a laptop. */
+export const phone = { width: 390, height: 844 };
+export const laptop = { width: 1400, height: 1000 };
+
+/**
+ * A server and a browser for a whole test file: started before its first test and handed
+ * to `use(server, browser)`, stopped after its last.
+ */
+export function withServerAndBrowser(use) {
+  let server;
+  let browser;
+  before(async () => {
+    server = await startServer();
+    browser = await launchBrowser();
+    use(server, browser);
+  }, bounded);
+  after(async () => {
+    await browser?.close();
+    await server?.stop();
+  }, bounded);
 }

@@ -4,23 +4,16 @@
 // last good plots, its numbers are those `estlab odometry --json` prints for the same
 // settings, and nothing spills over or hides under a plot at a phone's size or a laptop's.
 import assert from 'node:assert/strict';
-import { after, before, test } from 'node:test';
+import { test } from 'node:test';
 import { spawnSync } from 'node:child_process';
-import { bounded, estlab, estlabBinary, launchBrowser, startServer } from './harness.mjs';
+import { bounded, estlab, estlabBinary, laptop, phone, withServerAndBrowser } from './harness.mjs';
 
 let server;
 let browser;
-before(async () => {
-  server = await startServer();
-  browser = await launchBrowser();
-}, bounded);
-after(async () => {
-  await browser.close();
-  await server.stop();
-}, bounded);
-
-const phone = { width: 390, height: 844 };
-const laptop = { width: 1400, height: 1000 };
+withServerAndBrowser((started, launched) => {
+  server = started;
+  browser = launched;
+});
 
 /** /odometry at `viewport`'s size once its script is ready, console errors in `page.problems`. */
 async function open(viewport = laptop) {

@@ -6,19 +6,15 @@
 import assert from 'node:assert/strict';
 import { readFileSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { after, before, test } from 'node:test';
-import { bounded, estlab, launchBrowser, openPage, startServer, tempDir, waitFor } from './harness.mjs';
+import { test } from 'node:test';
+import { bounded, estlab, openPage, tempDir, waitFor, withServerAndBrowser } from './harness.mjs';
 
 let server;
 let browser;
-before(async () => {
-  server = await startServer();
-  browser = await launchBrowser();
-}, bounded);
-after(async () => {
-  await browser.close();
-  await server.stop();
-}, bounded);
+withServerAndBrowser((started, launched) => {
+  server = started;
+  browser = launched;
+});
 
 /** The plots each page shows when it opens. */
 const plotsOf = {

@@ -17,6 +17,7 @@ use estlab::store::{Member, NewMember, Role, Status, Store, Submission};
 use estlab::submissions::{Grader, Secret};
 use estlab::web::{AppState, Assets, SESSION_COOKIE, SignInLimiter};
 use jiff::{SignedDuration, Timestamp};
+use labs::grading::LAB;
 use serde_json::{Value, json};
 use std::net::SocketAddr;
 use std::path::{Path, PathBuf};
@@ -173,6 +174,15 @@ impl App {
         let id = accepted["id"].as_i64().expect("an id");
         self.graded(id).await;
         (id, accepted)
+    }
+
+    /// Creates `course` ("Applied Estimation") with the EKF exercise open, due in a week.
+    pub fn open_course(&self, course: &str) {
+        let now = self.now();
+        self.store()
+            .create_course(course, "Applied Estimation", now)
+            .unwrap();
+        self.store().assign(course, LAB, &open_policy(now)).unwrap();
     }
 
     /// Adds a student to a course's roster (keeping those already on it).

@@ -5,7 +5,7 @@
 // and each reading's association) with the time slider. The paths differ in line style as
 // well as colour: the truth solid, the estimate dashed, odometry dotted.
 import { fmt } from '../format.js';
-import { colours, dashes, line, pairs, styled } from '../plots.js';
+import { colours, dashes, line, outlines, pairs, styled } from '../plots.js';
 
 const star = 'path://M0,-10L2.9,-4 9.5,-3.1 4.7,1.5 5.9,8.1 0,5 -5.9,8.1 -4.7,1.5 -9.5,-3.1 -2.9,-4Z';
 const grid = { left: 56, right: 20, top: 40, bottom: 44, outerBoundsMode: 'none' };
@@ -29,21 +29,6 @@ function runSeries(estimate, ellipses, rejected, factor = 1) {
     // built-in symbol: a custom path in this mode brings Chromium down).
     { id: 'rejected', name: 'rejected readings', type: 'scatter', data: rejected, symbol: 'diamond', symbolSize: 7, itemStyle: { color: colours.outlier }, large: true, largeThreshold: 100 },
   ];
-}
-
-/** The closed outlines in a flat [x, y, x, y, ..., NaN, NaN, ...] array. */
-function outlines(flat) {
-  const polygons = [];
-  let current = [];
-  for (let i = 0; i < flat.length; i += 2) {
-    if (Number.isNaN(flat[i])) {
-      if (current.length) polygons.push({ coords: current });
-      current = [];
-    } else {
-      current.push([flat[i], flat[i + 1]]);
-    }
-  }
-  return polygons;
 }
 
 /**

@@ -10,7 +10,7 @@
 import { LogSlider, byId, setText, showError } from '../controls.js';
 import { decimal, fmt } from '../format.js';
 import { renderMath } from '../math.js';
-import { colours, dashes, line, overTime, pairs, plotsIn, styled } from '../plots.js';
+import { colours, dashes, line, outlines, overTime, pairs, plotsIn, styled } from '../plots.js';
 import { loadEstlab } from '../wasm.js';
 
 renderMath();
@@ -228,21 +228,6 @@ function equalAxes(plot, xs, ys) {
 /** The option of a plot in the plane (x, y in metres, axes of equal scale). */
 function plane(plot, series, xs, ys) {
   return { animation: false, grid, legend: { top: 4, type: 'scroll' }, ...equalAxes(plot, xs, ys), series };
-}
-
-/** The closed outlines in a flat [x, y, x, y, ..., NaN, NaN, ...] array, for a `lines` series. */
-function outlines(flat) {
-  const shapes = [];
-  let current = [];
-  for (let i = 0; i < flat.length; i += 2) {
-    if (Number.isNaN(flat[i])) {
-      if (current.length) shapes.push({ coords: current });
-      current = [];
-    } else {
-      current.push([flat[i], flat[i + 1]]);
-    }
-  }
-  return shapes;
 }
 
 /** The x and the y values of outlines (for the axes). */
