@@ -11,11 +11,11 @@
 
 pub mod angle;
 pub mod car;
-pub mod cases;
 pub mod dataset;
 pub mod ekf;
 mod error;
 pub mod exercise;
+pub mod exercises;
 pub mod grading;
 pub mod odometry;
 pub mod rng;

@@ -1,6 +1,7 @@
 //! The reference functions reproduce every case of the lab's original test fixtures.
 
-use labs::cases::{FIXTURE_FILES, Tolerance, load_fixtures, reference};
+use labs::exercises::ekf_localization::{FIXTURE_FILES, load_fixtures};
+use labs::grading::{Contract, Tolerance};
 
 testdata::data_tests!(every_original_fixture_case_is_reproduced);
 
@@ -11,7 +12,7 @@ fn every_original_fixture_case_is_reproduced() {
         let cases = load_fixtures(function, file, &text).unwrap();
         assert_eq!(cases.len(), 100, "{file}");
         for case in &cases {
-            let got = reference(&case.call).unwrap();
+            let got = case.call.reference().unwrap();
             let mismatches = case.check(&got, Tolerance::default());
             assert!(mismatches.is_empty(), "{}: {mismatches:#?}", case.id);
             checked += 1;

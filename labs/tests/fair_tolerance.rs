@@ -3,7 +3,8 @@
 //! the likelihood psi itself rather than its logarithm), agrees with the reference on
 //! every generated case to 1e-11, a hundredth of the tolerance.
 
-use labs::cases::{Call, Tolerance, generate};
+use labs::exercises::ekf_localization::{Call, generate};
+use labs::grading::Tolerance;
 use nalgebra::{DMatrix, DVector};
 use serde_json::{Value, json};
 use std::f64::consts::PI;

@@ -5,7 +5,7 @@
 //! in at least one case of the seed. The same rules written as JavaScript, with the
 //! student harness, are in `server/tests/mistakes.rs`.
 
-use labs::cases::{Call, generate};
+use labs::exercises::ekf_localization::{Call, generate};
 use nalgebra::{Matrix2, Vector2};
 use serde_json::Value;
 

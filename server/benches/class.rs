@@ -20,7 +20,8 @@ use estlab::courses::roster;
 use estlab::sandbox::Sandbox;
 use estlab::store::{NewExtension, NewMember, NewSubmission, Role, Store};
 use jiff::{SignedDuration, Timestamp};
-use labs::grading::{GradeResult, LAB, student_seed};
+use labs::Exercise;
+use labs::grading::{GradeResult, student_seed};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -91,7 +92,12 @@ fn grade_files() -> Vec<Graded> {
                 let sandbox = sandbox.clone();
                 scope.spawn(move || {
                     let result = sandbox
-                        .grade(&source, 1 + i as u64, Some(1000 + i as u64))
+                        .grade(
+                            Exercise::EkfLocalization,
+                            &source,
+                            1 + i as u64,
+                            Some(1000 + i as u64),
+                        )
                         .stored();
                     assert!(result.gradable, "not gradable: {:?}", result.reason);
                     Graded { source, result }
@@ -133,7 +139,7 @@ fn build(dir: &Path) -> Store {
     store
         .assign(
             COURSE,
-            LAB,
+            Exercise::EkfLocalization.name(),
             &Policy {
                 due,
                 cutoff: due + SignedDuration::from_hours(24 * 7),
@@ -178,7 +184,7 @@ fn build(dir: &Path) -> Store {
                     course: COURSE,
                     student: &member.login,
                     member: Some(member.id),
-                    lab: LAB,
+                    lab: Exercise::EkfLocalization.name(),
                     seed,
                     source: &source,
                     submitted_at,
@@ -200,7 +206,7 @@ fn build(dir: &Path) -> Store {
             .grant_extension(
                 COURSE,
                 &NewExtension {
-                    lab: LAB,
+                    lab: Exercise::EkfLocalization.name(),
                     student: &member.login,
                     due: due + SignedDuration::from_hours(72),
                     cutoff: due + SignedDuration::from_hours(72),
@@ -246,17 +252,22 @@ struct ClassAnswer {
 /// The dashboard's answer as the handler makes it: the assignment, the class, the
 /// course's regrades of the exercise, the JSON.
 fn dashboard(store: &Store) -> Vec<u8> {
-    let assignment = store.assignment(COURSE, LAB).unwrap().expect("assigned");
-    let view = class::load(store, COURSE, LAB).unwrap().expect("assigned");
+    let assignment = store
+        .assignment(COURSE, Exercise::EkfLocalization.name())
+        .unwrap()
+        .expect("assigned");
+    let view = class::load(store, COURSE, Exercise::EkfLocalization.name())
+        .unwrap()
+        .expect("assigned");
     let regrades = store
         .regrades(COURSE)
         .unwrap()
         .into_iter()
-        .filter(|r| r.lab == LAB)
+        .filter(|r| r.lab == Exercise::EkfLocalization.name())
         .collect();
     serde_json::to_vec(&ClassAnswer {
         course: COURSE.into(),
-        lab: LAB.into(),
+        lab: Exercise::EkfLocalization.name().into(),
         policy: assignment.policy,
         grader: "estlab 0.1.0 plan bench".into(),
         view,
@@ -270,22 +281,39 @@ fn class(c: &mut Criterion) {
     let store = build(dir.path());
 
     // Once, outside the timing: the view covers the whole class.
-    let view = class::load(&store, COURSE, LAB).unwrap().unwrap();
+    let view = class::load(&store, COURSE, Exercise::EkfLocalization.name())
+        .unwrap()
+        .unwrap();
     assert_eq!(view.students.len(), STUDENTS);
     assert!(view.students.iter().all(|s| s.submissions == PER_STUDENT));
     assert_eq!(view.distribution.iter().sum::<usize>(), STUDENTS);
     assert!(!view.mistakes.is_empty(), "no classic mistake in the class");
     let answer = dashboard(&store);
-    let csv = export::make(&store, COURSE, LAB, Format::Csv)
-        .unwrap()
-        .unwrap();
+    let csv = export::make(
+        &store,
+        COURSE,
+        Exercise::EkfLocalization.name(),
+        Format::Csv,
+    )
+    .unwrap()
+    .unwrap();
     assert_eq!(csv.iter().filter(|&&b| b == b'\n').count(), STUDENTS + 1);
-    let sources = export::make(&store, COURSE, LAB, Format::Sources)
-        .unwrap()
-        .unwrap();
-    let gradescope = export::make(&store, COURSE, LAB, Format::Gradescope)
-        .unwrap()
-        .unwrap();
+    let sources = export::make(
+        &store,
+        COURSE,
+        Exercise::EkfLocalization.name(),
+        Format::Sources,
+    )
+    .unwrap()
+    .unwrap();
+    let gradescope = export::make(
+        &store,
+        COURSE,
+        Exercise::EkfLocalization.name(),
+        Format::Gradescope,
+    )
+    .unwrap()
+    .unwrap();
     eprintln!(
         "class bench: the dashboard's JSON {:.0} KB, the CSV {:.0} KB, the sources zip {:.0} KB, the Gradescope zip {:.0} KB",
         answer.len() as f64 / 1e3,
@@ -302,11 +330,15 @@ fn class(c: &mut Criterion) {
         b.iter(|| dashboard(&store))
     });
     group.bench_function("class::load alone", |b| {
-        b.iter(|| class::load(&store, COURSE, LAB).unwrap())
+        b.iter(|| class::load(&store, COURSE, Exercise::EkfLocalization.name()).unwrap())
     });
     // Its parts: the submissions' rows, and the stored results of the counting ones.
     group.bench_function("part: Store::course_submissions", |b| {
-        b.iter(|| store.course_submissions(COURSE, LAB).unwrap())
+        b.iter(|| {
+            store
+                .course_submissions(COURSE, Exercise::EkfLocalization.name())
+                .unwrap()
+        })
     });
     let counting: Vec<i64> = view
         .students
@@ -322,7 +354,9 @@ fn class(c: &mut Criterion) {
         ("export: Gradescope results zip", Format::Gradescope),
     ] {
         group.bench_function(name, |b| {
-            b.iter(|| export::make(&store, COURSE, LAB, format).unwrap())
+            b.iter(|| {
+                export::make(&store, COURSE, Exercise::EkfLocalization.name(), format).unwrap()
+            })
         });
     }
     group.finish();

@@ -30,7 +30,7 @@ use estlab::courses::codes::new_code;
 use estlab::courses::deadline::{Counts, Policy};
 use estlab::store::{Role, Status, Store};
 use jiff::SignedDuration;
-use labs::grading::LAB;
+use labs::Exercise;
 use serde_json::{Value, json};
 use std::path::Path;
 // ---- 1. the access-control matrix ----
@@ -141,8 +141,16 @@ async fn access_matrix() {
             ],
         )
         .unwrap();
-    store.assign("el2320", LAB, &open_policy(now)).unwrap();
-    store.assign("other", LAB, &open_policy(now)).unwrap();
+    store
+        .assign(
+            "el2320",
+            Exercise::EkfLocalization.name(),
+            &open_policy(now),
+        )
+        .unwrap();
+    store
+        .assign("other", Exercise::EkfLocalization.name(), &open_policy(now))
+        .unwrap();
     let student_a = store.member("el2320", A_ID).unwrap();
     let student_b = store.member("el2320", B_ID).unwrap();
     let assistant = app.staff("el2320", "ta@kth.example", Role::Assistant);
@@ -626,7 +634,7 @@ async fn deadlines_penalties_and_the_roster() {
     store
         .assign(
             "el2320",
-            LAB,
+            Exercise::EkfLocalization.name(),
             &Policy {
                 due,
                 cutoff,

@@ -18,7 +18,7 @@
 
 mod student;
 
-use labs::cases::FUNCTIONS;
+use labs::exercises::ekf_localization::FUNCTIONS;
 use serde_json::Value;
 use std::collections::BTreeSet;
 use std::path::Path;

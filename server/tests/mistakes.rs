@@ -15,7 +15,8 @@
 
 mod student;
 
-use labs::cases::{Case, FIXTURE_FILES, Tolerance, generate, load_fixtures};
+use labs::exercises::ekf_localization::{Case, FIXTURE_FILES, FUNCTIONS, generate, load_fixtures};
+use labs::grading::{Contract, Tolerance};
 use rquickjs::{CatchResultExt, Context, Function, Object, Runtime};
 use serde_json::Value;
 use std::collections::BTreeMap;
@@ -179,7 +180,7 @@ fn every_mistake_is_caught_in_every_seed_and_no_correct_file_is_failed() {
         let wrongly_failed: Vec<String> = checked
             .iter()
             .flat_map(|(name, source)| {
-                labs::cases::FUNCTIONS
+                FUNCTIONS
                     .iter()
                     .filter(|f| engine.fails(source, &of(&cases, f)))
                     .map(move |f| format!("{name} fails {f}"))

@@ -8,7 +8,7 @@ use axum::http::StatusCode;
 use common::*;
 use estlab::store::{Role, Scope};
 use jiff::SignedDuration;
-use labs::grading::LAB;
+use labs::Exercise;
 use serde::Deserialize;
 use serde_json::json;
 use std::io::Read;
@@ -239,7 +239,7 @@ async fn a_regrade_cut_off_by_a_stop_resumes_at_the_next_start() {
         .store()
         .start_regrade(
             "el2320",
-            LAB,
+            Exercise::EkfLocalization.name(),
             &Scope::Assignment,
             "teacher",
             &grader,

@@ -4,7 +4,8 @@
 // inputs, and returns JSON that `labs::grading::grade` compares with the reference:
 //
 //   estlabHarness.callFunction(source, phaseJson, progress) -> outputs of one function
-//   estlabHarness.runFilter(source, runJson, progress)       -> one data-set run
+//   estlabHarness.run(source, runJson, progress)             -> one run of the exercise's
+//                                                              loop (a data set, a path)
 //
 // `progress(label)` is told what is about to run, so that the host can say where its time
 // limit stopped the code. Numbers JSON cannot hold are written "NaN", "Infinity" and
@@ -42,12 +43,8 @@
   const stringReplace = String.prototype.replace;
   const regExpExec = RegExp.prototype.exec;
 
-  const CONTRACT = [
-    'calculate_odometry', 'predict', 'observation_model', 'jacobian_observation_model',
-    'associate', 'batch_associate', 'update', 'batch_update', 'init',
-  ];
   /// Values the student's code may return from one call, at most: the largest answer of
-  /// the contract is associate's with 40 landmarks, 482 values. More is not an answer, and
+  /// any contract is the EKF exercise's associate with 40 landmarks, 482 values. More is not an answer, and
   /// would only make the reports (and the host's memory) large. Strings and field names
   /// count their characters against a budget of their own.
   const MAX_VALUES = 2000;
@@ -196,9 +193,10 @@
     return line;
   }
 
-  /// The parameters and body of the function that evaluates the student's file, made
+  /// The parameters and body of the function that evaluates the student's file and
+  /// returns its top-level functions of these `names` (the phase's, from the job), made
   /// before any of the student's code runs (see load).
-  function prepare(source) {
+  function prepare(source, names) {
     const line = moduleLine(source);
     if (line !== null) {
       throw new HarnessError('Your file does not compile: an import or export (line ' + line +
@@ -206,8 +204,11 @@
     }
     let body = apply(stringReplace, source, [DYNAMIC_IMPORT, '$1' + IMPORT_STAND_IN + '$2']) +
       '\n;return {';
-    for (let i = 0; i < CONTRACT.length; i++) {
-      const name = CONTRACT[i];
+    for (let i = 0; i < names.length; i++) {
+      const name = names[i];
+      if (apply(regExpExec, IDENTIFIER, [name]) === null) {
+        throw new HarnessError('the job names a function that is no identifier');
+      }
       body += name + ': typeof ' + name + " === 'function' ? " + name + ' : undefined,';
     }
     body += '};';
@@ -218,8 +219,11 @@
     return params;
   }
 
+  /// A name the harness may write into the body of `prepare`.
+  const IDENTIFIER = /^[A-Za-z_][A-Za-z0-9_]*$/;
+
   /// The student's file (prepared) evaluated afresh: its top-level functions of the
-  /// contract.
+  /// phase.
   function load(params) {
     let make;
     try {
@@ -314,7 +318,7 @@
     let functions;
     let prepared;
     try {
-      prepared = prepare(source);
+      prepared = prepare(source, [phase.function]);
       functions = load(prepared);
     } catch (error) {
       put(out, 'error', error instanceof HarnessError ? error.message : describeError(error));
@@ -361,132 +365,146 @@
     return result;
   }
 
-  // ---- the filter loop of the lab, with the student's functions ----
+  // ---- the runs of an exercise's loop, with the student's functions ----
 
-  function runFilter(source, runJson, progress) {
-    const run = parse(runJson);
+  /// One run of the loop named by the job (`run.loop`) over the run's data: the file is
+  /// loaded, the functions the loop calls checked, and the loop records what it computes
+  /// in `out`. Whatever stops it is recorded with what was being done (`at.doing`).
+  function run(source, runJson, progress) {
+    const job = parse(runJson);
     const out = record();
-    put(out, 'name', run.name);
+    put(out, 'name', job.name);
     put(out, 'init', null);
     put(out, 'mu', []);
     put(out, 'sigma', []);
     put(out, 'c', []);
     put(out, 'outlier', []);
-    let doing = 'loading your file';
+    const at = record();
+    put(at, 'doing', 'loading your file');
+    put(at, 'step', '');
     try {
-      const functions = load(prepare(source));
-      const needed = run.mode === 'batch'
-        ? ['init', 'calculate_odometry', 'predict', 'batch_associate', 'batch_update']
-        : ['init', 'calculate_odometry', 'predict', 'associate', 'update'];
-      for (let i = 0; i < needed.length; i++) {
-        if (typeof functions[needed[i]] !== 'function') {
-          throw new HarnessError(needed[i] + ' is not defined');
+      const loop = hasOwn(LOOPS, job.loop) ? LOOPS[job.loop] : null;
+      if (loop === null) throw new HarnessError('the job names no loop the harness has');
+      const functions = load(prepare(source, job.functions));
+      for (let i = 0; i < job.functions.length; i++) {
+        if (typeof functions[job.functions[i]] !== 'function') {
+          throw new HarnessError(job.functions[i] + ' is not defined');
         }
       }
-      doing = "init('" + run.dataset + "')";
-      progress(run.name + ': ' + doing);
-      const tuning = put(out, 'init', plain(apply(functions.init, undefined, [run.dataset])));
-      const field = (object, name, check) => {
-        if (object === null || typeof object !== 'object' || !hasOwn(object, name)) {
-          throw new HarnessError('returned ' + describe(object) + ' without the field ' + name);
-        }
-        return check(object[name], name);
-      };
-      let mu = field(tuning, 'mu', vector(3));
-      let sigma = field(tuning, 'sigma', matrix(3, 3));
-      const R = field(tuning, 'R', matrix(3, 3));
-      const Q = field(tuning, 'Q', matrix(2, 2));
-      const lambda = field(tuning, 'Lambda_M', threshold);
-      const robot = run.robot;
-      const M = run.M;
-      const landmarks = M[0].length;
-      const index = (value, what) => {
-        if (typeof value !== 'number' || value % 1 !== 0 || value < 0 || value >= landmarks) {
-          throw new HarnessError(what + ' is ' + describe(value) +
-            ', not a landmark index from 0 to ' + (landmarks - 1));
-        }
-        return value;
-      };
-      const flag = (value, what) => {
-        if (typeof value !== 'boolean') {
-          throw new HarnessError(what + ' is ' + describe(value) + ', not true or false');
-        }
-        return value;
-      };
-      let at = '';
-      const invoke = (name, args) => {
-        doing = at + name;
+      // Calls a student function by name, saying first where in the loop it is: at the
+      // step `at.step` names, or as `label` says.
+      const invoke = (name, args, label) => {
+        at.doing = label === undefined ? at.step + name : label;
         return plain(apply(functions[name], undefined, args));
       };
-
-      for (let k = 0; k < run.steps.length; k++) {
-        const step = run.steps[k];
-        if (k % 100 === 0) progress(run.name + ': time step ' + (k + 1));
-        at = 'at time step ' + (k + 1) + ', ';
-        const u = vector(3)(invoke('calculate_odometry', [step.e_r, step.e_l, robot.E_T,
-          robot.B, robot.R_R, robot.R_L, step.delta_t, copy(mu)]), 'u');
-        const bar = invoke('predict', [copy(mu), copy(sigma), u, copy(R)]);
-        let muBar = field(bar, 'mu_bar', vector(3));
-        let sigmaBar = field(bar, 'sigma_bar', matrix(3, 3));
-        const z = step.z;
-        const n = z[0].length;
-        if (run.mode === 'batch') {
-          const a = invoke('batch_associate', [copy(muBar), copy(sigmaBar), copy(z), copy(M),
-            lambda, copy(Q)]);
-          const c = field(a, 'c', list(n));
-          const outlier = field(a, 'outlier', list(n));
-          const nuBar = field(a, 'nu_bar', vector(2 * n));
-          const hBar = field(a, 'H_bar', matrix(2 * n, 3));
-          const H = [];
-          const nu = [];
-          for (let i = 0; i < n; i++) {
-            push(out.c, index(c[i], 'c[' + i + ']'));
-            if (!flag(outlier[i], 'outlier[' + i + ']')) {
-              push(H, hBar[2 * i]);
-              push(H, hBar[2 * i + 1]);
-              push(nu, nuBar[2 * i]);
-              push(nu, nuBar[2 * i + 1]);
-            }
-            push(out.outlier, outlier[i]);
-          }
-          if (nu.length > 0) {
-            const post = invoke('batch_update', [copy(muBar), copy(sigmaBar), H,
-              blockDiagonal(Q, nu.length / 2), nu]);
-            muBar = field(post, 'mu', vector(3));
-            sigmaBar = field(post, 'sigma', matrix(3, 3));
-          }
-        } else {
-          for (let i = 0; i < n; i++) {
-            const a = invoke('associate', [copy(muBar), copy(sigmaBar), [z[0][i], z[1][i]],
-              copy(M), lambda, copy(Q)]);
-            const c = index(field(a, 'c', (v) => v), 'c');
-            const isOutlier = flag(field(a, 'outlier', (v) => v), 'outlier');
-            push(out.c, c);
-            push(out.outlier, isOutlier);
-            if (!isOutlier) {
-              const H = field(a, 'H', list(landmarks))[c];
-              const S = field(a, 'S', list(landmarks))[c];
-              const nu = field(a, 'nu', list(landmarks))[c];
-              const post = invoke('update', [copy(muBar), copy(sigmaBar),
-                matrix(2, 3)(H, 'H[' + c + ']'), matrix(2, 2)(S, 'S[' + c + ']'),
-                vector(2)(nu, 'nu[' + c + ']')]);
-              muBar = field(post, 'mu', vector(3));
-              sigmaBar = field(post, 'sigma', matrix(3, 3));
-            }
-          }
-        }
-        mu = muBar;
-        sigma = sigmaBar;
-        push(out.mu, mu);
-        push(out.sigma, [sigma[0][0], sigma[0][1], sigma[0][2], sigma[1][0], sigma[1][1],
-          sigma[1][2], sigma[2][0], sigma[2][1], sigma[2][2]]);
-      }
+      loop(job, out, invoke, at, progress);
     } catch (error) {
-      put(out, 'error', (doing ? doing + ': ' : '') +
+      put(out, 'error', (at.doing ? at.doing + ': ' : '') +
         (error instanceof HarnessError ? error.message : 'threw ' + describeError(error)));
     }
     return toJson(out);
   }
+
+  /// The record of an object's field the loop reads, checked.
+  function field(object, name, check) {
+    if (object === null || typeof object !== 'object' || !hasOwn(object, name)) {
+      throw new HarnessError('returned ' + describe(object) + ' without the field ' + name);
+    }
+    return check(object[name], name);
+  }
+
+  /// The EKF localization exercise's filter loop over a data set, as the lab's.
+  function filterLoop(run, out, invoke, at, progress) {
+    const init = "init('" + run.dataset + "')";
+    progress(run.name + ': ' + init);
+    const tuning = put(out, 'init', invoke('init', [run.dataset], init));
+    let mu = field(tuning, 'mu', vector(3));
+    let sigma = field(tuning, 'sigma', matrix(3, 3));
+    const R = field(tuning, 'R', matrix(3, 3));
+    const Q = field(tuning, 'Q', matrix(2, 2));
+    const lambda = field(tuning, 'Lambda_M', threshold);
+    const robot = run.robot;
+    const M = run.M;
+    const landmarks = M[0].length;
+    const index = (value, what) => {
+      if (typeof value !== 'number' || value % 1 !== 0 || value < 0 || value >= landmarks) {
+        throw new HarnessError(what + ' is ' + describe(value) +
+          ', not a landmark index from 0 to ' + (landmarks - 1));
+      }
+      return value;
+    };
+    const flag = (value, what) => {
+      if (typeof value !== 'boolean') {
+        throw new HarnessError(what + ' is ' + describe(value) + ', not true or false');
+      }
+      return value;
+    };
+    for (let k = 0; k < run.steps.length; k++) {
+      const step = run.steps[k];
+      if (k % 100 === 0) progress(run.name + ': time step ' + (k + 1));
+      at.step = 'at time step ' + (k + 1) + ', ';
+      const u = vector(3)(invoke('calculate_odometry', [step.e_r, step.e_l, robot.E_T,
+        robot.B, robot.R_R, robot.R_L, step.delta_t, copy(mu)]), 'u');
+      const bar = invoke('predict', [copy(mu), copy(sigma), u, copy(R)]);
+      let muBar = field(bar, 'mu_bar', vector(3));
+      let sigmaBar = field(bar, 'sigma_bar', matrix(3, 3));
+      const z = step.z;
+      const n = z[0].length;
+      if (run.mode === 'batch') {
+        const a = invoke('batch_associate', [copy(muBar), copy(sigmaBar), copy(z), copy(M),
+          lambda, copy(Q)]);
+        const c = field(a, 'c', list(n));
+        const outlier = field(a, 'outlier', list(n));
+        const nuBar = field(a, 'nu_bar', vector(2 * n));
+        const hBar = field(a, 'H_bar', matrix(2 * n, 3));
+        const H = [];
+        const nu = [];
+        for (let i = 0; i < n; i++) {
+          push(out.c, index(c[i], 'c[' + i + ']'));
+          if (!flag(outlier[i], 'outlier[' + i + ']')) {
+            push(H, hBar[2 * i]);
+            push(H, hBar[2 * i + 1]);
+            push(nu, nuBar[2 * i]);
+            push(nu, nuBar[2 * i + 1]);
+          }
+          push(out.outlier, outlier[i]);
+        }
+        if (nu.length > 0) {
+          const post = invoke('batch_update', [copy(muBar), copy(sigmaBar), H,
+            blockDiagonal(Q, nu.length / 2), nu]);
+          muBar = field(post, 'mu', vector(3));
+          sigmaBar = field(post, 'sigma', matrix(3, 3));
+        }
+      } else {
+        for (let i = 0; i < n; i++) {
+          const a = invoke('associate', [copy(muBar), copy(sigmaBar), [z[0][i], z[1][i]],
+            copy(M), lambda, copy(Q)]);
+          const c = index(field(a, 'c', (v) => v), 'c');
+          const isOutlier = flag(field(a, 'outlier', (v) => v), 'outlier');
+          push(out.c, c);
+          push(out.outlier, isOutlier);
+          if (!isOutlier) {
+            const H = field(a, 'H', list(landmarks))[c];
+            const S = field(a, 'S', list(landmarks))[c];
+            const nu = field(a, 'nu', list(landmarks))[c];
+            const post = invoke('update', [copy(muBar), copy(sigmaBar),
+              matrix(2, 3)(H, 'H[' + c + ']'), matrix(2, 2)(S, 'S[' + c + ']'),
+              vector(2)(nu, 'nu[' + c + ']')]);
+            muBar = field(post, 'mu', vector(3));
+            sigmaBar = field(post, 'sigma', matrix(3, 3));
+          }
+        }
+      }
+      mu = muBar;
+      sigma = sigmaBar;
+      push(out.mu, mu);
+      push(out.sigma, [sigma[0][0], sigma[0][1], sigma[0][2], sigma[1][0], sigma[1][1],
+        sigma[1][2], sigma[2][0], sigma[2][1], sigma[2][2]]);
+    }
+  }
+
+  /// The loops of the exercises, by the name the job gives (`RunPhase` in Rust).
+  const LOOPS = freeze({ __proto__: null, filter: filterLoop });
 
   function blockDiagonal(Q, n) {
     const out = [];
@@ -554,5 +572,5 @@
     return clip(safeText(value));
   }
 
-  global.estlabHarness = freeze({ callFunction: callFunction, runFilter: runFilter });
+  global.estlabHarness = freeze({ callFunction: callFunction, run: run });
 })(globalThis);

@@ -151,14 +151,14 @@ function oneNumberWrong(expected, path) {
 
 test('generated test cases', bounded, async () => {
   for (const seed of [3, 99]) {
-    const wasm = JSON.parse(await page.evaluate((seed) => window.estlab.generateCases(seed, 12), seed));
+    const wasm = JSON.parse(await page.evaluate((seed) => window.estlab.generateCases('ekf-localization', seed, 12), seed));
     const native = JSON.parse(estlab('cases', '--seed', String(seed), '--per-function', '12'));
     assert.deepEqual(wasm, native, `seed ${seed}`);
     const functions = [...new Set(native.map((c) => c.function))];
     assert.equal(functions.length, 8, 'cases of every student function');
 
     // Every case passes with its own expected output, and one number wrong is found.
-    const check = (pairs) => page.evaluate((pairs) => pairs.map(([c, got]) => JSON.parse(window.estlab.checkCase(JSON.stringify(c), JSON.stringify(got)))), pairs);
+    const check = (pairs) => page.evaluate((pairs) => pairs.map(([c, got]) => JSON.parse(window.estlab.checkCase('ekf-localization', JSON.stringify(c), JSON.stringify(got)))), pairs);
     const verdicts = await check(native.map((c) => [c, c.expected]));
     verdicts.forEach((verdict, i) => assert.deepEqual(verdict, [], `${native[i].id} passes with its own expected output`));
     for (const name of functions) {

@@ -30,6 +30,12 @@ fn to_js(error: labs::Error) -> JsError {
     JsError::new(&error.to_string())
 }
 
+/// An exercise by name, or the error naming the known ones.
+fn exercise(name: &str) -> Result<labs::Exercise, JsError> {
+    name.parse()
+        .map_err(|e: labs::UnknownExercise| JsError::new(&e.to_string()))
+}
+
 /// A seed from JavaScript, whose numbers are doubles: a whole number in [0, 2^53].
 fn seed(value: f64) -> Result<u64, JsError> {
     if value >= 0.0 && value.fract() == 0.0 && value <= 9_007_199_254_740_992.0 {

@@ -1,8 +1,9 @@
 //! The job the JavaScript harness carries out with the student's code: one phase per
-//! function (the arguments of its calls, never the expected outputs) and one per data-set
-//! run (the data, never the ground truth), each with its time limit. Made by
-//! [`Plan::job`](super::Plan::job); the harness reads it as JSON.
+//! function (the arguments of its calls, never the expected outputs) and one per run of
+//! the exercise's loop (the data, never the ground truth), each with its time limit. Made
+//! by [`Plan::job`](super::Plan::job); the harness reads it as JSON.
 
+use crate::exercises::ekf_localization::FilterRun;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
@@ -29,53 +30,29 @@ pub struct CallJob {
     pub args: Vec<Value>,
 }
 
-/// One run of the lab's filter loop with the student's functions
-/// (`estlabHarness.runFilter`).
+/// One run of an exercise's loop with the student's functions (`estlabHarness.run`),
+/// which the harness tells apart by its `loop`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct RunPhase {
+#[serde(tag = "loop", rename_all = "snake_case")]
+pub enum RunPhase {
+    /// The EKF localization exercise's filter loop over a data set.
+    Filter(FilterRun),
+}
+
+impl RunPhase {
     /// `no-odometry/batch`.
-    pub name: String,
-    /// What `init` is called with: `o3`, `outliers`, `no-odometry`.
-    pub dataset: String,
-    pub mode: Mode,
-    pub robot: RobotJob,
-    /// The map, 2 x N: x of every landmark, then y.
-    #[serde(rename = "M")]
-    pub m: [Vec<f64>; 2],
-    pub steps: Vec<StepJob>,
+    pub fn name(&self) -> &str {
+        match self {
+            RunPhase::Filter(run) => &run.name,
+        }
+    }
+
     /// CPU time for the whole run.
-    pub limit_ms: u32,
-}
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Mode {
-    Sequential,
-    Batch,
-}
-
-/// The robot's constants, named as the contract's arguments of `calculate_odometry`.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct RobotJob {
-    #[serde(rename = "E_T")]
-    pub e_t: f64,
-    #[serde(rename = "B")]
-    pub b: f64,
-    #[serde(rename = "R_R")]
-    pub r_r: f64,
-    #[serde(rename = "R_L")]
-    pub r_l: f64,
-}
-
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct StepJob {
-    /// Seconds since the previous step (0 for the first).
-    pub delta_t: f64,
-    /// Encoder ticks of the right and the left wheel since the previous step.
-    pub e_r: f64,
-    pub e_l: f64,
-    /// The readings of the step, 2 x n: ranges, then bearings.
-    pub z: [Vec<f64>; 2],
+    pub fn limit_ms(&self) -> u32 {
+        match self {
+            RunPhase::Filter(run) => run.limit_ms,
+        }
+    }
 }
 
 /// Which of the harness's entry points a phase goes to.
@@ -119,14 +96,14 @@ impl Phase<'_> {
     pub fn name(&self) -> &str {
         match self {
             Phase::Function(phase) => &phase.function,
-            Phase::Run(phase) => &phase.name,
+            Phase::Run(phase) => phase.name(),
         }
     }
 
     pub fn limit_ms(&self) -> u32 {
         match self {
             Phase::Function(phase) => phase.limit_ms,
-            Phase::Run(phase) => phase.limit_ms,
+            Phase::Run(phase) => phase.limit_ms(),
         }
     }
 

@@ -1,30 +1,52 @@
-//! Grading a student's implementation of the EKF localization exercise.
+//! Grading a student's implementation of an exercise, and what every exercise shares.
 //!
-//! A [`Plan`] made from the student's seed holds the test cases and the data sets; its
-//! [`Plan::job`] goes to the JavaScript harness (`static/src/harness.js`), which calls
-//! the student's code in a sandbox (a Web Worker in the browser, QuickJS in a worker
-//! process on the server) and reports [`Outputs`]; [`grade`] turns those into a
-//! [`GradeResult`]. The browser and the server run the same harness on the same job and
-//! grade with this same code, so they reach the same verdict.
+//! A [`Plan`] made from the exercise and the student's seed holds the test cases and the
+//! runs of the exercise's loop; its [`Plan::job`] goes to the JavaScript harness
+//! (`static/src/harness.js`), which calls the student's code in a sandbox (a Web Worker in
+//! the browser, QuickJS in a worker process on the server) and reports [`Outputs`];
+//! [`Plan::grade`] turns those into a [`GradeResult`]. The browser and the server run the
+//! same harness on the same job and grade with this same code, so they reach the same
+//! verdict.
+//!
+//! Shared by every exercise: the [`Contract`] its calls implement, the comparison of
+//! outputs ([`compare`]), the suites of cases and their phases ([`planned_cases`]), the
+//! tests of the functions ([`function_tests`]), hints, the job, the outputs, the result
+//! and its exports. What is an exercise's own is under [`crate::exercises`].
 
-mod grade;
+mod compare;
+mod contract;
+mod functions;
 mod hints;
+pub mod infinity;
 mod job;
 mod outputs;
-mod plan;
 mod platforms;
 mod result;
+mod suite;
 
-pub use grade::{LAB, POINTS, grade, student_run};
-pub use hints::{Hint, HintKind};
-pub use job::{CallJob, FunctionPhase, Job, Mode, Phase, PhaseKind, RobotJob, RunPhase, StepJob};
+pub use compare::{
+    HEADING_TURNS, Kind, Mismatch, Problem, Shape, Tolerance, compare, heading_within_turns,
+    matrix, numbers, pose, range_bearing, repeat,
+};
+pub use contract::{Case, Contract};
+pub use functions::{FunctionVerdicts, POINTS, function_tests};
+pub use hints::{
+    Common, Hint, HintKind, describe, holds_non_finite, negated, shape_hint, transpose,
+};
+pub use job::{CallJob, FunctionPhase, Job, Phase, PhaseKind, RunPhase};
 pub use outputs::{CallResult, FunctionOutput, Outputs, PhaseOutput, Reports, RunOutput, Stopped};
-pub use plan::{FUNCTION_LIMIT_MS, Plan, PlannedCase, RunSpec, Suite, bound};
 pub use platforms::{
     GraderData, GradescopeResults, GradescopeTest, HIDDEN_LATER, PrairieLearnResults,
     PrairieLearnTest,
 };
 pub use result::{Failure, GradeResult, RunFigures, Status, Test, Visibility};
+pub use suite::{
+    CASES_PER_FUNCTION, FUNCTION_LIMIT_MS, Generator, PUBLIC_SEED, PlannedCase, Suite, cases_of,
+    function_phases, planned_cases,
+};
+
+use crate::Exercise;
+use crate::exercises::ekf_localization;
 
 /// The course a student's variant belongs to unless another is named.
 pub const DEFAULT_COURSE: &str = "el2320";
@@ -38,4 +60,49 @@ pub fn student_seed(course: &str, student: &str) -> u64 {
         hash = hash.wrapping_mul(0x0100_0000_01b3);
     }
     hash & ((1 << 53) - 1)
+}
+
+/// Everything one grading of an exercise checks, made from the student's seed and, on the
+/// server, a seed of hidden cases.
+#[derive(Clone, Debug)]
+pub enum Plan {
+    EkfLocalization(ekf_localization::Plan),
+}
+
+impl Plan {
+    /// The plan of `exercise` for the variant `seed`; with `hidden`, hidden cases (and
+    /// runs) drawn from it besides, as the server grades.
+    pub fn new(exercise: Exercise, seed: u64, hidden: Option<u64>) -> Plan {
+        match exercise {
+            Exercise::EkfLocalization => {
+                Plan::EkfLocalization(ekf_localization::Plan::new(seed, hidden))
+            }
+        }
+    }
+
+    pub fn exercise(&self) -> Exercise {
+        match self {
+            Plan::EkfLocalization(_) => Exercise::EkfLocalization,
+        }
+    }
+
+    pub fn seed(&self) -> u64 {
+        match self {
+            Plan::EkfLocalization(plan) => plan.seed,
+        }
+    }
+
+    /// What the harness carries out with the student's code.
+    pub fn job(&self) -> Job {
+        match self {
+            Plan::EkfLocalization(plan) => plan.job(),
+        }
+    }
+
+    /// Grades what the harness reported; tests whose outputs are missing fail as not run.
+    pub fn grade(&self, outputs: &Outputs) -> GradeResult {
+        match self {
+            Plan::EkfLocalization(plan) => ekf_localization::grade(plan, outputs),
+        }
+    }
 }

@@ -34,7 +34,7 @@ impl Outputs {
                 .iter()
                 .map(|p| function(&p.function))
                 .collect(),
-            runs: job.runs.iter().map(|p| run(&p.name)).collect(),
+            runs: job.runs.iter().map(|p| run(p.name())).collect(),
         }
     }
 }

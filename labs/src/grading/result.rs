@@ -1,7 +1,8 @@
 //! The result of a grading (`DESIGN.md`, "The result").
 
+use super::compare::Mismatch;
 use super::hints::{Hint, HintKind, describe};
-use crate::cases::Mismatch;
+use crate::Exercise;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
@@ -108,7 +109,7 @@ const KEPT_MISMATCHES: usize = 12;
 /// that names what it returned.
 const KEPT_TEXT: usize = 500;
 /// Characters kept of a test's message.
-pub const KEPT_MESSAGE: usize = 4000;
+const KEPT_MESSAGE: usize = 4000;
 
 impl Failure {
     /// A hidden case's failure without what would reveal the case.
@@ -203,6 +204,31 @@ impl GradeResult {
             }
         }
         self
+    }
+
+    /// The result of a grading's tests: every message within bounds, the points summed.
+    pub fn graded(
+        exercise: Exercise,
+        seed: u64,
+        hidden_cases: bool,
+        mut tests: Vec<Test>,
+    ) -> GradeResult {
+        for test in &mut tests {
+            test.message = clip(&test.message, KEPT_MESSAGE);
+        }
+        let points: f64 = tests.iter().map(|t| t.points).sum();
+        let max_points: f64 = tests.iter().map(|t| t.max_points).sum();
+        GradeResult {
+            lab: exercise.name().to_owned(),
+            seed,
+            gradable: true,
+            reason: None,
+            hidden_cases,
+            score: points / max_points,
+            points,
+            max_points,
+            tests,
+        }
     }
 
     /// The result of a grading the sandbox could not carry out.

@@ -1,34 +1,44 @@
-//! `estlab cases`: test cases of the student functions, as JSON.
+//! `estlab cases`: test cases of an exercise's student functions, as JSON.
 
 use super::{print, read};
 use crate::error::Error;
-use labs::cases::{Case, FIXTURE_FILES, generate, load_fixtures};
+use labs::Exercise;
+use labs::exercises::ekf_localization::{self, FIXTURE_FILES, load_fixtures};
 use std::path::PathBuf;
+use std::str::FromStr;
 
-/// Print test cases of the EKF localization functions as a JSON array: generated from a
-/// seed (each student's variant), or the original EL2320 suite.
+/// Print test cases of an exercise's student functions as a JSON array: generated from a
+/// seed (each student's variant), or the original EL2320 suite of the EKF localization
+/// exercise.
 #[derive(clap::Args)]
 pub struct Args {
+    /// The exercise, by name.
+    #[arg(long, value_parser = Exercise::from_str, default_value_t = Exercise::default())]
+    lab: Exercise,
     #[arg(long, default_value_t = 1)]
     seed: u64,
     /// Cases of each function.
     #[arg(long, default_value_t = 20)]
     per_function: usize,
-    /// Instead, convert the original EL2320 fixtures (test_case_*.json) in this directory.
+    /// Instead, convert the original EL2320 fixtures (test_case_*.json) in this directory
+    /// (EKF localization only).
     #[arg(long, value_name = "DIR")]
     el2320: Option<PathBuf>,
 }
 
 pub fn run(args: &Args) -> Result<(), Error> {
-    let cases: Vec<Case> = match &args.el2320 {
-        Some(dir) => {
+    let json = |cases| serde_json::to_string(cases).expect("cases serialise");
+    let text = match (args.lab, &args.el2320) {
+        (Exercise::EkfLocalization, Some(dir)) => {
             let mut cases = Vec::new();
             for (function, file) in FIXTURE_FILES {
                 cases.extend(load_fixtures(function, file, &read(&dir.join(file))?)?);
             }
-            cases
+            json(&cases)
         }
-        None => generate(args.seed, args.per_function),
+        (Exercise::EkfLocalization, None) => {
+            json(&ekf_localization::generate(args.seed, args.per_function))
+        }
     };
-    print(&serde_json::to_string(&cases).expect("cases serialise"))
+    print(&text)
 }

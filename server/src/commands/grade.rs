@@ -13,7 +13,7 @@ use std::str::FromStr;
 /// result was produced, whatever the score.
 #[derive(clap::Args)]
 pub struct Args {
-    /// The exercise; for now the EKF localization exercise.
+    /// The exercise, by name.
     #[arg(long, value_parser = Exercise::from_str, default_value_t = Exercise::default())]
     lab: Exercise,
     /// The student's JavaScript file.
@@ -65,7 +65,7 @@ pub fn run(args: &Args) -> Result<(), Error> {
     // Without a secret there are no hidden cases: the result says so.
     let key = secret.is_some().then_some(args.submission);
     let hidden = secret.map(|secret| secret.hidden_seed(args.submission));
-    let result = sandbox.grade(&source, seed, hidden);
+    let result = sandbox.grade(args.lab, &source, seed, hidden);
     let text = match args.format {
         Format::Json => serde_json::to_string_pretty(&result),
         Format::Gradescope => serde_json::to_string_pretty(&result.gradescope(&grader, key)),

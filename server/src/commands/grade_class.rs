@@ -9,7 +9,7 @@ use crate::error::Error;
 use crate::sandbox::{Sandbox, check_size, cores};
 use indicatif::{ProgressBar, ProgressStyle};
 use labs::Exercise;
-use labs::grading::{DEFAULT_COURSE, GradeResult, LAB, student_seed};
+use labs::grading::{DEFAULT_COURSE, GradeResult, student_seed};
 use std::collections::HashMap;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -96,7 +96,7 @@ fn entries(dir: &Path) -> Result<Vec<Entry>, Error> {
         .collect())
 }
 
-fn grade_one(sandbox: &Sandbox, course: &str, entry: &Entry) -> Outcome {
+fn grade_one(sandbox: &Sandbox, exercise: Exercise, course: &str, entry: &Entry) -> Outcome {
     if let Some(reason) = &entry.refused {
         return Outcome::Unreadable(reason.clone());
     }
@@ -112,7 +112,7 @@ fn grade_one(sandbox: &Sandbox, course: &str, entry: &Entry) -> Outcome {
     if let Err(problem) = check_size(&source) {
         return Outcome::Unreadable(problem);
     }
-    Outcome::Graded(sandbox.grade(&source, student_seed(course, &entry.id), None))
+    Outcome::Graded(sandbox.grade(exercise, &source, student_seed(course, &entry.id), None))
 }
 
 /// Shows the progress: a bar with the count, the rate and the time left on a terminal,
@@ -192,7 +192,7 @@ pub fn run(args: &Args) -> Result<(), Error> {
                     let row = Row {
                         id: entry.id.clone(),
                         file: file_name(&entry.path),
-                        outcome: grade_one(&sandbox, &args.course, entry),
+                        outcome: grade_one(&sandbox, args.lab, &args.course, entry),
                     };
                     progress.graded(&row);
                     rows.lock().unwrap_or_else(|e| e.into_inner())[i] = Some(row);
@@ -208,7 +208,7 @@ pub fn run(args: &Args) -> Result<(), Error> {
         .map(|row| row.expect("every file graded"))
         .collect();
     let results_dir = args.out.with_extension("");
-    write_results(&rows, &results_dir, &args.course)?;
+    write_results(&rows, &results_dir, args.lab, &args.course)?;
     write_csv(&rows, &args.out)?;
     print(&summary(
         &rows,
@@ -219,13 +219,13 @@ pub fn run(args: &Args) -> Result<(), Error> {
 }
 
 /// `ID.json` per student: the whole result, as `estlab grade` prints it.
-fn write_results(rows: &[Row], dir: &Path, course: &str) -> Result<(), Error> {
+fn write_results(rows: &[Row], dir: &Path, exercise: Exercise, course: &str) -> Result<(), Error> {
     std::fs::create_dir_all(dir).map_err(Error::io(dir))?;
     for row in rows {
         let result = match &row.outcome {
             Outcome::Graded(result) => result.clone(),
             Outcome::Unreadable(reason) => {
-                GradeResult::not_gradable(LAB, student_seed(course, &row.id), reason)
+                GradeResult::not_gradable(exercise.name(), student_seed(course, &row.id), reason)
             }
         };
         let path = dir.join(format!("{}.json", row.id));

@@ -16,7 +16,7 @@ use crate::error::Error;
 use crate::sandbox::{Sandbox, check_length, cores};
 use crate::submissions::{Secret, grader_version};
 use labs::Exercise;
-use labs::grading::{GradeResult, LAB};
+use labs::grading::GradeResult;
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 use std::path::Path;
@@ -75,7 +75,8 @@ impl PackagedGrader {
     /// returned beside the result); a submission without one gradable file is not
     /// gradable, and says why.
     pub fn grade(&self, submitted: &Path, seed: u64, drawn: Drawn) -> (GradeResult, Option<i64>) {
-        let not_gradable = |reason: String| (GradeResult::not_gradable(LAB, seed, reason), None);
+        let lab = self.settings.lab.name();
+        let not_gradable = |reason: String| (GradeResult::not_gradable(lab, seed, reason), None);
         let path = match student_file(submitted) {
             Ok(path) => path,
             Err(reason) => return not_gradable(reason),
@@ -101,7 +102,8 @@ impl PackagedGrader {
             Err(e) => return not_gradable(format!("the grader could not start: {e}")),
         };
         let key = drawn.key(&source);
-        let result = sandbox.grade(&source, seed, Some(self.secret.hidden_seed(key)));
+        let hidden = Some(self.secret.hidden_seed(key));
+        let result = sandbox.grade(self.settings.lab, &source, seed, hidden);
         (result, Some(key))
     }
 }
@@ -151,7 +153,9 @@ fn write_graded<R: Serialize>(
         Ok(results) => write_results(root, &results),
         Err(error) => {
             let reason = format!("the package could not grade this submission: {error}");
-            write_results(root, &export(&GradeResult::not_gradable(LAB, 0, reason)))?;
+            // Which exercise the package grades is in what could not be read.
+            let result = GradeResult::not_gradable("unknown", 0, reason);
+            write_results(root, &export(&result))?;
             Err(error)
         }
     }

@@ -7,7 +7,6 @@
 
 use super::cpu::ThreadClock;
 use super::watchdog::Watchdog;
-use labs::cases::FUNCTIONS;
 use labs::grading::{
     FUNCTION_LIMIT_MS, FunctionOutput, FunctionPhase, Job, Outputs, Phase, PhaseKind, PhaseOutput,
     RunOutput, Stopped,
@@ -60,7 +59,7 @@ impl Budget {
 struct Engine {
     // Dropped in this order: the harness's functions, then the context, then the runtime.
     call_function: Persistent<Function<'static>>,
-    run_filter: Persistent<Function<'static>>,
+    run: Persistent<Function<'static>>,
     context: Context,
     _runtime: Runtime,
     budget: Rc<Budget>,
@@ -80,7 +79,7 @@ impl Engine {
         // The handler runs on this thread only: the engine never leaves it.
         runtime.set_interrupt_handler(Some(Box::new(move || handler.exhausted())));
         let context = Context::full(&runtime).map_err(|e| format!("QuickJS: {e}"))?;
-        let (call_function, run_filter) = context.with(|ctx| {
+        let (call_function, run) = context.with(|ctx| {
             ctx.eval::<(), _>(HARNESS)
                 .catch(&ctx)
                 .map_err(|e| format!("the harness: {e}"))?;
@@ -92,11 +91,11 @@ impl Engine {
                 let f: Function = harness.get(name).map_err(|e| format!("the harness: {e}"))?;
                 Ok(Persistent::save(&ctx, f))
             };
-            Ok::<_, String>((get("callFunction")?, get("runFilter")?))
+            Ok::<_, String>((get("callFunction")?, get("run")?))
         })?;
         Ok(Engine {
             call_function,
-            run_filter,
+            run,
             context,
             _runtime: runtime,
             budget,
@@ -113,7 +112,7 @@ impl Engine {
     ) -> Result<String, Stopped> {
         let during = Rc::new(RefCell::new(String::from("your file")));
         let harness = match kind {
-            PhaseKind::Run => &self.run_filter,
+            PhaseKind::Run => &self.run,
             PhaseKind::Function => &self.call_function,
         };
         self.budget.start(limit);
@@ -188,7 +187,7 @@ fn watched(
     threads: usize,
     watchdog: &Watchdog,
 ) -> Result<Outputs, String> {
-    if let Some(stopped) = load_check(source, watchdog)? {
+    if let Some(stopped) = load_check(source, job, watchdog)? {
         return Ok(Outputs::every_phase(
             job,
             |function| FunctionOutput::stopped(function, stopped.clone()),
@@ -250,11 +249,14 @@ type Report = Result<String, Stopped>;
 /// What the watchdog calls the evaluation of the file before the phases.
 pub const TOP_LEVEL: &str = "the top level of your file (evaluated once, before every test)";
 
-/// Evaluates the file once, calling nothing (a function phase without calls): what
-/// stopped it, if anything did.
-fn load_check(source: &str, watchdog: &Watchdog) -> Result<Option<Stopped>, String> {
+/// Evaluates the file once, calling nothing (the job's first function phase without its
+/// calls): what stopped it, if anything did.
+fn load_check(source: &str, job: &Job, watchdog: &Watchdog) -> Result<Option<Stopped>, String> {
     let nothing = FunctionPhase {
-        function: FUNCTIONS[0].to_owned(),
+        function: job
+            .functions
+            .first()
+            .map_or_else(String::new, |phase| phase.function.clone()),
         calls: Vec::new(),
         limit_ms: LOAD_LIMIT_MS,
     };

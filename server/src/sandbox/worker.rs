@@ -8,9 +8,8 @@
 
 use super::engine::LOAD_LIMIT_MS;
 use super::watchdog::{OVERRUN_EXIT, OVERRUN_PREFIX};
-use labs::grading::{
-    FunctionOutput, GradeResult, Job, LAB, Outputs, PhaseOutput, Plan, RunOutput, grade,
-};
+use labs::Exercise;
+use labs::grading::{FunctionOutput, GradeResult, Job, Outputs, PhaseOutput, Plan, RunOutput};
 use serde::{Deserialize, Serialize};
 use std::io::{Read, Write};
 use std::os::unix::process::{CommandExt, ExitStatusExt};
@@ -78,17 +77,20 @@ impl Sandbox {
         Ok(Sandbox::new(std::env::current_exe()?, threads))
     }
 
-    /// Grades a source file for a seed (and, on the server, the seed of its hidden cases):
-    /// the plan, the student's code in a worker, the comparison. Blocks for as long as the
-    /// worker runs.
-    pub fn grade(&self, source: &str, seed: u64, hidden: Option<u64>) -> GradeResult {
-        let plan = match hidden {
-            Some(hidden) => Plan::with_hidden(seed, hidden),
-            None => Plan::new(seed),
-        };
+    /// Grades a source file of an exercise for a seed (and, on the server, the seed of its
+    /// hidden cases): the plan, the student's code in a worker, the comparison. Blocks for
+    /// as long as the worker runs.
+    pub fn grade(
+        &self,
+        exercise: Exercise,
+        source: &str,
+        seed: u64,
+        hidden: Option<u64>,
+    ) -> GradeResult {
+        let plan = Plan::new(exercise, seed, hidden);
         match self.carry_out(source, plan.job()) {
-            Ok(outputs) => grade(&plan, &outputs),
-            Err(reason) => GradeResult::not_gradable(LAB, seed, reason),
+            Ok(outputs) => plan.grade(&outputs),
+            Err(reason) => GradeResult::not_gradable(exercise.name(), seed, reason),
         }
     }
 

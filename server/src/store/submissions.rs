@@ -4,7 +4,9 @@
 
 use super::{Error, Store};
 use jiff::Timestamp;
+use labs::Exercise;
 use labs::grading::GradeResult;
+use rusqlite::types::Type;
 use rusqlite::{OptionalExtension, Row, params};
 use serde::Serialize;
 use std::collections::HashMap;
@@ -54,6 +56,7 @@ pub struct NewSubmission<'a> {
 
 /// What grading a submission needs (and names in the log).
 pub struct ToGrade {
+    pub exercise: Exercise,
     pub source: String,
     pub seed: u64,
     pub course: String,
@@ -168,10 +171,13 @@ impl Store {
     /// What grading a submission needs, its status left as it is.
     pub fn to_grade(&self, id: i64) -> Result<ToGrade, Error> {
         Ok(self.connection().query_row(
-            "SELECT source, seed, course, student FROM submissions WHERE id = ?1",
+            "SELECT source, seed, course, student, lab FROM submissions WHERE id = ?1",
             [id],
             |row| {
                 Ok(ToGrade {
+                    exercise: row.get::<_, String>(4)?.parse().map_err(|e| {
+                        rusqlite::Error::FromSqlConversionFailure(4, Type::Text, Box::new(e))
+                    })?,
                     source: row.get(0)?,
                     seed: row.get::<_, i64>(1)? as u64,
                     course: row.get(2)?,

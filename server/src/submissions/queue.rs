@@ -113,7 +113,9 @@ impl Grader {
         let started = Instant::now();
         let job = self.store.start_grading(id)?;
         let hidden = self.secret.hidden_seed(id);
-        let result = self.sandbox.grade(&job.source, job.seed, Some(hidden));
+        let result = self
+            .sandbox
+            .grade(job.exercise, &job.source, job.seed, Some(hidden));
         let score = result.gradable.then_some(result.score);
         self.store
             .finish_grading(id, &result.stored(), Some(&self.version))?;
@@ -171,7 +173,9 @@ impl Grader {
         // Its status stays graded: the student may go on submitting meanwhile.
         let job = self.store.to_grade(submission)?;
         let hidden = self.secret.hidden_seed(submission);
-        let result = self.sandbox.grade(&job.source, job.seed, Some(hidden));
+        let result = self
+            .sandbox
+            .grade(job.exercise, &job.source, job.seed, Some(hidden));
         let score = result.gradable.then_some(result.score);
         self.store.finish_regrade_item(
             regrade,

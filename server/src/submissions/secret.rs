@@ -5,7 +5,8 @@
 //! submission again draws the same ones.
 
 use crate::store::Error;
-use labs::grading::Plan;
+use labs::Exercise;
+use labs::grading::{Job, Plan};
 use sha2::{Digest, Sha256};
 use std::io::Write;
 use std::os::unix::fs::OpenOptionsExt;
@@ -98,15 +99,16 @@ fn failed(path: &Path) -> impl Fn(std::io::Error) -> Error + '_ {
     }
 }
 
-/// The grader's version: the release, and a hash of the job of one plan (with the hidden
-/// cases the secret draws, if there is one), so that it changes when the cases, the data
-/// sets or the secret change.
+/// The grader's version: the release, and a hash of the jobs of one plan of every exercise
+/// (with the hidden cases the secret draws, if there is one), so that it changes when the
+/// cases, the runs or the secret change.
 pub fn grader_version(secret: Option<&Secret>) -> String {
-    let plan = match secret {
-        Some(secret) => Plan::with_hidden(1, secret.hidden_seed(0)),
-        None => Plan::new(1),
-    };
-    let digest = Sha256::digest(serde_json::to_vec(&plan.job()).expect("jobs serialise"));
+    let hidden = secret.map(|secret| secret.hidden_seed(0));
+    let jobs: Vec<Job> = Exercise::ALL
+        .into_iter()
+        .map(|exercise| Plan::new(exercise, 1, hidden).job())
+        .collect();
+    let digest = Sha256::digest(serde_json::to_vec(&jobs).expect("jobs serialise"));
     let hash: String = digest[..6].iter().map(|b| format!("{b:02x}")).collect();
     format!("estlab {} plan {hash}", env!("CARGO_PKG_VERSION"))
 }

@@ -17,7 +17,7 @@ use axum::Json;
 use axum::extract::{Path, State};
 use axum::http::StatusCode;
 use axum::response::{IntoResponse, Response};
-use labs::grading::{DEFAULT_COURSE, LAB, student_seed};
+use labs::grading::{DEFAULT_COURSE, student_seed};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
@@ -77,7 +77,7 @@ pub async fn submit(
         None
     };
     let submit: Submit = body.json("the submission body")?;
-    lab_field(&submit.lab)?;
+    let exercise = lab_field(&submit.lab)?;
     check_size(&submit.source)
         .map_err(|problem| Error::TooLarge(format!("field `source`: {problem}")))?;
     let now = state.clock.now();
@@ -152,7 +152,7 @@ pub async fn submit(
             course: &submitter.course,
             student: &submitter.student,
             member: submitter.member,
-            lab: LAB,
+            lab: exercise.name(),
             seed,
             source: &source,
             submitted_at: now,

@@ -17,7 +17,7 @@ use estlab::store::{Member, NewMember, Role, Status, Store, Submission};
 use estlab::submissions::{Grader, Secret};
 use estlab::web::{AppState, Assets, SESSION_COOKIE, SignInLimiter};
 use jiff::{SignedDuration, Timestamp};
-use labs::grading::LAB;
+use labs::Exercise;
 use serde_json::{Value, json};
 use std::net::SocketAddr;
 use std::path::{Path, PathBuf};
@@ -182,7 +182,9 @@ impl App {
         self.store()
             .create_course(course, "Applied Estimation", now)
             .unwrap();
-        self.store().assign(course, LAB, &open_policy(now)).unwrap();
+        self.store()
+            .assign(course, Exercise::EkfLocalization.name(), &open_policy(now))
+            .unwrap();
     }
 
     /// Adds a student to a course's roster (keeping those already on it).

@@ -280,7 +280,7 @@ function useSeed() {
   const current = seed();
   if (state.seed === current) return showVariant();
   state.grader?.free();
-  state.grader = new estlab.Grader(current);
+  state.grader = new estlab.Grader(LAB, current);
   state.job = JSON.parse(state.grader.job());
   state.seed = current;
   state.functions.clear();

@@ -25,7 +25,7 @@ self.onmessage = ({ data }) => {
   try {
     const output = data.kind === 'function'
       ? harness.callFunction(data.source, phase, progress)
-      : harness.runFilter(data.source, phase, progress);
+      : harness.run(data.source, phase, progress);
     post({ output });
   } catch (error) {
     // Only a fault of the harness itself gets here: it catches what student code throws.

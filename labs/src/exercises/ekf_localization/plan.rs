@@ -1,22 +1,16 @@
-//! What a grading consists of, from a seed: the test cases of every student function (the
-//! public suite everyone shares and the student's own variant) and the data-set runs, and
-//! the job the JavaScript harness carries out with the student's code.
+//! What a grading of the EKF localization exercise consists of, from a seed: the test
+//! cases of every student function (see [`crate::grading::planned_cases`]) and the
+//! data-set runs, and the job the JavaScript harness carries out with the student's code.
 
-use super::job::{CallJob, FunctionPhase, Job, Mode, RobotJob, RunPhase, StepJob};
-use crate::cases::{Call, Case, FUNCTIONS, generate};
+use super::contract::Call;
+use super::generate::generate;
+use super::job::{FilterRun, Mode, RobotJob, StepJob};
 use crate::dataset::{Dataset, Kind, simulate};
 use crate::ekf::{self, UpdateMode, increments};
+use crate::grading::{Job, PlannedCase, RunPhase, function_phases, planned_cases};
 use crate::rng::Rng;
 use nalgebra::Vector3;
-use serde::{Deserialize, Serialize};
-use serde_json::{Value, json};
 
-/// The seed of the public suite, the same for every student.
-pub const PUBLIC_SEED: u64 = 2320;
-/// Cases of each function in the public suite and in the student's variant.
-pub const CASES_PER_FUNCTION: usize = 6;
-/// How long the student's code may take over all the cases of one function.
-pub const FUNCTION_LIMIT_MS: u32 = 2_000;
 /// How long the student's code may take over one whole data-set run.
 pub const RUN_LIMIT_MS: u32 = 5_000;
 
@@ -27,39 +21,8 @@ pub struct Plan {
     pub seed: u64,
     /// The seed of the hidden cases and data sets, known to the server only.
     pub hidden: Option<u64>,
-    pub cases: Vec<PlannedCase>,
+    pub cases: Vec<PlannedCase<Call>>,
     pub runs: Vec<RunSpec>,
-}
-
-/// Where a case comes from, which decides what the student is shown of it.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Suite {
-    /// The same for every student, shown in full.
-    Public,
-    /// The student's own variant (from their seed), shown in full.
-    Variant,
-    /// Drawn from the server's secret for this submission: a failure shows its hint, not
-    /// its arguments or expected outputs.
-    Hidden,
-}
-
-impl Suite {
-    /// The mark in a case's id: `predict/p3`, `predict/s3`, `predict/h3`.
-    fn mark(self) -> &'static str {
-        match self {
-            Suite::Public => "p",
-            Suite::Variant => "s",
-            Suite::Hidden => "h",
-        }
-    }
-}
-
-/// A case of the plan and the suite it belongs to.
-#[derive(Clone, Debug)]
-pub struct PlannedCase {
-    pub suite: Suite,
-    pub case: Case,
 }
 
 /// The readings of each data set that grading runs through: the first few hundred, so
@@ -89,29 +52,12 @@ pub struct RunSpec {
 
 impl Plan {
     /// The public suite, the variant of `seed`, and one data set of each kind from `seed`
-    /// (sequential updates on the first two, batch and sequential on the third): what
-    /// the browser and `estlab grade` check, since they know no secret.
-    pub fn new(seed: u64) -> Plan {
-        Plan::make(seed, None)
-    }
-
-    /// The plan of `new`, with hidden cases of every function from `hidden` besides, and
-    /// the data sets drawn from `hidden` instead of `seed`: what the server checks.
-    pub fn with_hidden(seed: u64, hidden: u64) -> Plan {
-        Plan::make(seed, Some(hidden))
-    }
-
-    fn make(seed: u64, hidden: Option<u64>) -> Plan {
-        let mut cases = suite(PUBLIC_SEED, Suite::Public);
-        cases.extend(suite(seed, Suite::Variant));
-        if let Some(hidden) = hidden {
-            cases.extend(suite(hidden, Suite::Hidden));
-        }
-        cases.sort_by_key(|planned| {
-            FUNCTIONS
-                .iter()
-                .position(|f| *f == planned.case.call.function())
-        });
+    /// (sequential updates on the first two, batch and sequential on the third): what the
+    /// browser and `estlab grade` check, since they know no secret. With a seed of hidden
+    /// cases (`hidden`), hidden cases of every function besides, and the data sets drawn
+    /// from `hidden` instead of `seed`: what the server checks.
+    pub fn new(seed: u64, hidden: Option<u64>) -> Plan {
+        let cases = planned_cases(generate, seed, hidden);
         let mut runs = Vec::new();
         for kind in Kind::ALL {
             let (data_seed, data) = qualified_data(kind, hidden.unwrap_or(seed));
@@ -137,12 +83,6 @@ impl Plan {
         }
     }
 
-    pub fn cases_of<'a>(&'a self, function: &'a str) -> impl Iterator<Item = &'a PlannedCase> + 'a {
-        self.cases
-            .iter()
-            .filter(move |planned| planned.case.call.function() == function)
-    }
-
     pub fn run(&self, name: &str) -> Option<&RunSpec> {
         self.runs.iter().find(|run| run.name == name)
     }
@@ -150,22 +90,8 @@ impl Plan {
     /// What the harness needs to call the student's code: the arguments of every case (not
     /// the expected outputs) and the data of every run (not the ground truth).
     pub fn job(&self) -> Job {
-        let functions = FUNCTIONS
-            .iter()
-            .map(|&function| FunctionPhase {
-                function: function.to_owned(),
-                calls: self
-                    .cases_of(function)
-                    .map(|PlannedCase { case, .. }| CallJob {
-                        id: case.id.clone(),
-                        args: arguments(&case.call),
-                    })
-                    .collect(),
-                limit_ms: FUNCTION_LIMIT_MS,
-            })
-            .collect();
         Job {
-            functions,
+            functions: function_phases(&self.cases),
             runs: self.runs.iter().map(run_job).collect(),
         }
     }
@@ -180,19 +106,6 @@ pub fn mode_name(mode: UpdateMode) -> &'static str {
         UpdateMode::Sequential => "sequential",
         UpdateMode::Batch => "batch",
     }
-}
-
-/// The cases of one seed, their ids marked with the suite (`predict/p3` is public,
-/// `predict/s3` the student's own, `predict/h3` hidden).
-fn suite(seed: u64, suite: Suite) -> Vec<PlannedCase> {
-    generate(seed, CASES_PER_FUNCTION)
-        .into_iter()
-        .map(|mut case| {
-            let (function, number) = case.id.split_once('/').expect("ids are function/number");
-            case.id = format!("{function}/{}{number}", suite.mark());
-            PlannedCase { suite, case }
-        })
-        .collect()
 }
 
 /// The first data set of this kind drawn from the student's seed (cut to the graded
@@ -288,100 +201,6 @@ pub fn bound(kind: Kind) -> f64 {
     }
 }
 
-/// The arguments of a call in the contract's order; an infinite `Lambda_M` as the string
-/// "Infinity" (the harness turns it back into a number).
-pub fn arguments(call: &Call) -> Vec<Value> {
-    let threshold = |lambda: &f64| {
-        if lambda.is_infinite() {
-            json!("Infinity")
-        } else {
-            json!(lambda)
-        }
-    };
-    match call {
-        Call::CalculateOdometry {
-            e_r,
-            e_l,
-            e_t,
-            b,
-            r_r,
-            r_l,
-            delta_t,
-            mu,
-        } => vec![
-            json!(e_r),
-            json!(e_l),
-            json!(e_t),
-            json!(b),
-            json!(r_r),
-            json!(r_l),
-            json!(delta_t),
-            json!(mu),
-        ],
-        Call::Predict { mu, sigma, u, r } => vec![json!(mu), json!(sigma), json!(u), json!(r)],
-        Call::ObservationModel { x, m, j } => vec![json!(x), json!(m), json!(j)],
-        Call::JacobianObservationModel { x, m, j, z_hat } => {
-            vec![json!(x), json!(m), json!(j), json!(z_hat)]
-        }
-        Call::Associate {
-            mu_bar,
-            sigma_bar,
-            z_i,
-            m,
-            lambda_m,
-            q,
-        } => vec![
-            json!(mu_bar),
-            json!(sigma_bar),
-            json!(z_i),
-            json!(m),
-            threshold(lambda_m),
-            json!(q),
-        ],
-        Call::BatchAssociate {
-            mu_bar,
-            sigma_bar,
-            z,
-            m,
-            lambda_m,
-            q,
-        } => vec![
-            json!(mu_bar),
-            json!(sigma_bar),
-            json!(z),
-            json!(m),
-            threshold(lambda_m),
-            json!(q),
-        ],
-        Call::Update {
-            mu_bar,
-            sigma_bar,
-            h,
-            s,
-            nu,
-        } => vec![
-            json!(mu_bar),
-            json!(sigma_bar),
-            json!(h),
-            json!(s),
-            json!(nu),
-        ],
-        Call::BatchUpdate {
-            mu_bar,
-            sigma_bar,
-            h_bar,
-            q_bar,
-            nu_bar,
-        } => vec![
-            json!(mu_bar),
-            json!(sigma_bar),
-            json!(h_bar),
-            json!(q_bar),
-            json!(nu_bar),
-        ],
-    }
-}
-
 fn run_job(run: &RunSpec) -> RunPhase {
     let steps = run
         .data
@@ -401,8 +220,25 @@ fn run_job(run: &RunSpec) -> RunPhase {
         .collect();
     let robot = run.kind.lab_settings().robot;
     let landmarks = run.data.map.landmarks();
-    RunPhase {
+    let functions: &[&str] = match run.mode {
+        UpdateMode::Sequential => &[
+            "init",
+            "calculate_odometry",
+            "predict",
+            "associate",
+            "update",
+        ],
+        UpdateMode::Batch => &[
+            "init",
+            "calculate_odometry",
+            "predict",
+            "batch_associate",
+            "batch_update",
+        ],
+    };
+    RunPhase::Filter(FilterRun {
         name: run.name.clone(),
+        functions: functions.iter().map(|&f| f.to_owned()).collect(),
         dataset: run.kind.name().to_owned(),
         mode: match run.mode {
             UpdateMode::Sequential => Mode::Sequential,
@@ -420,7 +256,7 @@ fn run_job(run: &RunSpec) -> RunPhase {
         ],
         steps,
         limit_ms: RUN_LIMIT_MS,
-    }
+    })
 }
 
 #[cfg(test)]
@@ -433,7 +269,7 @@ mod tests {
     #[test]
     fn every_plan_shows_that_the_batch_update_wins_without_odometry() {
         for seed in 1..=60 {
-            let plan = Plan::new(seed);
+            let plan = Plan::new(seed, None);
             let run = plan.run("no-odometry/batch").expect("a batch run");
             let error = |mode| {
                 let settings = ekf::Settings {

@@ -723,9 +723,9 @@ fn stacked_update(rng: &mut Rng) -> Call {
 
 #[cfg(test)]
 mod tests {
+    use super::super::contract::matrix3;
     use super::*;
-    use crate::cases::Tolerance;
-    use crate::cases::contract::matrix3;
+    use crate::grading::{Contract, Tolerance};
 
     #[test]
     fn the_same_seed_gives_the_same_cases() {

@@ -1,330 +1,35 @@
-//! Grading: the student's outputs against the reference, test by test. Each function's
-//! test earns its points in proportion to the cases it passes; each data-set test earns
-//! its points when the run stays within the lab's bound.
+//! Grading the EKF localization exercise: the tests of the functions (as every exercise's
+//! are graded), and a test per kind of data set, which earns its points when the
+//! student's filter loop stays within the lab's bound.
 
-use super::hints::{HintKind, describe, diagnose};
-use super::outputs::{FunctionOutput, Outputs, RunOutput};
-use super::plan::{
-    FUNCTION_LIMIT_MS, Plan, PlannedCase, RUN_LIMIT_MS, RunSpec, Suite, bound, mode_name,
-};
-use super::result::{
-    Failure, GradeResult, KEPT_MESSAGE, RunFigures, Status, Test, Visibility, clip,
-};
-use crate::cases::{FUNCTIONS, HEADING_TURNS, Tolerance, heading_within_turns};
+use super::hints::HintKind;
+use super::plan::{Plan, RUN_LIMIT_MS, RunSpec, bound, mode_name};
+use crate::Exercise;
 use crate::dataset::Kind;
 use crate::ekf::{self, Belief, Decision, UpdateMode};
+use crate::grading::{
+    FunctionVerdicts, GradeResult, HEADING_TURNS, Outputs, POINTS, RunFigures, RunOutput, Status,
+    Test, Visibility, describe, function_tests, heading_within_turns,
+};
 use nalgebra::{Matrix2, Matrix3, Vector3};
 use serde_json::Value;
 
-/// The exercise graded here, by name.
-pub const LAB: &str = crate::Exercise::EkfLocalization.name();
-/// Points of each function's test and of each data-set test.
-pub const POINTS: f64 = 10.0;
-/// Failing cases shown in detail per function.
-const SHOWN_FAILURES: usize = 4;
-/// Failing cases kept in the result in detail (arguments, expected and returned values),
-/// which keeps a stored result within tens of kilobytes whatever the file returns.
-const DETAILED_FAILURES: usize = 2;
-
 /// Grades what the harness reported. Tests whose outputs are missing fail as not run.
 pub fn grade(plan: &Plan, outputs: &Outputs) -> GradeResult {
-    let mut tests: Vec<Test> = FUNCTIONS
-        .iter()
-        .map(|&function| {
-            let output = outputs.functions.iter().find(|f| f.function == function);
-            function_test(plan, function, output)
-        })
-        .collect();
-    // What the data-set tests say of the functions: those that fail their own tests, and
-    // those whose tests have not run (the browser grades what has run so far).
-    let ran = |function: &str| outputs.functions.iter().any(|f| f.function == function);
-    let names = |wanted: &dyn Fn(&str, &Test) -> bool| -> String {
-        FUNCTIONS
-            .iter()
-            .zip(&tests)
-            .filter(|(function, test)| wanted(function, test))
-            .map(|(function, _)| *function)
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
-    let functions = FunctionVerdicts {
-        failing: names(&|function, test| ran(function) && test.status == Status::Failed),
-        not_run: names(&|function, _| !ran(function)),
-    };
+    let (mut tests, functions) = function_tests(&plan.cases, &outputs.functions);
     for kind in Kind::ALL {
         tests.push(dataset_test(plan, outputs, kind, &functions));
     }
-    for test in &mut tests {
-        test.message = clip(&test.message, KEPT_MESSAGE);
-    }
-    let points: f64 = tests.iter().map(|t| t.points).sum();
-    let max_points: f64 = tests.iter().map(|t| t.max_points).sum();
-    GradeResult {
-        lab: LAB.to_owned(),
-        seed: plan.seed,
-        gradable: true,
-        reason: None,
-        hidden_cases: plan.hidden.is_some(),
-        score: points / max_points,
-        points,
-        max_points,
+    GradeResult::graded(
+        Exercise::EkfLocalization,
+        plan.seed,
+        plan.hidden.is_some(),
         tests,
-    }
-}
-
-fn function_test(plan: &Plan, function: &str, output: Option<&FunctionOutput>) -> Test {
-    let cases: Vec<&PlannedCase> = plan.cases_of(function).collect();
-    let name = format!("{function}: {} cases", cases.len());
-    let Some(output) = output else {
-        return failed(name, "not run".to_owned());
-    };
-    let error = output.error.clone().or_else(|| {
-        output
-            .stopped
-            .as_ref()
-            .map(|s| s.message(FUNCTION_LIMIT_MS))
-    });
-    // Fails closed: a case passes only when its result matches the reference and its
-    // repeat in a fresh copy of the file gives the same answer; anything missing fails.
-    let mut failures = Vec::new();
-    let mut tally = Tally::default();
-    let (mut impure, mut unrepeated) = (false, false);
-    for planned in &cases {
-        let first = output.results.iter().find(|r| r.id == planned.case.id);
-        let repeat = output.repeats.iter().find(|r| r.id == planned.case.id);
-        let mut failure = check(
-            planned,
-            first.and_then(|r| r.output.as_ref()),
-            first.and_then(|r| r.error.clone()),
-        );
-        if failure.is_none() {
-            match repeat {
-                None => {
-                    unrepeated = true;
-                    failure = check(planned, None, Some(NOT_REPEATED.to_owned()));
-                }
-                Some(repeat)
-                    if first.is_some_and(|first| {
-                        first.output != repeat.output || first.error != repeat.error
-                    }) =>
-                {
-                    impure = true;
-                    failure = check(planned, None, Some(ANSWERED_DIFFERENTLY.to_owned()));
-                }
-                Some(_) => {}
-            }
-        } else if repeat
-            .is_some_and(|repeat| first.is_some_and(|first| first.output != repeat.output))
-        {
-            impure = true;
-        }
-        tally.count(planned.suite, failure.is_none());
-        failures.extend(failure);
-    }
-    if output.results.is_empty() && error.is_some() {
-        // Nothing ran (the file does not load, or the phase was stopped): the error says
-        // why, and a list of cases not run would say nothing more.
-        failures.clear();
-    }
-    let mut lines = vec![tally.summary()];
-    if let Some(error) = &error {
-        lines.push(error.clone());
-    }
-    if unrepeated && error.is_none() {
-        lines.push(
-            "Some calls were not repeated in a fresh copy of your file, so the report is incomplete: does your file change built-in objects?"
-                .to_owned(),
-        );
-    }
-    if impure {
-        let hint = HintKind::StaleAssociation.hint();
-        lines.push(format!("Hint: {}", hint.text));
-        for failure in &mut failures {
-            failure.hint = Some(hint.clone());
-        }
-    }
-    // Bounded before they are written into the message: a thrown text, a hint naming the
-    // fields of a returned object, a large value, all within a few hundred characters.
-    for failure in &mut failures {
-        failure.bound();
-    }
-    // Hidden cases come last in a plan, so their lines close the list of failures.
-    let mut hidden_detail = Vec::new();
-    for failure in failures.iter().take(SHOWN_FAILURES) {
-        let line = failure_line(failure);
-        if failure.hidden {
-            hidden_detail.push(line.clone());
-        }
-        lines.push(line);
-    }
-    if failures.len() > SHOWN_FAILURES {
-        lines.push(format!(
-            "... and {} more failing cases.",
-            failures.len() - SHOWN_FAILURES
-        ));
-    }
-    let all = failures.is_empty() && error.is_none();
-    failures.truncate(DETAILED_FAILURES);
-    Test {
-        name,
-        points: if all { POINTS } else { POINTS * tally.share() },
-        max_points: POINTS,
-        status: if all { Status::Passed } else { Status::Failed },
-        visibility: Visibility::Visible,
-        message: lines.join("\n"),
-        hidden_detail: hidden_detail.join("\n"),
-        failures,
-        run: None,
-        hints: Vec::new(),
-    }
-}
-
-/// What a case that passed says when its repeat in a fresh copy of the file is missing.
-const NOT_REPEATED: &str =
-    "not repeated in a fresh copy of your file, so its answer cannot be counted";
-/// What a case that passed says when its repeat answered differently.
-const ANSWERED_DIFFERENTLY: &str = "answered differently when called again in a fresh copy of your file (the calls in reverse order): the function keeps state between calls";
-
-/// The cases of a function that pass, of those shown to the student (public and their
-/// variant) and of the hidden ones.
-#[derive(Default)]
-struct Tally {
-    shown: (usize, usize),
-    hidden: (usize, usize),
-}
-
-impl Tally {
-    fn count(&mut self, suite: Suite, passed: bool) {
-        let (pass, all) = match suite {
-            Suite::Public | Suite::Variant => &mut self.shown,
-            Suite::Hidden => &mut self.hidden,
-        };
-        *pass += usize::from(passed);
-        *all += 1;
-    }
-
-    /// The share of the points earned: the share of the cases passed, and with hidden
-    /// cases the smaller share of the two kinds, so that answering the shown cases from a
-    /// table earns nothing.
-    fn share(&self) -> f64 {
-        let rate = |(pass, all): (usize, usize)| pass as f64 / all.max(1) as f64;
-        if self.hidden.1 == 0 {
-            rate(self.shown)
-        } else {
-            rate(self.shown).min(rate(self.hidden))
-        }
-    }
-
-    fn summary(&self) -> String {
-        let (pass, all) = self.shown;
-        if self.hidden.1 == 0 {
-            return format!("{pass} of {all} cases pass.");
-        }
-        format!(
-            "{pass} of {all} shown cases and {} of {} hidden cases pass (a function earns the smaller share of the two).",
-            self.hidden.0, self.hidden.1
-        )
-    }
-}
-
-/// The failure of one case, or None when it passes.
-fn check(planned: &PlannedCase, got: Option<&Value>, error: Option<String>) -> Option<Failure> {
-    let case = &planned.case;
-    let mut failure = Failure {
-        case: case.id.clone(),
-        note: case.note.clone(),
-        hidden: planned.suite == Suite::Hidden,
-        differing: 0,
-        args: serde_json::to_value(&case.call)
-            .map(|v| v["args"].clone())
-            .unwrap_or_default(),
-        expected: case.expected.clone(),
-        got: got.cloned(),
-        error,
-        mismatches: Vec::new(),
-        hint: None,
-    };
-    let Some(got) = got else {
-        failure.error.get_or_insert_with(|| "not run".to_owned());
-        return Some(failure.concealed());
-    };
-    let mismatches = case.check(got, Tolerance::default());
-    if mismatches.is_empty() {
-        return None;
-    }
-    failure.hint = diagnose(&case.call, &case.expected, got, &mismatches);
-    failure.mismatches = mismatches;
-    Some(failure.concealed())
-}
-
-fn failure_line(failure: &Failure) -> String {
-    let mut line = format!("{} ({}): ", failure.case, failure.note);
-    if let Some(error) = &failure.error {
-        line.push_str(error);
-    } else if failure.hidden {
-        line.push_str(&format!(
-            "a hidden case: {} of its outputs differ (its values are not shown)",
-            failure.differing
-        ));
-    } else {
-        let shown: Vec<String> = failure
-            .mismatches
-            .iter()
-            .take(3)
-            .map(|m| {
-                let place = if m.path.is_empty() { "output" } else { &m.path };
-                format!(
-                    "{place}: expected {}, got {}{}",
-                    short(&m.expected),
-                    short(&m.got),
-                    m.problem.explanation()
-                )
-            })
-            .collect();
-        line.push_str(&shown.join("; "));
-        if failure.mismatches.len() > 3 {
-            line.push_str(&format!("; and {} more", failure.mismatches.len() - 3));
-        }
-    }
-    if let Some(hint) = &failure.hint {
-        line.push_str(&format!("\n  Hint: {}", hint.text));
-    }
-    line
-}
-
-/// A value for a message: numbers and short arrays as they are, anything larger in words.
-fn short(value: &Value) -> String {
-    let text = value.to_string();
-    if text.len() <= 60 {
-        text
-    } else {
-        describe(value)
-    }
-}
-
-fn failed(name: String, message: String) -> Test {
-    Test {
-        name,
-        points: 0.0,
-        max_points: POINTS,
-        status: Status::Failed,
-        visibility: Visibility::Visible,
-        message,
-        hidden_detail: String::new(),
-        failures: Vec::new(),
-        run: None,
-        hints: Vec::new(),
-    }
+    )
 }
 
 /// The test of a data set: the first run of its kind in the plan is held to the lab's
 /// bound; any other (the sequential update without odometry) is shown for comparison.
-/// The functions named in a failing data-set test's message, comma-separated.
-struct FunctionVerdicts {
-    failing: String,
-    not_run: String,
-}
-
 fn dataset_test(plan: &Plan, outputs: &Outputs, kind: Kind, functions: &FunctionVerdicts) -> Test {
     let mut specs = plan.runs.iter().filter(|r| r.kind == kind);
     let graded = specs.next().expect("the plan runs every kind of data set");
@@ -375,17 +80,8 @@ fn dataset_test(plan: &Plan, outputs: &Outputs, kind: Kind, functions: &Function
     } else {
         format!("Failed: every mean absolute error must be below the lab's bound of {bound}.")
     };
-    if !passed && !functions.failing.is_empty() {
-        verdict += &format!(
-            " These functions fail their own tests: {}.",
-            functions.failing
-        );
-    }
-    if !passed && !functions.not_run.is_empty() {
-        verdict += &format!(
-            " The tests of these functions have not run yet: {}.",
-            functions.not_run
-        );
+    if !passed {
+        verdict += &functions.explain();
     }
     let mut lines = vec![verdict];
     lines.push(match &graded_run {
@@ -648,18 +344,20 @@ pub fn student_run(spec: &RunSpec, output: &RunOutput) -> Result<ekf::Run, Strin
 
 #[cfg(test)]
 mod tests {
+    use super::super::contract::{Call, FUNCTIONS};
     use super::*;
-    use crate::grading::{CallResult, FunctionOutput, PhaseOutput};
+    use crate::grading::{
+        CallResult, Failure, FunctionOutput, PhaseOutput, PlannedCase, Suite, cases_of,
+    };
 
     /// What a function's phase reports when every case gets `answer(case)`, each call
     /// repeated alike.
     fn answered(
         plan: &Plan,
         function: &str,
-        answer: impl Fn(&PlannedCase) -> Option<Value>,
+        answer: impl Fn(&PlannedCase<Call>) -> Option<Value>,
     ) -> FunctionOutput {
-        let results: Vec<CallResult> = plan
-            .cases_of(function)
+        let results: Vec<CallResult> = cases_of(&plan.cases, function)
             .filter_map(|planned| {
                 answer(planned).map(|output| CallResult {
                     id: planned.case.id.clone(),
@@ -690,7 +388,7 @@ mod tests {
 
     #[test]
     fn the_reference_answers_pass_and_a_phase_without_results_fails() {
-        let plan = Plan::new(1);
+        let plan = Plan::new(1, None);
         let right = function_result(
             &plan,
             answered(&plan, "predict", |p| Some(p.case.expected.clone())),
@@ -711,7 +409,7 @@ mod tests {
 
     #[test]
     fn an_unreadable_report_fails_its_phase_and_the_submission_stays_gradable() {
-        let plan = Plan::new(1);
+        let plan = Plan::new(1, None);
         for report in [
             "{\"function\": \"predict\", \"results\": NaN}",
             "[]",
@@ -729,8 +427,8 @@ mod tests {
 
     #[test]
     fn hidden_cases_reveal_nothing_and_a_table_of_the_shown_cases_earns_nothing() {
-        let plan = Plan::with_hidden(1, 77);
-        assert_eq!(plan.cases_of("update").count(), 18);
+        let plan = Plan::new(1, Some(77));
+        assert_eq!(cases_of(&plan.cases, "update").count(), 18);
         // A lookup table: the shown cases answered, the hidden ones with a guess.
         let table = function_result(
             &plan,
@@ -765,7 +463,7 @@ mod tests {
 
     #[test]
     fn a_huge_output_is_stored_in_words() {
-        let plan = Plan::new(1);
+        let plan = Plan::new(1, None);
         let huge = serde_json::json!(vec![1.5; 15_000]);
         let test = function_result(
             &plan,
@@ -774,12 +472,12 @@ mod tests {
         let stored = serde_json::to_string(&test).unwrap();
         assert!(stored.len() < 8 << 10, "{} bytes", stored.len());
         assert!(stored.contains("an array of 15000 numbers"), "{stored}");
-        assert_eq!(test.failures.len(), DETAILED_FAILURES);
+        assert_eq!(test.failures.len(), 2, "failures kept in detail");
     }
 
     #[test]
     fn the_data_set_tests_tell_functions_that_fail_from_functions_not_run_yet() {
-        let plan = Plan::new(1);
+        let plan = Plan::new(1, None);
         // One function's tests run (and fail), the data sets and the other functions not.
         let outputs = Outputs {
             functions: vec![answered(&plan, "predict", |_| Some(Value::Null))],
@@ -805,7 +503,7 @@ mod tests {
     #[test]
     fn a_stored_result_is_a_few_kilobytes_however_wrong_the_file() {
         // Every function answers every case with the right shapes and wrong numbers.
-        let plan = Plan::new(1);
+        let plan = Plan::new(1, None);
         let wrong = |value: &Value| -> Value {
             fn nudge(value: &Value) -> Value {
                 match value {

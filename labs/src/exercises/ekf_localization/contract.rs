@@ -1,10 +1,14 @@
 //! The student functions of the EKF localization exercise, in the shapes of the public
-//! contract (`DESIGN.md`): vectors are arrays, matrices arrays of rows, the map `M` is
+//! contract (`DESIGN.md`, "The student contract"): vectors are arrays, matrices arrays of rows, the map `M` is
 //! 2 x N, indices are 0-based. A [`Call`] is one call of one function with its arguments;
 //! [`reference`] answers it with the reference implementation, in the same shapes.
 
-use crate::Error;
+use super::hints::{HintKind, diagnose};
 use crate::ekf::{self, Belief, Landmark, Map, Robot};
+use crate::grading::{
+    self, Contract, Hint, Kind, Mismatch, Shape, matrix, pose, range_bearing, repeat,
+};
+use crate::{Error, Exercise};
 use nalgebra::{Matrix2, Matrix2x3, Matrix3, Vector2, Vector3};
 use serde::{Deserialize, Serialize};
 use serde_json::{Value, json};
@@ -63,7 +67,7 @@ pub enum Call {
         z_i: Vec2,
         #[serde(rename = "M")]
         m: TwoRows,
-        #[serde(rename = "Lambda_M", with = "threshold")]
+        #[serde(rename = "Lambda_M", with = "grading::infinity")]
         lambda_m: f64,
         #[serde(rename = "Q")]
         q: Mat2,
@@ -74,7 +78,7 @@ pub enum Call {
         z: TwoRows,
         #[serde(rename = "M")]
         m: TwoRows,
-        #[serde(rename = "Lambda_M", with = "threshold")]
+        #[serde(rename = "Lambda_M", with = "grading::infinity")]
         lambda_m: f64,
         #[serde(rename = "Q")]
         q: Mat2,
@@ -100,7 +104,7 @@ pub enum Call {
 }
 
 /// The student functions, in the order the exercise introduces them.
-pub const FUNCTIONS: [&str; 8] = [
+pub const FUNCTIONS: &[&str] = &[
     "calculate_odometry",
     "predict",
     "observation_model",
@@ -111,9 +115,13 @@ pub const FUNCTIONS: [&str; 8] = [
     "batch_update",
 ];
 
-impl Call {
-    /// The function's name in the contract.
-    pub fn function(&self) -> &'static str {
+impl Contract for Call {
+    const EXERCISE: Exercise = Exercise::EkfLocalization;
+    const FUNCTIONS: &'static [&'static str] = FUNCTIONS;
+    const KEEPS_STATE: grading::HintKind =
+        grading::HintKind::EkfLocalization(HintKind::StaleAssociation);
+
+    fn function(&self) -> &'static str {
         FUNCTIONS[match self {
             Call::CalculateOdometry { .. } => 0,
             Call::Predict { .. } => 1,
@@ -125,35 +133,67 @@ impl Call {
             Call::BatchUpdate { .. } => 7,
         }]
     }
-}
 
-/// `Lambda_M` may be infinite (delta_M = 1), which JSON cannot write as a number: it is
-/// written as the string "Infinity".
-mod threshold {
-    use serde::{Deserialize, Deserializer, Serializer, de::Error};
-
-    pub fn serialize<S: Serializer>(value: &f64, serializer: S) -> Result<S::Ok, S::Error> {
-        if value.is_infinite() && *value > 0.0 {
-            serializer.serialize_str("Infinity")
-        } else {
-            serializer.serialize_f64(*value)
-        }
+    fn arguments(&self) -> Vec<Value> {
+        arguments(self)
     }
 
-    pub fn deserialize<'de, D: Deserializer<'de>>(deserializer: D) -> Result<f64, D::Error> {
-        #[derive(Deserialize)]
-        #[serde(untagged)]
-        enum Threshold {
-            Number(f64),
-            Text(String),
+    fn output_shape(&self) -> (&'static str, Shape) {
+        output_shape(self)
+    }
+
+    fn reference(&self) -> Result<Value, Error> {
+        reference(self)
+    }
+
+    fn diagnose(&self, expected: &Value, got: &Value, mismatches: &[Mismatch]) -> Option<Hint> {
+        diagnose(self, expected, got, mismatches)
+    }
+}
+
+/// The name of a function's output in the contract (the root of every path into it), and
+/// its shape for this call.
+fn output_shape(call: &Call) -> (&'static str, Shape) {
+    match call {
+        Call::CalculateOdometry { .. } => ("u", pose()),
+        Call::Predict { .. } => (
+            "",
+            Shape::Object(vec![("mu_bar", pose()), ("sigma_bar", matrix(3, 3))]),
+        ),
+        Call::ObservationModel { .. } => ("z_hat", range_bearing()),
+        Call::JacobianObservationModel { .. } => ("H", matrix(2, 3)),
+        Call::Associate { m, .. } => {
+            let n = m[0].len();
+            (
+                "",
+                Shape::Object(vec![
+                    ("c", Shape::Scalar(Kind::Index)),
+                    ("outlier", Shape::Scalar(Kind::Flag)),
+                    ("nu", repeat(n, range_bearing())),
+                    ("S", repeat(n, matrix(2, 2))),
+                    ("H", repeat(n, matrix(2, 3))),
+                ]),
+            )
         }
-        match Threshold::deserialize(deserializer)? {
-            Threshold::Number(value) => Ok(value),
-            Threshold::Text(text) if text == "Infinity" => Ok(f64::INFINITY),
-            Threshold::Text(text) => Err(D::Error::custom(format!(
-                "Lambda_M: '{text}' is neither a number nor \"Infinity\""
-            ))),
+        Call::BatchAssociate { z, .. } => {
+            let n = z[0].len();
+            let nu_bar = (0..n)
+                .flat_map(|_| [Shape::Scalar(Kind::Number), Shape::Scalar(Kind::Bearing)])
+                .collect();
+            (
+                "",
+                Shape::Object(vec![
+                    ("c", repeat(n, Shape::Scalar(Kind::Index))),
+                    ("outlier", repeat(n, Shape::Scalar(Kind::Flag))),
+                    ("nu_bar", Shape::Array(nu_bar)),
+                    ("H_bar", matrix(2 * n, 3)),
+                ]),
+            )
         }
+        Call::Update { .. } | Call::BatchUpdate { .. } => (
+            "",
+            Shape::Object(vec![("mu", pose()), ("sigma", Shape::Symmetric(3))]),
+        ),
     }
 }
 
@@ -276,6 +316,94 @@ pub fn reference(call: &Call) -> Result<Value, Error> {
             posterior_json(&posterior)
         }
     })
+}
+
+/// The arguments of a call in the contract's order; an infinite `Lambda_M` as
+/// [`grading::infinity`] writes it (the harness turns it back into a number).
+fn arguments(call: &Call) -> Vec<Value> {
+    let threshold = |lambda: &f64| grading::infinity::value(*lambda);
+    match call {
+        Call::CalculateOdometry {
+            e_r,
+            e_l,
+            e_t,
+            b,
+            r_r,
+            r_l,
+            delta_t,
+            mu,
+        } => vec![
+            json!(e_r),
+            json!(e_l),
+            json!(e_t),
+            json!(b),
+            json!(r_r),
+            json!(r_l),
+            json!(delta_t),
+            json!(mu),
+        ],
+        Call::Predict { mu, sigma, u, r } => vec![json!(mu), json!(sigma), json!(u), json!(r)],
+        Call::ObservationModel { x, m, j } => vec![json!(x), json!(m), json!(j)],
+        Call::JacobianObservationModel { x, m, j, z_hat } => {
+            vec![json!(x), json!(m), json!(j), json!(z_hat)]
+        }
+        Call::Associate {
+            mu_bar,
+            sigma_bar,
+            z_i,
+            m,
+            lambda_m,
+            q,
+        } => vec![
+            json!(mu_bar),
+            json!(sigma_bar),
+            json!(z_i),
+            json!(m),
+            threshold(lambda_m),
+            json!(q),
+        ],
+        Call::BatchAssociate {
+            mu_bar,
+            sigma_bar,
+            z,
+            m,
+            lambda_m,
+            q,
+        } => vec![
+            json!(mu_bar),
+            json!(sigma_bar),
+            json!(z),
+            json!(m),
+            threshold(lambda_m),
+            json!(q),
+        ],
+        Call::Update {
+            mu_bar,
+            sigma_bar,
+            h,
+            s,
+            nu,
+        } => vec![
+            json!(mu_bar),
+            json!(sigma_bar),
+            json!(h),
+            json!(s),
+            json!(nu),
+        ],
+        Call::BatchUpdate {
+            mu_bar,
+            sigma_bar,
+            h_bar,
+            q_bar,
+            nu_bar,
+        } => vec![
+            json!(mu_bar),
+            json!(sigma_bar),
+            json!(h_bar),
+            json!(q_bar),
+            json!(nu_bar),
+        ],
+    }
 }
 
 fn posterior_json(posterior: &Belief) -> Value {

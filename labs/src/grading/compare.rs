@@ -1,9 +1,9 @@
-//! Comparison of a function's output with the reference output: numbers within an
-//! absolute and relative tolerance, indices and flags exactly, headings modulo 2 pi (but
-//! only within a few turns of [-pi, pi), since far enough out the modulo hides any answer),
-//! and bearings that the contract says are wrapped checked to lie in [-pi, pi).
+//! Comparison of a student function's output with the reference output, for every
+//! exercise: numbers within an absolute and relative tolerance, indices and flags exactly,
+//! headings modulo 2 pi (but only within a few turns of [-pi, pi), since far enough out the
+//! modulo hides any answer), and angles that the contract says are wrapped checked to lie
+//! in [-pi, pi). An exercise's contract gives each output its [`Shape`].
 
-use super::contract::Call;
 use crate::angle::difference;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
@@ -40,20 +40,23 @@ pub enum Shape {
 /// far out (1e300, say) the difference modulo 2 pi is exactly 0 for any answer.
 pub const HEADING_TURNS: f64 = 2.0;
 
-fn numbers(n: usize) -> Shape {
+/// n numbers.
+pub fn numbers(n: usize) -> Shape {
     Shape::Array(vec![Shape::Scalar(Kind::Number); n])
 }
 
-fn matrix(rows: usize, cols: usize) -> Shape {
+/// A rows x cols matrix, as an array of rows.
+pub fn matrix(rows: usize, cols: usize) -> Shape {
     Shape::Array(vec![numbers(cols); rows])
 }
 
-fn repeat(n: usize, shape: Shape) -> Shape {
+/// n elements of one shape.
+pub fn repeat(n: usize, shape: Shape) -> Shape {
     Shape::Array(vec![shape; n])
 }
 
 /// A pose or a control: x, y, then a heading.
-fn pose() -> Shape {
+pub fn pose() -> Shape {
     Shape::Array(vec![
         Shape::Scalar(Kind::Number),
         Shape::Scalar(Kind::Number),
@@ -62,57 +65,11 @@ fn pose() -> Shape {
 }
 
 /// A range-bearing pair with the bearing wrapped.
-fn range_bearing() -> Shape {
+pub fn range_bearing() -> Shape {
     Shape::Array(vec![
         Shape::Scalar(Kind::Number),
         Shape::Scalar(Kind::Bearing),
     ])
-}
-
-/// The name of a function's output in the contract (the root of every path into it), and
-/// its shape for this call.
-pub fn output_shape(call: &Call) -> (&'static str, Shape) {
-    match call {
-        Call::CalculateOdometry { .. } => ("u", pose()),
-        Call::Predict { .. } => (
-            "",
-            Shape::Object(vec![("mu_bar", pose()), ("sigma_bar", matrix(3, 3))]),
-        ),
-        Call::ObservationModel { .. } => ("z_hat", range_bearing()),
-        Call::JacobianObservationModel { .. } => ("H", matrix(2, 3)),
-        Call::Associate { m, .. } => {
-            let n = m[0].len();
-            (
-                "",
-                Shape::Object(vec![
-                    ("c", Shape::Scalar(Kind::Index)),
-                    ("outlier", Shape::Scalar(Kind::Flag)),
-                    ("nu", repeat(n, range_bearing())),
-                    ("S", repeat(n, matrix(2, 2))),
-                    ("H", repeat(n, matrix(2, 3))),
-                ]),
-            )
-        }
-        Call::BatchAssociate { z, .. } => {
-            let n = z[0].len();
-            let nu_bar = (0..n)
-                .flat_map(|_| [Shape::Scalar(Kind::Number), Shape::Scalar(Kind::Bearing)])
-                .collect();
-            (
-                "",
-                Shape::Object(vec![
-                    ("c", repeat(n, Shape::Scalar(Kind::Index))),
-                    ("outlier", repeat(n, Shape::Scalar(Kind::Flag))),
-                    ("nu_bar", Shape::Array(nu_bar)),
-                    ("H_bar", matrix(2 * n, 3)),
-                ]),
-            )
-        }
-        Call::Update { .. } | Call::BatchUpdate { .. } => (
-            "",
-            Shape::Object(vec![("mu", pose()), ("sigma", Shape::Symmetric(3))]),
-        ),
-    }
 }
 
 /// How close a number must be: |got - expected| <= absolute + relative |expected|.
