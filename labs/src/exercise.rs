@@ -12,15 +12,20 @@ pub enum Exercise {
     #[default]
     #[serde(rename = "ekf-localization")]
     EkfLocalization,
+    /// Odometry of a differential-drive robot and how its error grows: one step, its
+    /// Jacobians, the wheels' noise and the propagation of the pose's covariance.
+    #[serde(rename = "odometry")]
+    Odometry,
 }
 
 impl Exercise {
     /// Every graded exercise.
-    pub const ALL: [Exercise; 1] = [Exercise::EkfLocalization];
+    pub const ALL: [Exercise; 2] = [Exercise::EkfLocalization, Exercise::Odometry];
 
     pub const fn name(self) -> &'static str {
         match self {
             Exercise::EkfLocalization => "ekf-localization",
+            Exercise::Odometry => "odometry",
         }
     }
 
@@ -72,7 +77,7 @@ mod tests {
         let unknown = "particle-filter".parse::<Exercise>().unwrap_err();
         assert_eq!(
             unknown.to_string(),
-            "unknown exercise \"particle-filter\"; the exercises graded here: ekf-localization"
+            "unknown exercise \"particle-filter\"; the exercises graded here: ekf-localization, odometry"
         );
     }
 }

@@ -503,8 +503,35 @@
     }
   }
 
+  /// The odometry exercise's loop along a path: from the start pose, known exactly
+  /// (Sigma_p = 0), every step carries the pose's covariance through the step's Jacobians
+  /// and adds the wheels' noise, then takes the step; the pose and its covariance after
+  /// every step are recorded.
+  function pathLoop(run, out, invoke, at, progress) {
+    const b = run.b;
+    let p = copy(run.start);
+    let sigma = [[0, 0, 0], [0, 0, 0], [0, 0, 0]];
+    for (let k = 0; k < run.steps.length; k++) {
+      const ds_r = run.steps[k][0];
+      const ds_l = run.steps[k][1];
+      if (k % 100 === 0) progress(run.name + ': step ' + (k + 1));
+      at.step = 'at step ' + (k + 1) + ', ';
+      const Fp = matrix(3, 3)(invoke('pose_jacobian', [copy(p), ds_r, ds_l, b]), 'F_p');
+      const Fdelta = matrix(3, 2)(invoke('increment_jacobian', [copy(p), ds_r, ds_l, b]),
+        'F_delta');
+      const sigmaDelta = matrix(2, 2)(invoke('wheel_noise', [ds_r, ds_l, run.k_r, run.k_l]),
+        'Sigma_delta');
+      sigma = matrix(3, 3)(invoke('propagate', [copy(sigma), Fp, Fdelta, sigmaDelta]),
+        'Sigma_p_next');
+      p = vector(3)(invoke('odometry_step', [copy(p), ds_r, ds_l, b]), 'p_next');
+      push(out.mu, copy(p));
+      push(out.sigma, [sigma[0][0], sigma[0][1], sigma[0][2], sigma[1][0], sigma[1][1],
+        sigma[1][2], sigma[2][0], sigma[2][1], sigma[2][2]]);
+    }
+  }
+
   /// The loops of the exercises, by the name the job gives (`RunPhase` in Rust).
-  const LOOPS = freeze({ __proto__: null, filter: filterLoop });
+  const LOOPS = freeze({ __proto__: null, filter: filterLoop, path: pathLoop });
 
   function blockDiagonal(Q, n) {
     const out = [];

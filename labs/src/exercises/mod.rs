@@ -3,3 +3,4 @@
 //! is in [`crate::grading`]; `DESIGN.md`, "Adding an exercise", says how to add one.
 
 pub mod ekf_localization;
+pub mod odometry;

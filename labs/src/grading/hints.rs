@@ -4,7 +4,7 @@
 //! every exercise's diagnosis uses.
 
 use super::compare::Mismatch;
-use crate::exercises::ekf_localization;
+use crate::exercises::{ekf_localization, odometry};
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
@@ -21,6 +21,7 @@ pub struct Hint {
 pub enum HintKind {
     Common(Common),
     EkfLocalization(ekf_localization::HintKind),
+    Odometry(odometry::HintKind),
 }
 
 /// The mistakes an output of any exercise can show.
@@ -59,6 +60,7 @@ impl HintKind {
         match self {
             HintKind::Common(kind) => kind.text(),
             HintKind::EkfLocalization(kind) => kind.text(),
+            HintKind::Odometry(kind) => kind.text(),
         }
     }
 

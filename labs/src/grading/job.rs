@@ -4,6 +4,7 @@
 //! by [`Plan::job`](super::Plan::job); the harness reads it as JSON.
 
 use crate::exercises::ekf_localization::FilterRun;
+use crate::exercises::odometry::PathRun;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
@@ -37,6 +38,8 @@ pub struct CallJob {
 pub enum RunPhase {
     /// The EKF localization exercise's filter loop over a data set.
     Filter(FilterRun),
+    /// The odometry exercise's loop along a path, propagating the pose's covariance.
+    Path(PathRun),
 }
 
 impl RunPhase {
@@ -44,6 +47,7 @@ impl RunPhase {
     pub fn name(&self) -> &str {
         match self {
             RunPhase::Filter(run) => &run.name,
+            RunPhase::Path(run) => &run.name,
         }
     }
 
@@ -51,6 +55,7 @@ impl RunPhase {
     pub fn limit_ms(&self) -> u32 {
         match self {
             RunPhase::Filter(run) => run.limit_ms,
+            RunPhase::Path(run) => run.limit_ms,
         }
     }
 }

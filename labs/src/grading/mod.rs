@@ -46,7 +46,7 @@ pub use suite::{
 };
 
 use crate::Exercise;
-use crate::exercises::ekf_localization;
+use crate::exercises::{ekf_localization, odometry};
 
 /// The course a student's variant belongs to unless another is named.
 pub const DEFAULT_COURSE: &str = "el2320";
@@ -67,6 +67,7 @@ pub fn student_seed(course: &str, student: &str) -> u64 {
 #[derive(Clone, Debug)]
 pub enum Plan {
     EkfLocalization(ekf_localization::Plan),
+    Odometry(odometry::Plan),
 }
 
 impl Plan {
@@ -77,18 +78,21 @@ impl Plan {
             Exercise::EkfLocalization => {
                 Plan::EkfLocalization(ekf_localization::Plan::new(seed, hidden))
             }
+            Exercise::Odometry => Plan::Odometry(odometry::Plan::new(seed, hidden)),
         }
     }
 
     pub fn exercise(&self) -> Exercise {
         match self {
             Plan::EkfLocalization(_) => Exercise::EkfLocalization,
+            Plan::Odometry(_) => Exercise::Odometry,
         }
     }
 
     pub fn seed(&self) -> u64 {
         match self {
             Plan::EkfLocalization(plan) => plan.seed,
+            Plan::Odometry(plan) => plan.seed,
         }
     }
 
@@ -96,6 +100,7 @@ impl Plan {
     pub fn job(&self) -> Job {
         match self {
             Plan::EkfLocalization(plan) => plan.job(),
+            Plan::Odometry(plan) => plan.job(),
         }
     }
 
@@ -103,6 +108,7 @@ impl Plan {
     pub fn grade(&self, outputs: &Outputs) -> GradeResult {
         match self {
             Plan::EkfLocalization(plan) => ekf_localization::grade(plan, outputs),
+            Plan::Odometry(plan) => odometry::grade(plan, outputs),
         }
     }
 }

@@ -4,7 +4,7 @@
 
 use super::motion::{Increment, increment_jacobian, pose_jacobian};
 use crate::Error;
-use nalgebra::{Matrix2, Matrix3, Vector3};
+use nalgebra::{Matrix2, Matrix3, Matrix3x2, Vector3};
 
 /// The covariance of one step's wheel distances. Each wheel's error is independent of the
 /// other's and its variance grows in proportion to the distance it rolled:
@@ -37,11 +37,24 @@ pub fn propagate_covariance(
     k_r: f64,
     k_l: f64,
 ) -> Matrix3<f64> {
-    let f_p = pose_jacobian(pose, increment, wheel_base);
-    let f_delta = increment_jacobian(pose, increment, wheel_base);
-    let next = f_p * sigma * f_p.transpose()
-        + f_delta * wheel_noise(increment, k_r, k_l) * f_delta.transpose();
-    symmetrise(&next)
+    propagate_through(
+        sigma,
+        &pose_jacobian(pose, increment, wheel_base),
+        &increment_jacobian(pose, increment, wheel_base),
+        &wheel_noise(increment, k_r, k_l),
+    )
+}
+
+/// The same step from the Jacobians and the wheel noise themselves:
+///
+/// Sigma_p' = F_p Sigma_p F_p' + F_delta Sigma_delta F_delta', symmetrised.
+pub fn propagate_through(
+    sigma: &Matrix3<f64>,
+    f_p: &Matrix3<f64>,
+    f_delta: &Matrix3x2<f64>,
+    sigma_delta: &Matrix2<f64>,
+) -> Matrix3<f64> {
+    symmetrise(&(f_p * sigma * f_p.transpose() + f_delta * sigma_delta * f_delta.transpose()))
 }
 
 /// `(A + A') / 2`.

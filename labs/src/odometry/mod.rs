@@ -45,7 +45,7 @@ mod propagation;
 mod systematic;
 mod umbmark;
 
-pub use covariance::{from_rows, propagate_covariance, to_rows, wheel_noise};
+pub use covariance::{from_rows, propagate_covariance, propagate_through, to_rows, wheel_noise};
 pub use monte_carlo::{
     Cloud, MAX_CLOUD_POSES, MAX_ROBOT_STEPS, MAX_ROBOTS, MonteCarlo, MonteCarloParams,
     gaussian_share_inside, monte_carlo,

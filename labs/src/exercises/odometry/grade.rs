@@ -1,0 +1,145 @@
+//! Grading the odometry exercise: the tests of the functions (as every exercise's are
+//! graded), and a test per path, which earns its points when the student's functions,
+//! strung together by the harness's path loop, give the reference's pose and covariance
+//! after every step.
+
+use super::contract::FUNCTIONS;
+use super::plan::{PathSpec, Plan, RUN_LIMIT_MS};
+use crate::Exercise;
+use crate::grading::{
+    FunctionVerdicts, GradeResult, Outputs, POINTS, RunOutput, Status, Test, Tolerance, Visibility,
+    compare, function_tests, matrix, pose,
+};
+use serde_json::json;
+
+/// How close the poses along a path must be: x and y in metres, the heading in radians
+/// (modulo 2 pi). The student's arithmetic may round otherwise than the reference's;
+/// over a few hundred steps that stays below 1e-12.
+pub const POSE_TOLERANCE: Tolerance = Tolerance {
+    absolute: 1e-6,
+    relative: 0.0,
+};
+/// How close the covariances along a path must be, as a share of the largest element of
+/// the reference's covariance at that step (whose elements span orders of magnitude).
+pub const COVARIANCE_TOLERANCE: f64 = 1e-6;
+
+/// Grades what the harness reported. Tests whose outputs are missing fail as not run.
+pub fn grade(plan: &Plan, outputs: &Outputs) -> GradeResult {
+    let (mut tests, functions) = function_tests(&plan.cases, &outputs.functions);
+    for spec in &plan.runs {
+        let output = outputs.runs.iter().find(|run| run.name == spec.name);
+        tests.push(path_test(spec, output, &functions));
+    }
+    GradeResult::graded(Exercise::Odometry, plan.seed, plan.hidden.is_some(), tests)
+}
+
+/// The test of a path: passed when the run follows the reference at every step.
+fn path_test(spec: &PathSpec, output: Option<&RunOutput>, functions: &FunctionVerdicts) -> Test {
+    let steps = spec.steps();
+    let outcome = output.map_or_else(|| Err("not run".to_owned()), |run| departure(spec, run));
+    let passed = outcome.is_ok();
+    let mut verdict = if passed {
+        format!(
+            "Passed: the pose and its covariance follow the reference at each of the {steps} steps."
+        )
+    } else {
+        "Failed: the pose and its covariance must follow the reference at every step.".to_owned()
+    };
+    if !passed {
+        verdict += &functions.explain();
+    }
+    let params = &spec.params;
+    let mut lines = vec![
+        verdict,
+        format!(
+            "The path: a {}, driven at {} m per step ({steps} steps), wheel base b = {} m, \
+             k_r = {:.3e} m, k_l = {:.3e} m, from the pose {:?} known exactly (Sigma_p = 0). \
+             Poses must match within {:e} (x and y in metres, the heading in radians, modulo \
+             2 pi), covariances within {:e} of their largest element.",
+            params.shape.describe(),
+            params.speed,
+            params.wheel_base,
+            params.k_r,
+            params.k_l,
+            spec.reference.path.start,
+            POSE_TOLERANCE.absolute,
+            COVARIANCE_TOLERANCE,
+        ),
+    ];
+    if let Err(departure) = outcome {
+        lines.push(format!("{}: {departure}", spec.name));
+    }
+    Test {
+        name: format!("{} path: {}", spec.name, FUNCTIONS.join(", ")),
+        points: if passed { POINTS } else { 0.0 },
+        max_points: POINTS,
+        status: if passed {
+            Status::Passed
+        } else {
+            Status::Failed
+        },
+        visibility: Visibility::Visible,
+        message: lines.join("\n"),
+        hidden_detail: String::new(),
+        failures: Vec::new(),
+        run: None,
+        hints: Vec::new(),
+    }
+}
+
+/// Where the student's run first departs from the reference (or what stopped it), or
+/// nothing when it follows it throughout.
+fn departure(spec: &PathSpec, output: &RunOutput) -> Result<(), String> {
+    if let Some(error) = output
+        .error
+        .clone()
+        .or_else(|| output.stopped.as_ref().map(|s| s.message(RUN_LIMIT_MS)))
+    {
+        return Err(error);
+    }
+    let steps = spec.steps();
+    if output.mu.len() != steps || output.sigma.len() != steps {
+        return Err(format!(
+            "the run reported {} poses and {} covariances for {steps} steps",
+            output.mu.len(),
+            output.sigma.len()
+        ));
+    }
+    let reference = &spec.reference;
+    for (k, (p, sigma)) in output.mu.iter().zip(&output.sigma).enumerate() {
+        // The reference's poses and covariances start with the start's.
+        let expected_sigma = reference.covariances[k + 1];
+        let largest = expected_sigma
+            .iter()
+            .flatten()
+            .fold(0.0_f64, |m, v| m.max(v.abs()));
+        let sigma: [[f64; 3]; 3] =
+            std::array::from_fn(|i| std::array::from_fn(|j| sigma[3 * i + j]));
+        let mut mismatches = compare(
+            &("p", pose()),
+            &json!(reference.poses[k + 1]),
+            &json!(p),
+            POSE_TOLERANCE,
+        );
+        mismatches.extend(compare(
+            &("Sigma_p", matrix(3, 3)),
+            &json!(expected_sigma),
+            &json!(sigma),
+            Tolerance {
+                absolute: COVARIANCE_TOLERANCE * largest,
+                relative: 0.0,
+            },
+        ));
+        if let Some(first) = mismatches.first() {
+            return Err(format!(
+                "from step {} of {steps} on, the run departs from the reference: {} is {} where the reference's is {}{}.",
+                k + 1,
+                first.path,
+                first.got,
+                first.expected,
+                first.problem.explanation()
+            ));
+        }
+    }
+    Ok(())
+}
