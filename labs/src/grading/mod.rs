@@ -41,8 +41,8 @@ pub use platforms::{
 };
 pub use result::{Failure, GradeResult, RunFigures, Status, Test, Visibility};
 pub use suite::{
-    CASES_PER_FUNCTION, FUNCTION_LIMIT_MS, Generator, PUBLIC_SEED, PlannedCase, Suite, cases_of,
-    function_phases, planned_cases,
+    CASES_PER_FUNCTION, FUNCTION_LIMIT_MS, Generator, PUBLIC_SEED, PlannedCase, Scenario, Suite,
+    cases_of, function_phases, planned_cases, scenario_cases,
 };
 
 use crate::Exercise;

@@ -4,6 +4,7 @@
 
 use super::contract::{Case, Contract};
 use super::job::{CallJob, FunctionPhase};
+use crate::rng::Rng;
 use serde::{Deserialize, Serialize};
 
 /// The seed of the public suite, the same for every student.
@@ -47,6 +48,37 @@ pub struct PlannedCase<C> {
 /// An exercise's case generator: `per_function` cases of every function from a seed, with
 /// ids `function/number`.
 pub type Generator<C> = fn(seed: u64, per_function: usize) -> Vec<Case<C>>;
+
+/// A kind of case of one function: what it is about ("a landmark behind the robot"), and
+/// a call of that kind drawn at random.
+pub type Scenario<C> = (&'static str, fn(&mut Rng) -> C);
+
+/// `per_function` cases of every function from `seed`: each function's cases cycle
+/// through its scenarios (given in the contract's order), drawn from a random stream of
+/// the function's own, so that changing one function's scenarios leaves the others'
+/// cases as they were; each expects the reference's answer.
+pub fn scenario_cases<C: Contract>(
+    seed: u64,
+    per_function: usize,
+    scenarios: &[(&str, &[Scenario<C>])],
+) -> Vec<Case<C>> {
+    let mut cases = Vec::new();
+    for (part, (function, kinds)) in scenarios.iter().enumerate() {
+        let mut rng = Rng::substream(seed, part as u64 + 1);
+        for k in 0..per_function {
+            let (note, make) = kinds[k % kinds.len()];
+            let call = make(&mut rng);
+            let expected = call.reference().expect("generated calls are valid");
+            cases.push(Case {
+                id: format!("{function}/{}", k + 1),
+                note: note.to_owned(),
+                call,
+                expected,
+            });
+        }
+    }
+    cases
+}
 
 /// The public suite, the variant of `seed` and the hidden cases of `hidden` (when there
 /// is a secret), ordered by function as the contract lists them.

@@ -9,34 +9,20 @@
 //! left to chance: random readings almost never tell these rules apart.
 
 use super::Case;
-use super::contract::{Call, Mat2, Mat3, TwoRows, Vec2, Vec3, matrix2, reference, vector3};
+use super::contract::{Call, Mat2, Mat3, TwoRows, Vec2, Vec3, matrix2, vector3};
 use crate::angle::wrap;
 use crate::ekf::{self, Belief, Candidate, Landmark};
+use crate::grading::{self, scenario_cases};
 use crate::rng::Rng;
 use nalgebra::{Matrix3, Vector2, Vector3};
 use std::f64::consts::PI;
 
 /// `per_function` cases of every student function, from `seed`.
 pub fn generate(seed: u64, per_function: usize) -> Vec<Case> {
-    let mut cases = Vec::new();
-    for (part, (function, scenarios)) in SCENARIOS.iter().enumerate() {
-        let mut rng = Rng::substream(seed, part as u64 + 1);
-        for k in 0..per_function {
-            let (note, make) = scenarios[k % scenarios.len()];
-            let call = make(&mut rng);
-            let expected = reference(&call).expect("generated calls are valid");
-            cases.push(Case {
-                id: format!("{function}/{}", k + 1),
-                note: note.to_owned(),
-                call,
-                expected,
-            });
-        }
-    }
-    cases
+    scenario_cases(seed, per_function, &SCENARIOS)
 }
 
-type Scenario = (&'static str, fn(&mut Rng) -> Call);
+type Scenario = grading::Scenario<Call>;
 
 const SCENARIOS: [(&str, &[Scenario]); 8] = [
     (

@@ -6,7 +6,8 @@
 //! step, and covariances that come from a drive, with unequal wheel constants throughout.
 
 use super::Case;
-use super::contract::{Call, reference, rows};
+use super::contract::{Call, rows};
+use crate::grading::{self, scenario_cases};
 use crate::odometry::{
     Increment, increment_jacobian, pose_jacobian, propagate_covariance, wheel_noise,
 };
@@ -16,24 +17,10 @@ use std::f64::consts::PI;
 
 /// `per_function` cases of every student function, from `seed`.
 pub fn generate(seed: u64, per_function: usize) -> Vec<Case> {
-    let mut cases = Vec::new();
-    for (part, (function, scenarios)) in SCENARIOS.iter().enumerate() {
-        let mut rng = Rng::substream(seed, part as u64 + 1);
-        for k in 0..per_function {
-            let (note, make) = scenarios[k % scenarios.len()];
-            let call = make(&mut rng);
-            cases.push(Case {
-                id: format!("{function}/{}", k + 1),
-                note: note.to_owned(),
-                expected: reference(&call),
-                call,
-            });
-        }
-    }
-    cases
+    scenario_cases(seed, per_function, &SCENARIOS)
 }
 
-type Scenario = (&'static str, fn(&mut Rng) -> Call);
+type Scenario = grading::Scenario<Call>;
 
 /// The scenarios of the three functions of one step (`odometry_step` and its Jacobians).
 macro_rules! step_scenarios {

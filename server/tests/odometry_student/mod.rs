@@ -1,0 +1,64 @@
+//! The student files of the odometry exercise the tests grade: the correct file, the
+//! starter, and the classic mistakes of `tests/student/odometry/mistakes.json`, each made
+//! in the correct file.
+
+use serde::Deserialize;
+
+pub const CORRECT: &str = include_str!("../../../tests/student/odometry/correct.js");
+pub const STARTER: &str = include_str!("../../../static/src/odometry/starter.js");
+const MISTAKES: &str = include_str!("../../../tests/student/odometry/mistakes.json");
+
+/// The runs of the path loop a grading holds the student's functions to.
+pub const PATHS: [&str; 2] = ["square", "figure-eight"];
+
+/// A classic mistake: the correct file with some text replaced.
+#[derive(Deserialize)]
+pub struct Mistake {
+    pub name: String,
+    /// The function it breaks.
+    pub breaks: String,
+    /// The hint it must get.
+    pub hint: String,
+    /// The paths whose runs it breaks (all when absent): the square cannot tell which
+    /// heading a step follows, the figure eight a wheel rolling backwards, and along a
+    /// path a function that keeps the pose it returned, or a covariance not symmetrised,
+    /// gives what it should.
+    #[serde(default)]
+    runs: Option<Vec<String>>,
+    replace: Vec<Replacement>,
+}
+
+#[derive(Deserialize)]
+struct Replacement {
+    from: String,
+    to: String,
+}
+
+impl Mistake {
+    pub fn all() -> Vec<Mistake> {
+        serde_json::from_str(MISTAKES).expect("tests/student/odometry/mistakes.json")
+    }
+
+    /// Whether the mistake breaks the run of `path`.
+    pub fn breaks_path(&self, path: &str) -> bool {
+        self.runs
+            .as_ref()
+            .is_none_or(|runs| runs.iter().any(|run| run == path))
+    }
+
+    /// The correct file with the mistake made, or which replaced text does not occur in it
+    /// exactly once.
+    pub fn source(&self) -> Result<String, String> {
+        self.replace
+            .iter()
+            .try_fold(CORRECT.to_owned(), |source, r| {
+                match source.matches(&r.from).count() {
+                    1 => Ok(source.replace(&r.from, &r.to)),
+                    n => Err(format!(
+                        "{}: {:?} occurs {n} times in correct.js, not once",
+                        self.name, r.from
+                    )),
+                }
+            })
+    }
+}
