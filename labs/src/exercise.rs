@@ -29,6 +29,23 @@ impl Exercise {
         }
     }
 
+    /// What a person calls it: "EKF localization".
+    pub const fn title(self) -> &'static str {
+        match self {
+            Exercise::EkfLocalization => "EKF localization",
+            Exercise::Odometry => "Odometry and its error propagation",
+        }
+    }
+
+    /// The student's file, as the workbench downloads it and the platforms' packages
+    /// look for it: `ekf_localization.js`.
+    pub const fn file_name(self) -> &'static str {
+        match self {
+            Exercise::EkfLocalization => "ekf_localization.js",
+            Exercise::Odometry => "odometry.js",
+        }
+    }
+
     /// Every exercise's name, for a message or a command line's choices.
     pub fn names() -> Vec<&'static str> {
         Exercise::ALL.iter().map(|e| e.name()).collect()

@@ -12,16 +12,16 @@
 //! Gradings run in parallel, and the table-driven test collects every problem before
 //! failing, so one run shows them all.
 
-mod odometry_student;
+mod student;
 
 use estlab::sandbox::Sandbox;
 use labs::Exercise;
 use labs::exercises::odometry::FUNCTIONS;
 use labs::grading::{self, GradeResult, Status, Test};
-use odometry_student::{CORRECT, Mistake, PATHS, STARTER};
 use serde_json::json;
 use std::path::PathBuf;
 use std::thread;
+use student::odometry::{CORRECT, Mistake, PATHS, STARTER};
 
 /// The student seeds, each with the seed of its hidden cases and paths.
 const SEEDS: [(u64, u64); 6] = [

@@ -242,10 +242,15 @@
     put(this, 'message', message);
   }
 
+  /// How JSON carries the numbers it has none for, both ways (`labs::grading::infinity`).
+  const INFINITY = 'Infinity';
+  const MINUS_INFINITY = '-Infinity';
+  const NOT_A_NUMBER = 'NaN';
+
   /// A deep copy of JSON data from the job, with "Infinity" back as a number: every call
   /// gets inputs of its own, so a function that changes its arguments harms nothing.
   function copy(value) {
-    if (value === 'Infinity') return Infinity;
+    if (value === INFINITY) return Infinity;
     if (!isArray(value)) return value;
     const out = [];
     for (let i = 0; i < value.length; i++) put(out, i, copy(value[i]));
@@ -276,7 +281,7 @@
     switch (typeof value) {
       case 'number':
         if (numberIsFinite(value)) return value;
-        return value !== value ? 'NaN' : value > 0 ? 'Infinity' : '-Infinity';
+        return value !== value ? NOT_A_NUMBER : value > 0 ? INFINITY : MINUS_INFINITY;
       case 'boolean':
         return value;
       case 'undefined':
@@ -579,7 +584,7 @@
   }
 
   function threshold(value, what) {
-    if (value === 'Infinity') return Infinity;
+    if (value === INFINITY) return Infinity;
     if (typeof value !== 'number' || !(value >= 0)) {
       throw new HarnessError(what + ' is ' + describe(value) + ', not a number >= 0');
     }

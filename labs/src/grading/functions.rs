@@ -7,12 +7,10 @@ use super::compare::Tolerance;
 use super::contract::Contract;
 use super::hints::describe;
 use super::outputs::FunctionOutput;
-use super::result::{Failure, Status, Test, Visibility};
+use super::result::{Failure, POINTS, Status, Test, Visibility};
 use super::suite::{FUNCTION_LIMIT_MS, PlannedCase, Suite, cases_of};
 use serde_json::Value;
 
-/// Points of each function's test and of each data-set test.
-pub const POINTS: f64 = 10.0;
 /// Failing cases shown in detail per function.
 const SHOWN_FAILURES: usize = 4;
 /// Failing cases kept in the result in detail (arguments, expected and returned values),
@@ -313,16 +311,5 @@ fn short(value: &Value) -> String {
 }
 
 fn failed(name: String, message: String) -> Test {
-    Test {
-        name,
-        points: 0.0,
-        max_points: POINTS,
-        status: Status::Failed,
-        visibility: Visibility::Visible,
-        message,
-        hidden_detail: String::new(),
-        failures: Vec::new(),
-        run: None,
-        hints: Vec::new(),
-    }
+    Test::all_or_nothing(name, false, message)
 }

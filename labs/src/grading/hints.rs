@@ -3,7 +3,8 @@
 //! contract's `diagnose`); the mistakes of any exercise's outputs are here, with what
 //! every exercise's diagnosis uses.
 
-use super::compare::Mismatch;
+use super::compare::{Mismatch, Problem, Tolerance, compare};
+use super::contract::Contract;
 use crate::exercises::{ekf_localization, odometry};
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
@@ -72,6 +73,45 @@ impl HintKind {
     }
 }
 
+/// The hint an output's form gives before its numbers are looked at, if it gives one: NaN
+/// or Infinity; the wrong shape (`transposed`, when the transpose of the output would be
+/// right and the exercise has a hint for that, else what the shape should be); a wrapped
+/// angle outside [-pi, pi) (`not_wrapped`); a covariance not exactly symmetric.
+pub fn form_hint<C: Contract>(
+    call: &C,
+    expected: &Value,
+    got: &Value,
+    mismatches: &[Mismatch],
+    transposed: Option<HintKind>,
+    not_wrapped: HintKind,
+) -> Option<Hint> {
+    let any = |problem| mismatches.iter().any(|m| m.problem == problem);
+    if holds_non_finite(got) {
+        return Some(Common::NotFinite.hint());
+    }
+    if any(Problem::WrongShape) {
+        let right_transposed = || {
+            transpose(got).is_some_and(|t| {
+                compare(&call.output_shape(), expected, &t, Tolerance::default()).is_empty()
+            })
+        };
+        if let Some(kind) = transposed.filter(|_| right_transposed()) {
+            return Some(kind.hint());
+        }
+        return mismatches
+            .iter()
+            .find(|m| m.problem == Problem::WrongShape)
+            .map(|m| shape_hint(m, got));
+    }
+    if any(Problem::NotWrapped) {
+        return Some(not_wrapped.hint());
+    }
+    if any(Problem::NotSymmetric) {
+        return Some(Common::NotSymmetrised.hint());
+    }
+    None
+}
+
 /// Whether the output holds a number JSON cannot (the harness writes them as strings).
 pub fn holds_non_finite(value: &Value) -> bool {
     match value {
@@ -84,7 +124,7 @@ pub fn holds_non_finite(value: &Value) -> bool {
 
 /// What is wrong with an output of the wrong shape, in words: what the element should be,
 /// what it is, and for an object with a missing field, the fields it has.
-pub fn shape_hint(mismatch: &Mismatch, got: &Value) -> Hint {
+fn shape_hint(mismatch: &Mismatch, got: &Value) -> Hint {
     let place = if mismatch.path.is_empty() {
         "The output".to_owned()
     } else {

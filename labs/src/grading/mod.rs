@@ -29,9 +29,9 @@ pub use compare::{
     matrix, numbers, pose, range_bearing, repeat,
 };
 pub use contract::{Case, Contract};
-pub use functions::{FunctionVerdicts, POINTS, function_tests};
+pub use functions::{FunctionVerdicts, function_tests};
 pub use hints::{
-    Common, Hint, HintKind, describe, holds_non_finite, negated, shape_hint, transpose,
+    Common, Hint, HintKind, describe, form_hint, holds_non_finite, negated, transpose,
 };
 pub use job::{CallJob, FunctionPhase, Job, Phase, PhaseKind, RunPhase};
 pub use outputs::{CallResult, FunctionOutput, Outputs, PhaseOutput, Reports, RunOutput, Stopped};
@@ -39,7 +39,7 @@ pub use platforms::{
     GraderData, GradescopeResults, GradescopeTest, HIDDEN_LATER, PrairieLearnResults,
     PrairieLearnTest,
 };
-pub use result::{Failure, GradeResult, RunFigures, Status, Test, Visibility};
+pub use result::{Failure, GradeResult, POINTS, RunFigures, Status, Test, Visibility};
 pub use suite::{
     CASES_PER_FUNCTION, FUNCTION_LIMIT_MS, Generator, PUBLIC_SEED, PlannedCase, Scenario, Suite,
     cases_of, function_phases, planned_cases, scenario_cases,

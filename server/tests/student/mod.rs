@@ -1,7 +1,10 @@
 //! The student files the tests grade: the correct files, the starter, and the classic
-//! mistakes of `tests/student/mistakes.json`, each made in correct.js.
+//! mistakes of `tests/student/mistakes.json`, each made in correct.js; the odometry
+//! exercise's in [`odometry`].
 
 #![allow(dead_code)]
+
+pub mod odometry;
 
 use serde::Deserialize;
 
@@ -24,10 +27,25 @@ pub struct Mistake {
     replace: Vec<Replacement>,
 }
 
+/// Text of the correct file replaced by the mistake.
 #[derive(Deserialize)]
-struct Replacement {
+pub struct Replacement {
     from: String,
     to: String,
+}
+
+/// `correct` with the mistake `name` made by `replace`, or which replaced text does not
+/// occur in it exactly once.
+pub fn made_in(correct: &str, name: &str, replace: &[Replacement]) -> Result<String, String> {
+    replace.iter().try_fold(correct.to_owned(), |source, r| {
+        match source.matches(&r.from).count() {
+            1 => Ok(source.replace(&r.from, &r.to)),
+            n => Err(format!(
+                "{name}: {:?} occurs {n} times in the correct file, not once",
+                r.from
+            )),
+        }
+    })
 }
 
 impl Mistake {
@@ -42,19 +60,9 @@ impl Mistake {
             .unwrap_or_else(|| panic!("no mistake {name} in tests/student/mistakes.json"))
     }
 
-    /// correct.js with the mistake made, or which replaced text it does not contain.
+    /// correct.js with the mistake made, or which replaced text does not occur in it
+    /// exactly once.
     pub fn source(&self) -> Result<String, String> {
-        self.replace
-            .iter()
-            .try_fold(CORRECT.to_owned(), |source, r| {
-                if source.contains(&r.from) {
-                    Ok(source.replace(&r.from, &r.to))
-                } else {
-                    Err(format!(
-                        "{}: {:?} does not occur in correct.js",
-                        self.name, r.from
-                    ))
-                }
-            })
+        made_in(CORRECT, &self.name, &self.replace)
     }
 }

@@ -8,8 +8,8 @@ use crate::Exercise;
 use crate::dataset::Kind;
 use crate::ekf::{self, Belief, Decision, UpdateMode};
 use crate::grading::{
-    FunctionVerdicts, GradeResult, HEADING_TURNS, Outputs, POINTS, RunFigures, RunOutput, Status,
-    Test, Visibility, describe, function_tests, heading_within_turns,
+    FunctionVerdicts, GradeResult, HEADING_TURNS, Outputs, RunFigures, RunOutput, Test, describe,
+    function_tests, heading_within_turns, infinity,
 };
 use nalgebra::{Matrix2, Matrix3, Vector3};
 use serde_json::Value;
@@ -115,20 +115,8 @@ fn dataset_test(plan: &Plan, outputs: &Outputs, kind: Kind, functions: &Function
         readings: run.summary.readings,
     });
     Test {
-        name,
-        points: if passed { POINTS } else { 0.0 },
-        max_points: POINTS,
-        status: if passed {
-            Status::Passed
-        } else {
-            Status::Failed
-        },
-        visibility: Visibility::Visible,
-        message: lines.join("\n"),
-        hidden_detail: String::new(),
-        failures: Vec::new(),
         run: figures,
-        hints: Vec::new(),
+        ..Test::all_or_nothing(name, passed, lines.join("\n"))
     }
 }
 
@@ -175,15 +163,14 @@ fn tuning(dataset: &str, init: &Value) -> Result<Tuning, String> {
             describe(&init["mu"])
         )
     })?;
-    let lambda_m = match &init["Lambda_M"] {
-        Value::String(s) if s == "Infinity" => f64::INFINITY,
-        value => value.as_f64().filter(|v| *v >= 0.0).ok_or_else(|| {
+    let lambda_m = infinity::read(&init["Lambda_M"])
+        .filter(|v| *v >= 0.0)
+        .ok_or_else(|| {
             format!(
                 "init('{dataset}').Lambda_M should be a number >= 0 (or Infinity), but is {}.",
-                describe(value)
+                describe(&init["Lambda_M"])
             )
-        })?,
-    };
+        })?;
     Ok(Tuning {
         mu: Vector3::from(mu),
         sigma: Matrix3::from_fn(|i, j| number("sigma", i, j)),
@@ -347,7 +334,8 @@ mod tests {
     use super::super::contract::{Call, FUNCTIONS};
     use super::*;
     use crate::grading::{
-        CallResult, Failure, FunctionOutput, PhaseOutput, PlannedCase, Suite, cases_of,
+        CallResult, Failure, FunctionOutput, POINTS, PhaseOutput, PlannedCase, Status, Suite,
+        cases_of,
     };
 
     /// What a function's phase reports when every case gets `answer(case)`, each call

@@ -6,8 +6,7 @@ use super::contract::{Call, reference, rows};
 use crate::angle::wrap;
 use crate::ekf::motion_jacobian;
 use crate::grading::{
-    self, Common, Contract, Hint, Mismatch, Problem, Tolerance, compare, holds_non_finite, negated,
-    shape_hint, transpose,
+    self, Contract, Hint, Mismatch, Tolerance, compare, form_hint, holds_non_finite, negated,
 };
 use nalgebra::{Matrix2, Matrix3, Vector2};
 use serde::{Deserialize, Serialize};
@@ -138,36 +137,23 @@ pub fn diagnose(
             compare(&call.output_shape(), &alt, got, Tolerance::default()).is_empty()
         })
     };
-    let any = |problem| mismatches.iter().any(|m| m.problem == problem);
-
     if holds_non_finite(got) {
-        return Some(
-            match call {
-                Call::CalculateOdometry { delta_t, .. } if *delta_t == 0.0 => HintKind::FirstStep,
-                Call::ObservationModel { j: 0, .. }
-                | Call::JacobianObservationModel { j: 0, .. } => HintKind::OneBasedIndex,
-                _ => return Some(Common::NotFinite.hint()),
+        match call {
+            Call::CalculateOdometry { delta_t, .. } if *delta_t == 0.0 => {
+                return Some(HintKind::FirstStep.hint());
             }
-            .hint(),
-        );
-    }
-    if any(Problem::WrongShape) {
-        let transposed_right = transpose(got).is_some_and(|t| {
-            compare(&call.output_shape(), expected, &t, Tolerance::default()).is_empty()
-        });
-        if matches!(call, Call::JacobianObservationModel { .. }) && transposed_right {
-            return Some(HintKind::JacobianTransposed.hint());
+            Call::ObservationModel { j: 0, .. } | Call::JacobianObservationModel { j: 0, .. } => {
+                return Some(HintKind::OneBasedIndex.hint());
+            }
+            _ => {}
         }
-        return mismatches
-            .iter()
-            .find(|m| m.problem == Problem::WrongShape)
-            .map(|m| shape_hint(m, got));
     }
-    if any(Problem::NotWrapped) {
-        return Some(HintKind::BearingNotWrapped.hint());
-    }
-    if any(Problem::NotSymmetric) {
-        return Some(Common::NotSymmetrised.hint());
+    let transposed = matches!(call, Call::JacobianObservationModel { .. }).then_some(
+        grading::HintKind::EkfLocalization(HintKind::JacobianTransposed),
+    );
+    let not_wrapped = grading::HintKind::EkfLocalization(HintKind::BearingNotWrapped);
+    if let Some(hint) = form_hint(call, expected, got, mismatches, transposed, not_wrapped) {
+        return Some(hint);
     }
     let kind = match call {
         Call::CalculateOdometry { delta_t, .. } if *delta_t == 0.0 => Some(HintKind::FirstStep),

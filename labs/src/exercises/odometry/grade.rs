@@ -7,8 +7,8 @@ use super::contract::FUNCTIONS;
 use super::plan::{PathSpec, Plan, RUN_LIMIT_MS};
 use crate::Exercise;
 use crate::grading::{
-    FunctionVerdicts, GradeResult, Outputs, POINTS, RunOutput, Status, Test, Tolerance, Visibility,
-    compare, function_tests, matrix, pose,
+    FunctionVerdicts, GradeResult, Outputs, RunOutput, Test, Tolerance, compare, function_tests,
+    matrix, pose,
 };
 use serde_json::json;
 
@@ -69,22 +69,11 @@ fn path_test(spec: &PathSpec, output: Option<&RunOutput>, functions: &FunctionVe
     if let Err(departure) = outcome {
         lines.push(format!("{}: {departure}", spec.name));
     }
-    Test {
-        name: format!("{} path: {}", spec.name, FUNCTIONS.join(", ")),
-        points: if passed { POINTS } else { 0.0 },
-        max_points: POINTS,
-        status: if passed {
-            Status::Passed
-        } else {
-            Status::Failed
-        },
-        visibility: Visibility::Visible,
-        message: lines.join("\n"),
-        hidden_detail: String::new(),
-        failures: Vec::new(),
-        run: None,
-        hints: Vec::new(),
-    }
+    Test::all_or_nothing(
+        format!("{} path: {}", spec.name, FUNCTIONS.join(", ")),
+        passed,
+        lines.join("\n"),
+    )
 }
 
 /// Where the student's run first departs from the reference (or what stopped it), or

@@ -5,10 +5,7 @@
 //! expected output (a sign, a term left out), and compares the student's output with it.
 
 use super::contract::{Call, matrix_of, output_shape, rows};
-use crate::grading::{
-    self, Common, Hint, Mismatch, Problem, Tolerance, compare, holds_non_finite, negated,
-    shape_hint, transpose,
-};
+use crate::grading::{self, Hint, Mismatch, Tolerance, compare, form_hint, negated, transpose};
 use crate::odometry::{
     Increment, increment_jacobian, pose_jacobian, propagate_through, step, wheel_noise,
 };
@@ -165,28 +162,12 @@ pub fn diagnose(
     let gives = |alternative: &Value| {
         compare(&output_shape(call), alternative, got, Tolerance::default()).is_empty()
     };
-    let any = |problem| mismatches.iter().any(|m| m.problem == problem);
-    if holds_non_finite(got) {
-        return Some(Common::NotFinite.hint());
-    }
-    if any(Problem::WrongShape) {
-        if matches!(call, Call::IncrementJacobian { .. })
-            && transpose(got).is_some_and(|t| {
-                compare(&output_shape(call), expected, &t, Tolerance::default()).is_empty()
-            })
-        {
-            return Some(HintKind::IncrementJacobianTransposed.hint());
-        }
-        return mismatches
-            .iter()
-            .find(|m| m.problem == Problem::WrongShape)
-            .map(|m| shape_hint(m, got));
-    }
-    if any(Problem::NotWrapped) {
-        return Some(HintKind::HeadingNotWrapped.hint());
-    }
-    if any(Problem::NotSymmetric) {
-        return Some(Common::NotSymmetrised.hint());
+    let transposed = matches!(call, Call::IncrementJacobian { .. }).then_some(
+        grading::HintKind::Odometry(HintKind::IncrementJacobianTransposed),
+    );
+    let not_wrapped = grading::HintKind::Odometry(HintKind::HeadingNotWrapped);
+    if let Some(hint) = form_hint(call, expected, got, mismatches, transposed, not_wrapped) {
+        return Some(hint);
     }
     let mut kinds: Vec<HintKind> = mistakes(call, expected)
         .into_iter()
@@ -472,7 +453,7 @@ mod tests {
                         wrong[0][1] = json!(a + a.abs() * f64::EPSILON);
                         assert_eq!(
                             diagnosed(&case, &wrong),
-                            Some(grading::HintKind::Common(Common::NotSymmetrised))
+                            Some(grading::HintKind::Common(grading::Common::NotSymmetrised))
                         );
                     }
                     _ => {}

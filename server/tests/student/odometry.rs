@@ -2,6 +2,7 @@
 //! starter, and the classic mistakes of `tests/student/odometry/mistakes.json`, each made
 //! in the correct file.
 
+use super::{Replacement, made_in};
 use serde::Deserialize;
 
 pub const CORRECT: &str = include_str!("../../../tests/student/odometry/correct.js");
@@ -28,12 +29,6 @@ pub struct Mistake {
     replace: Vec<Replacement>,
 }
 
-#[derive(Deserialize)]
-struct Replacement {
-    from: String,
-    to: String,
-}
-
 impl Mistake {
     pub fn all() -> Vec<Mistake> {
         serde_json::from_str(MISTAKES).expect("tests/student/odometry/mistakes.json")
@@ -49,16 +44,6 @@ impl Mistake {
     /// The correct file with the mistake made, or which replaced text does not occur in it
     /// exactly once.
     pub fn source(&self) -> Result<String, String> {
-        self.replace
-            .iter()
-            .try_fold(CORRECT.to_owned(), |source, r| {
-                match source.matches(&r.from).count() {
-                    1 => Ok(source.replace(&r.from, &r.to)),
-                    n => Err(format!(
-                        "{}: {:?} occurs {n} times in correct.js, not once",
-                        self.name, r.from
-                    )),
-                }
-            })
+        made_in(CORRECT, &self.name, &self.replace)
     }
 }

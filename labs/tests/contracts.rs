@@ -1,0 +1,112 @@
+//! Each exercise's contract is written once, in its `Call` enum: the starter file the
+//! students get declares every function of it with the contract's arguments, named and
+//! ordered as the harness passes them.
+
+use labs::exercises::{ekf_localization, odometry};
+use labs::grading::{Case, Contract, Generator};
+use serde::Deserialize;
+use serde::de::{Deserializer, IgnoredAny, MapAccess, Visitor};
+use std::fmt;
+
+/// The names of a JSON object's fields, in the order of the text.
+struct FieldNames(Vec<String>);
+
+impl<'de> Deserialize<'de> for FieldNames {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct Names;
+        impl<'de> Visitor<'de> for Names {
+            type Value = FieldNames;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("an object")
+            }
+            fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<FieldNames, A::Error> {
+                let mut names = Vec::new();
+                while let Some((name, IgnoredAny)) = map.next_entry::<String, IgnoredAny>()? {
+                    names.push(name);
+                }
+                Ok(FieldNames(names))
+            }
+        }
+        deserializer.deserialize_map(Names)
+    }
+}
+
+/// A call as it serialises: `{"function": ..., "args": {...}}`.
+#[derive(Deserialize)]
+struct Serialised {
+    function: String,
+    args: FieldNames,
+}
+
+/// Every `function name(a, b)` line of a file, as (name, parameters).
+fn declarations(source: &str) -> Vec<(String, Vec<String>)> {
+    source
+        .lines()
+        .filter_map(|line| line.strip_prefix("function "))
+        .filter_map(|rest| {
+            let (name, rest) = rest.split_once('(')?;
+            let (parameters, _) = rest.split_once(')')?;
+            Some((
+                name.trim().to_owned(),
+                parameters
+                    .split(',')
+                    .map(|p| p.trim().to_owned())
+                    .filter(|p| !p.is_empty())
+                    .collect(),
+            ))
+        })
+        .collect()
+}
+
+fn check<C: Contract>(generate: Generator<C>, starter: &str) {
+    let declared = declarations(starter);
+    for &function in C::FUNCTIONS {
+        let cases: Vec<Case<C>> = generate(1, 2);
+        let case = cases
+            .iter()
+            .find(|case| case.call.function() == function)
+            .unwrap_or_else(|| panic!("{}: no case of {function}", C::EXERCISE));
+        let serialised: Serialised =
+            serde_json::from_str(&serde_json::to_string(&case.call).unwrap()).unwrap();
+        assert_eq!(serialised.function, function);
+        let parameters = declared
+            .iter()
+            .find(|(name, _)| name == function)
+            .map(|(_, parameters)| parameters)
+            .unwrap_or_else(|| panic!("{}'s starter does not declare {function}", C::EXERCISE));
+        assert_eq!(
+            parameters,
+            &serialised.args.0,
+            "{}: {function}'s parameters in the starter",
+            C::EXERCISE
+        );
+        assert_eq!(
+            case.call.arguments().len(),
+            parameters.len(),
+            "{}: {function}'s arguments as the harness passes them",
+            C::EXERCISE
+        );
+    }
+}
+
+#[test]
+fn the_starters_declare_the_contracts() {
+    check(
+        ekf_localization::generate,
+        include_str!("../../static/src/ekf/starter.js"),
+    );
+    check(
+        odometry::generate,
+        include_str!("../../static/src/odometry/starter.js"),
+    );
+}
+
+#[test]
+fn a_starter_that_renames_a_parameter_is_caught() {
+    let starter = include_str!("../../static/src/odometry/starter.js").replace(
+        "function wheel_noise(ds_r, ds_l, k_r, k_l)",
+        "function wheel_noise(ds_r, ds_l, k_l, k_r)",
+    );
+    let caught = std::panic::catch_unwind(|| check(odometry::generate, &starter));
+    assert!(caught.is_err());
+}
