@@ -3,9 +3,13 @@
 //! the harness with the job written here; its outputs come back to `grade`.
 
 use super::ekf::{Dataset, EkfRun};
+use super::odometry::OdometryPropagation;
 use super::{exercise, from_json, seed};
 use labs::exercises::ekf_localization::{self, RunSpec};
+use labs::exercises::odometry::PathSpec;
 use labs::grading::{self, Plan, Reports, RunOutput};
+use labs::odometry::{Path, Propagation};
+use std::iter;
 use wasm_bindgen::prelude::*;
 
 /// The seed of a student's own variant within a course, as the server computes it.
@@ -67,14 +71,119 @@ impl Grader {
             .map(EkfRun::from)
             .map_err(|e| JsError::new(&e))
     }
+
+    /// The reference's poses and covariances along an odometry path run (by its name,
+    /// `square`): the start, then after every step.
+    #[wasm_bindgen(js_name = referencePath)]
+    pub fn reference_path(&self, name: &str) -> Result<OdometryPropagation, JsError> {
+        Ok(self.path(name)?.reference.clone().into())
+    }
+
+    /// The student's poses and covariances along an odometry path run (the harness's
+    /// output of one run, JSON) as far as the run got: the start, known exactly as the
+    /// loop takes it, then after every step the run reported.
+    #[wasm_bindgen(js_name = studentPath)]
+    pub fn student_path(&self, output: &str) -> Result<OdometryPropagation, JsError> {
+        let output: RunOutput = from_json("run output", output)?;
+        let reference = &self.path(&output.name)?.reference;
+        let steps = output
+            .mu
+            .len()
+            .min(output.sigma.len())
+            .min(reference.path.steps());
+        let rows = |s: &[f64; 9]| std::array::from_fn(|i| std::array::from_fn(|j| s[3 * i + j]));
+        let propagation = Propagation {
+            path: Path {
+                start: reference.path.start,
+                increments: reference.path.increments[..steps].to_vec(),
+            },
+            poses: iter::once(reference.poses[0])
+                .chain(output.mu[..steps].iter().copied())
+                .collect(),
+            covariances: iter::once(reference.covariances[0])
+                .chain(output.sigma[..steps].iter().map(rows))
+                .collect(),
+        };
+        Ok(propagation.into())
+    }
 }
 
 impl Grader {
     /// An EKF data-set run of the plan.
     fn spec(&self, name: &str) -> Result<&RunSpec, JsError> {
-        let run = match &self.plan {
-            Plan::EkfLocalization(plan) => plan.run(name),
+        let Plan::EkfLocalization(plan) = &self.plan else {
+            return Err(JsError::new("this exercise has no data-set runs"));
         };
-        run.ok_or_else(|| JsError::new(&format!("no data-set run is called {name:?}")))
+        plan.run(name)
+            .ok_or_else(|| JsError::new(&format!("no data-set run is called {name:?}")))
+    }
+
+    /// An odometry path run of the plan.
+    fn path(&self, name: &str) -> Result<&PathSpec, JsError> {
+        let Plan::Odometry(plan) = &self.plan else {
+            return Err(JsError::new("this exercise has no path runs"));
+        };
+        plan.run(name)
+            .ok_or_else(|| JsError::new(&format!("no path run is called {name:?}")))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::json;
+
+    /// A run that reports the reference's own poses and covariances draws the reference's
+    /// path; one stopped halfway draws as far as it got.
+    #[test]
+    fn a_student_path_is_the_start_and_the_steps_the_run_reported() {
+        let grader = Grader::new("odometry", 7.0).unwrap_or_else(|_| panic!("the grader"));
+        let reference = grader
+            .reference_path("square")
+            .unwrap_or_else(|_| panic!("the square"));
+        let steps = reference.steps();
+        let x = reference.pose(0);
+        let y = reference.pose(1);
+        let theta = reference.pose(2);
+        let sigma = |k: usize| -> Vec<f64> {
+            (0..3)
+                .flat_map(|i| (0..3).map(move |j| (i, j)))
+                .map(|(i, j)| reference.covariance(i, j)[k])
+                .collect()
+        };
+        let output = |reported: usize| {
+            json!({
+                "name": "square",
+                "mu": (1..=reported).map(|k| [x[k], y[k], theta[k]]).collect::<Vec<_>>(),
+                "sigma": (1..=reported).map(sigma).collect::<Vec<_>>(),
+            })
+            .to_string()
+        };
+        let whole = grader
+            .student_path(&output(steps))
+            .unwrap_or_else(|_| panic!("the whole run"));
+        assert_eq!(whole.steps(), steps);
+        assert_eq!(whole.pose(0), x);
+        assert_eq!(
+            whole
+                .ellipses(10, 3.0, 12)
+                .iter()
+                .map(|v| v.to_bits())
+                .collect::<Vec<_>>(),
+            reference
+                .ellipses(10, 3.0, 12)
+                .iter()
+                .map(|v| v.to_bits())
+                .collect::<Vec<_>>(),
+        );
+        let half = grader
+            .student_path(&output(steps / 2))
+            .unwrap_or_else(|_| panic!("half a run"));
+        assert_eq!(half.steps(), steps / 2);
+        assert_eq!(half.pose(1), y[..=steps / 2]);
+        assert_eq!(
+            half.final_pose(),
+            [x[steps / 2], y[steps / 2], theta[steps / 2]]
+        );
     }
 }

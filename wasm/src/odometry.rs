@@ -24,9 +24,7 @@ pub fn odometry_defaults() -> String {
 #[wasm_bindgen(js_name = propagateOdometry)]
 pub fn propagate_odometry(params: &str) -> Result<OdometryPropagation, JsError> {
     let params: OdometryParams = from_json("odometry parameters", params)?;
-    Ok(OdometryPropagation {
-        inner: odometry::propagate(&params).map_err(to_js)?,
-    })
+    Ok(odometry::propagate(&params).map_err(to_js)?.into())
 }
 
 /// Runs `monte_carlo` (JSON of `MonteCarloParams`: robots, seed, cloud_every) robots
@@ -88,7 +86,8 @@ fn flat(rows: &[[f64; 3]; 3]) -> Vec<f64> {
 }
 
 /// The `k`-sigma ellipse of the position block of `sigma` round the position of `pose`,
-/// closed, as x, y pairs, then a NaN pair (which ends an outline).
+/// closed, as x, y pairs, then a NaN pair (which ends an outline). An ellipse whose
+/// numbers overflow is left out: a student's covariance of 1e200 has none to draw.
 fn push_ellipse(
     xy: &mut Vec<f64>,
     pose: &[f64; 3],
@@ -97,7 +96,11 @@ fn push_ellipse(
     segments: usize,
 ) {
     let block = Matrix2::new(sigma[0][0], sigma[0][1], sigma[1][0], sigma[1][1]);
-    for p in covariance_ellipse(&Vector2::new(pose[0], pose[1]), &block, k, segments.max(3)) {
+    let outline = covariance_ellipse(&Vector2::new(pose[0], pose[1]), &block, k, segments.max(3));
+    if !outline.iter().all(|p| p.x.is_finite() && p.y.is_finite()) {
+        return;
+    }
+    for p in outline {
         xy.extend([p.x, p.y]);
     }
     xy.extend([f64::NAN, f64::NAN]);
@@ -107,6 +110,12 @@ fn push_ellipse(
 #[wasm_bindgen]
 pub struct OdometryPropagation {
     inner: odometry::Propagation,
+}
+
+impl From<odometry::Propagation> for OdometryPropagation {
+    fn from(inner: odometry::Propagation) -> OdometryPropagation {
+        OdometryPropagation { inner }
+    }
 }
 
 #[wasm_bindgen]
