@@ -374,3 +374,87 @@ export function stats(ys, t = null) {
     maxAbsAt: t ? t[at] : at,
   };
 }
+
+// ---------------------------------------------------------------------------------------
+// Plots in the plane: x and y in metres on axes of equal scale, with paths, closed
+// outlines (ellipses) and marked points. The odometry page's and the odometry workbench's.
+
+/** The margins of a plot in the plane. */
+export const planeGrid = { left: 58, right: 16, top: 40, bottom: 44, outerBoundsMode: 'none' };
+
+/** The smallest and largest finite value of `arrays`. */
+export function extent(arrays) {
+  let [low, high] = [Infinity, -Infinity];
+  for (const array of arrays) {
+    for (const v of array) {
+      if (v < low) low = v;
+      if (v > high) high = v;
+    }
+  }
+  return [low, high];
+}
+
+/**
+ * Axes that show every point of `xs` and `ys` (lists of arrays) with a metre as long on
+ * x as on y, in `plot`'s chart. The centre and the half-widths are rounded to a round
+ * step, so that a small change of the data keeps the axes still (and a chart beneath an
+ * upper layer need not be drawn again).
+ */
+function equalAxes(plot, xs, ys) {
+  const chart = plot.chart;
+  const grid = planeGrid;
+  const width = Math.max(1, chart.getWidth() - grid.left - grid.right);
+  const height = Math.max(1, chart.getHeight() - grid.top - grid.bottom);
+  let [x0, x1] = extent(xs);
+  let [y0, y1] = extent(ys);
+  if (!(x0 <= x1 && y0 <= y1)) [x0, x1, y0, y1] = [-1, 1, -1, 1];
+  const step = 10 ** Math.floor(Math.log10(Math.max(x1 - x0, y1 - y0, 1e-9))) / 2;
+  const round = (v) => Math.round(v / step) * step;
+  const [cx, cy] = [round((x0 + x1) / 2), round((y0 + y1) / 2)];
+  const half = (low, high, centre) => Math.ceil(Math.max(high - centre, centre - low) / step) * step;
+  const perPixel = Math.max((2 * half(x0, x1, cx)) / width, (2 * half(y0, y1, cy)) / height, 1e-9) * 1.06;
+  const labels = { showMinLabel: false, showMaxLabel: false, formatter: (v) => fmt(v, 3) };
+  return {
+    xAxis: { type: 'value', name: 'x (m)', nameLocation: 'middle', nameGap: 26, min: cx - (perPixel * width) / 2, max: cx + (perPixel * width) / 2, axisLabel: labels },
+    yAxis: { type: 'value', name: 'y (m)', nameLocation: 'middle', nameGap: 40, min: cy - (perPixel * height) / 2, max: cy + (perPixel * height) / 2, axisLabel: labels },
+  };
+}
+
+/** The option of a plot in the plane showing every point of `xs` and `ys` (lists of arrays). */
+export function plane(plot, series, xs, ys) {
+  return { animation: false, grid: planeGrid, legend: { top: 4, type: 'scroll' }, ...equalAxes(plot, xs, ys), series };
+}
+
+/** The x and the y values of outlines (for the axes). */
+export function outlineXY(shapes) {
+  const xs = [];
+  const ys = [];
+  for (const { coords } of shapes) for (const [x, y] of coords) { xs.push(x); ys.push(y); }
+  return [xs, ys];
+}
+
+/** A few marked points (start, end, centres). */
+export function markers(id, name, data, colour, symbol, size, z = 8) {
+  return { id, name, type: 'scatter', data, symbol, symbolSize: size, silent: true, itemStyle: { color: colour, borderColor: '#fff', borderWidth: 1 }, z };
+}
+
+/** The `lines` series of closed outlines. */
+export function outlineSeries(id, name, shapes, colour, width, opacity, z, type = 'solid') {
+  return { id, name, type: 'lines', coordinateSystem: 'cartesian2d', polyline: true, silent: true, data: shapes, lineStyle: { color: colour, width, opacity, type }, z };
+}
+
+/** The steps between the ellipses drawn along a path of `steps` steps: about twenty of them. */
+export function ellipseSpacing(steps) {
+  return Math.max(1, Math.round(steps / 20));
+}
+
+/** The half-axes of the k-sigma ellipse of a 2 x 2 covariance [[a, c], [c, d]] and the long one's angle. */
+export function ellipseAxes(a, c, d, k = 3) {
+  const mean = (a + d) / 2;
+  const radius = Math.hypot((a - d) / 2, c);
+  return {
+    major: k * Math.sqrt(Math.max(0, mean + radius)),
+    minor: k * Math.sqrt(Math.max(0, mean - radius)),
+    angle: 0.5 * Math.atan2(2 * c, a - d),
+  };
+}

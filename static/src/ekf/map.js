@@ -5,7 +5,7 @@
 // and each reading's association) with the time slider. The paths differ in line style as
 // well as colour: the truth solid, the estimate dashed, odometry dotted.
 import { fmt } from '../format.js';
-import { colours, dashes, line, outlines, pairs, styled } from '../plots.js';
+import { colours, dashes, extent, line, outlines, pairs, styled } from '../plots.js';
 
 const star = 'path://M0,-10L2.9,-4 9.5,-3.1 4.7,1.5 5.9,8.1 0,5 -5.9,8.1 -4.7,1.5 -9.5,-3.1 -2.9,-4Z';
 const grid = { left: 56, right: 20, top: 40, bottom: 44, outerBoundsMode: 'none' };
@@ -59,17 +59,6 @@ function enlarged(outlines, factor) {
 function median(values) {
   const sorted = [...values].sort((a, b) => a - b);
   return sorted.length ? sorted[Math.floor(sorted.length / 2)] : 0;
-}
-
-function extent(arrays) {
-  let [low, high] = [Infinity, -Infinity];
-  for (const array of arrays) {
-    for (const v of array) {
-      if (v < low) low = v;
-      if (v > high) high = v;
-    }
-  }
-  return [low, high];
 }
 
 export class MapView {

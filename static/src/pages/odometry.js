@@ -10,7 +10,10 @@
 import { LogSlider, byId, setText, showError } from '../controls.js';
 import { decimal, fmt } from '../format.js';
 import { renderMath } from '../math.js';
-import { colours, dashes, line, outlines, overTime, pairs, plotsIn, styled } from '../plots.js';
+import {
+  colours, dashes, ellipseAxes, ellipseSpacing, line, markers, outlineSeries, outlineXY, outlines, overTime, pairs, plane, planeGrid,
+  plotsIn, styled,
+} from '../plots.js';
 import { loadEstlab } from '../wasm.js';
 
 renderMath();
@@ -186,69 +189,6 @@ function commandText(flags) {
 
 // --- geometry for the plots ---
 
-const grid = { left: 58, right: 16, top: 40, bottom: 44, outerBoundsMode: 'none' };
-
-/** The smallest and largest finite value of `arrays`. */
-function extent(arrays) {
-  let [low, high] = [Infinity, -Infinity];
-  for (const array of arrays) {
-    for (const v of array) {
-      if (v < low) low = v;
-      if (v > high) high = v;
-    }
-  }
-  return [low, high];
-}
-
-/**
- * Axes that show every point of `xs` and `ys` (lists of arrays) with a metre as long on
- * x as on y, in `plot`'s chart. The centre and the half-widths are rounded to a round
- * step, so that a small change of the data keeps the axes still (and the chart beneath
- * the path plot's upper layer need not be drawn again).
- */
-function equalAxes(plot, xs, ys) {
-  const chart = plot.chart;
-  const width = Math.max(1, chart.getWidth() - grid.left - grid.right);
-  const height = Math.max(1, chart.getHeight() - grid.top - grid.bottom);
-  let [x0, x1] = extent(xs);
-  let [y0, y1] = extent(ys);
-  if (!(x0 <= x1 && y0 <= y1)) [x0, x1, y0, y1] = [-1, 1, -1, 1];
-  const step = 10 ** Math.floor(Math.log10(Math.max(x1 - x0, y1 - y0, 1e-9))) / 2;
-  const round = (v) => Math.round(v / step) * step;
-  const [cx, cy] = [round((x0 + x1) / 2), round((y0 + y1) / 2)];
-  const half = (low, high, centre) => Math.ceil(Math.max(high - centre, centre - low) / step) * step;
-  const perPixel = Math.max((2 * half(x0, x1, cx)) / width, (2 * half(y0, y1, cy)) / height, 1e-9) * 1.06;
-  const labels = { showMinLabel: false, showMaxLabel: false, formatter: (v) => fmt(v, 3) };
-  return {
-    xAxis: { type: 'value', name: 'x (m)', nameLocation: 'middle', nameGap: 26, min: cx - (perPixel * width) / 2, max: cx + (perPixel * width) / 2, axisLabel: labels },
-    yAxis: { type: 'value', name: 'y (m)', nameLocation: 'middle', nameGap: 40, min: cy - (perPixel * height) / 2, max: cy + (perPixel * height) / 2, axisLabel: labels },
-  };
-}
-
-/** The option of a plot in the plane (x, y in metres, axes of equal scale). */
-function plane(plot, series, xs, ys) {
-  return { animation: false, grid, legend: { top: 4, type: 'scroll' }, ...equalAxes(plot, xs, ys), series };
-}
-
-/** The x and the y values of outlines (for the axes). */
-function outlineXY(shapes) {
-  const xs = [];
-  const ys = [];
-  for (const { coords } of shapes) for (const [x, y] of coords) { xs.push(x); ys.push(y); }
-  return [xs, ys];
-}
-
-/** The half-axes of the k-sigma ellipse of a 2 x 2 covariance [[a, c], [c, d]] and the long one's angle. */
-function ellipseAxes(a, c, d, k = 3) {
-  const mean = (a + d) / 2;
-  const radius = Math.hypot((a - d) / 2, c);
-  return {
-    major: k * Math.sqrt(Math.max(0, mean + radius)),
-    minor: k * Math.sqrt(Math.max(0, mean - radius)),
-    angle: 0.5 * Math.atan2(2 * c, a - d),
-  };
-}
-
 /** The angle wrapped to [-pi, pi). */
 const wrap = (angle) => angle - 2 * Math.PI * Math.floor((angle + Math.PI) / (2 * Math.PI));
 
@@ -276,16 +216,6 @@ function spread(xy, theta, nominalTheta) {
  */
 function cloudSeries(id, name, xy, colour, size, opacity, z) {
   return { id, name, type: 'scatter', data: xy, dimensions: ['x', 'y'], symbolSize: size, large: true, largeThreshold: 200, silent: true, itemStyle: { color: colour, opacity }, z };
-}
-
-/** A few marked points (start, end, centres). */
-function markers(id, name, data, colour, symbol, size, z = 8) {
-  return { id, name, type: 'scatter', data, symbol, symbolSize: size, silent: true, itemStyle: { color: colour, borderColor: '#fff', borderWidth: 1 }, z };
-}
-
-/** The `lines` series of closed outlines. */
-function outlineSeries(id, name, shapes, colour, width, opacity, z, type = 'solid') {
-  return { id, name, type: 'lines', coordinateSystem: 'cartesian2d', polyline: true, silent: true, data: shapes, lineStyle: { color: colour, width, opacity, type }, z };
 }
 
 /**
@@ -351,7 +281,7 @@ const views = { belief: new View('belief'), systematic: new View('systematic'), 
 /** The steps between ellipses (and clouds) along a path of `steps` steps. */
 function ellipseEvery(steps) {
   const chosen = ui.ellipseEvery.value;
-  return chosen === 'auto' ? Math.max(1, Math.round(steps / 20)) : Number(chosen);
+  return chosen === 'auto' ? ellipseSpacing(steps) : Number(chosen);
 }
 
 /** Propagation and robots for `s`, taken out of wasm at once. */
@@ -508,7 +438,7 @@ class PathView {
     }
     // Drawn at once, in view or not (the chart beneath waits until it is in view).
     const hidden = (axis) => ({ ...axis, show: false });
-    this.layer.setOption({ animation: false, grid, legend: { show: false }, xAxis: hidden(option.xAxis), yAxis: hidden(option.yAxis), series: noise }, { replaceMerge: ['series'] });
+    this.layer.setOption({ animation: false, grid: planeGrid, legend: { show: false }, xAxis: hidden(option.xAxis), yAxis: hidden(option.yAxis), series: noise }, { replaceMerge: ['series'] });
   }
 }
 
