@@ -7,20 +7,14 @@ import { readFileSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { test } from 'node:test';
 import {
-  bounded, correct, estlab, loopingInPredict, openPage, root, savedFile as saved, submission, submit,
-  tempDir, typeInEditor as type, waitForSubmission, withServerAndBrowser,
+  bounded, browserPoints, correct, estlab, loopingInPredict, openPage, root, runAndWait, savedFile as saved, submission,
+  submit, tempDir, testStatus, typeInEditor as type, waitForSubmission, withMistake as mistaken, withServerAndBrowser,
 } from './harness.mjs';
 
 const mistakes = JSON.parse(readFileSync(join(root, 'tests', 'student', 'mistakes.json'), 'utf8'));
 
 /** correct.js with the mistake called `name` made. */
-function withMistake(name) {
-  const mistake = mistakes.find((m) => m.name === name);
-  return mistake.replace.reduce((text, { from, to }) => {
-    assert.ok(text.includes(from), `${name}: ${from}`);
-    return text.replace(from, to);
-  }, correct);
-}
+const withMistake = (name) => mistaken(correct, mistakes, name);
 
 let server;
 let browser;
@@ -28,22 +22,6 @@ withServerAndBrowser((started, launched) => {
   server = started;
   browser = launched;
 });
-
-/** Clicks `button` and waits until the run it starts has finished. */
-async function runAndWait(page, button, timeout = 120_000) {
-  await page.locator(button).click();
-  await page.waitForFunction(() => document.getElementById('stop').disabled, null, { timeout });
-}
-
-function testStatus(page, key) {
-  return page.locator(`#test-${key}`).getAttribute('data-status');
-}
-
-/** The points the page shows for the browser's verdict. */
-async function browserPoints(page) {
-  const text = await page.locator('#score').textContent();
-  return Number(text.match(/In your browser: ([\d.]+) of/)[1]);
-}
 
 test('the starter file: every test fails with "not implemented", and reset asks first', bounded, async () => {
   const page = await openPage(browser, `${server.url}/ekf/code`);

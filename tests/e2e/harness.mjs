@@ -21,6 +21,19 @@ export const correct = readFileSync(join(root, 'tests', 'student', 'correct.js')
 /** The starter file: every function throws "not implemented", so it grades in milliseconds. */
 export const starter = readFileSync(join(root, 'static', 'src', 'ekf', 'starter.js'), 'utf8');
 
+/**
+ * `file` with the mistake called `name` of `mistakes` (a tests/student mistakes.json) made:
+ * each of its replacements, which must each find their text.
+ */
+export function withMistake(file, mistakes, name) {
+  const mistake = mistakes.find((m) => m.name === name);
+  assert.ok(mistake, `no mistake ${name}`);
+  return mistake.replace.reduce((text, { from, to }) => {
+    assert.ok(text.includes(from), `${name}: ${from}`);
+    return text.replace(from, to);
+  }, file);
+}
+
 /** correct.js with an endless loop at the start of `predict`, which the sandboxes stop after 2 s. */
 export const loopingInPredict = correct.replace(/function predict\(([^)]*)\) \{/, 'function predict($1) { while (true) {}');
 
@@ -138,11 +151,12 @@ export function launchBrowser() {
 }
 
 /**
- * A new page that records every console error and uncaught exception into
+ * A new page of `browser` (or of a browser context, at the context's size) at the size
+ * `viewport`, that records every console error and uncaught exception into
  * `page.problems`, and has opened `url` and waited until its script says it is ready.
  */
-export async function openPage(browser, url) {
-  const page = await browser.newPage({ viewport: { width: 1400, height: 1000 }, acceptDownloads: true });
+export async function openPage(browser, url, viewport = laptop) {
+  const page = await browser.newPage({ viewport, acceptDownloads: true });
   page.problems = [];
   page.on('console', (message) => {
     if (message.type() === 'error') page.problems.push(`console: ${message.text()}`);
@@ -190,9 +204,26 @@ export async function typeInEditor(page, text) {
   await page.keyboard.insertText(text);
 }
 
-/** The workbench's file as the page saved it in this browser. */
-export function savedFile(page) {
-  return page.evaluate(() => localStorage.getItem('estlab:ekf-localization:source'));
+/** Clicks a workbench's `button` and waits until the run it starts has finished. */
+export async function runAndWait(page, button, timeout = 120_000) {
+  await page.locator(button).click();
+  await page.waitForFunction(() => document.getElementById('stop').disabled, null, { timeout });
+}
+
+/** What a workbench shows of the test of `key` (a function, a run): passed, failed or not-run. */
+export function testStatus(page, key) {
+  return page.locator(`#test-${key}`).getAttribute('data-status');
+}
+
+/** The points a workbench shows for the browser's verdict. */
+export async function browserPoints(page) {
+  const text = await page.locator('#score').textContent();
+  return Number(text.match(/In your browser: ([\d.]+) of/)[1]);
+}
+
+/** A workbench's file as the page saved it in this browser: the EKF's, or another exercise's (`lab`). */
+export function savedFile(page, lab = 'ekf-localization') {
+  return page.evaluate((key) => localStorage.getItem(key), `estlab:${lab}:source`);
 }
 
 /** Signs in with a code through the sign-in form's POST; resolves to the session cookie (`estlab_session=...`). */
@@ -217,11 +248,12 @@ export async function getJson(server, path, headers) {
 
 /**
  * A course on `server`'s data directory, set up through the command line: `count`
- * students with ids `prefix` and a number (r001, r002, ...), the EKF exercise open until
- * 2030, and an API token of a staff `role`. Resolves to the students with their codes
- * (from the codes file the roster import writes) and the token.
+ * students with ids `prefix` and a number (r001, r002, ...), the exercises `labs` (the
+ * EKF's unless named) open until 2030, and an API token of a staff `role`. Resolves to
+ * the students with their codes (from the codes file the roster import writes) and the
+ * token.
  */
-export function setUpCourse(server, { course = 'el2320', title, prefix, count, role }) {
+export function setUpCourse(server, { course = 'el2320', title, prefix, count, role, labs = ['ekf-localization'] }) {
   const dir = tempDir();
   const on = ['--data', server.dataDir, '--url', server.url];
   estlab('course', 'create', course, '--title', title, ...on);
@@ -230,7 +262,7 @@ export function setUpCourse(server, { course = 'el2320', title, prefix, count, r
   writeFileSync(roster, ['id,name,email', ...ids.map((id) => `${id},Student ${id},${id}@example.org`)].join('\n') + '\n');
   const codes = join(dir, 'codes.csv');
   estlab('course', 'roster', course, roster, '--out', codes, ...on);
-  estlab('course', 'assign', course, 'ekf-localization', '--due', '2030-01-01T00:00Z', '--data', server.dataDir);
+  for (const lab of labs) estlab('course', 'assign', course, lab, '--due', '2030-01-01T00:00Z', '--data', server.dataDir);
   const token = estlab('course', 'token', course, '--role', role, '--data', server.dataDir).trim().split('\n').at(-1);
   const students = parseCsv(readFileSync(codes, 'utf8'));
   assert.deepEqual(students.map((s) => s.id), ids);

@@ -21,7 +21,7 @@ export function link(href, text) {
   return a;
 }
 
-/** The test's key: the function it tests, or the data set of a data-set test. */
+/** The test's key: the function it tests, or the run of a run's test (`o3`, `square`). */
 export function testKey(test) {
   const [first] = test.name.split(/[:\s]/);
   return first;
@@ -152,6 +152,12 @@ function failureView(failure) {
 
 const sleep = (ms) => new Promise((resolve) => setTimeout(resolve, ms));
 
+/** What the server ran the student's code on beyond what the browser knows, by exercise. */
+const hiddenRuns = {
+  'ekf-localization': 'ran your filter on data sets you have not seen',
+  odometry: 'drove your functions along paths you have not seen',
+};
+
 /** A refusal or failure of the API: the server's `error` text and the HTTP status. */
 export class ApiError extends Error {
   constructor(message, status) {
@@ -213,7 +219,8 @@ export function renderSubmission(box, submission, { comparison = '', open = fals
   if (result.hidden_cases) {
     // The browser knows only the shown cases; the server's differ at every submission.
     const hidden = result.tests.flatMap((test) => (test.failures ?? []).filter((f) => f.hidden));
-    let note = 'The server also graded hidden cases of every function and ran your filter on data sets you have not seen, which your browser cannot: a function earns the smaller of its pass rates on the shown and the hidden cases.';
+    let note = `The server also graded hidden cases of every function and ${hiddenRuns[result.lab]}, which your browser cannot: ` +
+      'a function earns the smaller of its pass rates on the shown and the hidden cases.';
     for (const failure of hidden) {
       note += `\nHidden case ${failure.case} (${failure.note}) fails` +
         (failure.error ? `: ${failure.error}` : '') + (failure.hint ? `. Hint: ${failure.hint.text}` : '.');
