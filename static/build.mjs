@@ -1,4 +1,4 @@
-// Bundles the page scripts and the styles with esbuild into content-hashed files, and the
+// Bundles the page scripts (each page's of static/pages.json) and the styles with esbuild into content-hashed files, and the
 // Web Worker that runs students' code as a classic script of its own; writes manifest.json
 // (the style, each page's script, the worker) for the server, and precompresses every text
 // asset with brotli and gzip so that the server can send the smaller one.
@@ -10,7 +10,9 @@ import { join, relative } from 'node:path';
 import { brotliCompressSync, constants, gzipSync } from 'node:zlib';
 
 const [pkg, out] = process.argv.slice(2);
-const pages = ['home', 'car', 'odometry', 'ekf', 'code', 'signin', 'me', 'dashboard'];
+// The scripts of the site's pages, from the registry the server reads too.
+const registry = JSON.parse(readFileSync(new URL('pages.json', import.meta.url), 'utf8'));
+const pages = [...new Set(registry.pages.map((page) => page.script))];
 
 rmSync(out, { recursive: true, force: true });
 const result = await esbuild.build({

@@ -60,6 +60,8 @@ const MATRIX: &[(&str, &str, [u16; 9])] = &[
     ("GET",  "/ekf",                           [200, 200, 200, 200, 200, 200, 200, 401, 401]),
     ("GET",  "/ekf/code",                      [200, 200, 200, 200, 200, 200, 200, 401, 401]),
     ("GET",  "/ekf/starter.js",                [200, 200, 200, 200, 200, 200, 200, 200, 200]),
+    ("GET",  "/odometry/code",                 [200, 200, 200, 200, 200, 200, 200, 401, 401]),
+    ("GET",  "/odometry/starter.js",           [200, 200, 200, 200, 200, 200, 200, 200, 200]),
     ("GET",  "/signin",                        [200, 200, 200, 200, 200, 200, 200, 401, 401]),
     // Only a signed-in person has a page of their own; the rest are sent to sign in.
     ("GET",  "/me",                            [303, 200, 200, 200, 200, 200, 303, 401, 401]),
@@ -1027,7 +1029,7 @@ async fn refusals_of_the_api_are_json_naming_what_is_wrong() {
     assert_eq!(answer.status, StatusCode::BAD_REQUEST);
     assert_eq!(
         answer.error(),
-        "field `lab`: unknown exercise \"particle-filter\"; the exercises graded here: ekf-localization"
+        "field `lab`: unknown exercise \"particle-filter\"; the exercises graded here: ekf-localization, odometry"
     );
 
     // A body that is not the JSON asked for: 400, naming the line and column.
@@ -1037,4 +1039,38 @@ async fn refusals_of_the_api_are_json_naming_what_is_wrong() {
         error.starts_with("the submission body: ") && error.contains("line 1 column 4"),
         "{error}"
     );
+}
+
+/// Every page of the site's registry (`static/pages.json`, which the router serves) and
+/// every workbench's starter file is in the matrix, so a new page is checked too.
+#[test]
+fn every_page_of_the_registry_is_in_the_matrix() {
+    #[derive(serde::Deserialize)]
+    struct Registry {
+        pages: Vec<Page>,
+    }
+    #[derive(serde::Deserialize)]
+    struct Page {
+        path: String,
+        #[serde(default)]
+        exercise: Option<String>,
+    }
+    let registry: Registry = serde_json::from_str(include_str!("../../static/pages.json")).unwrap();
+    let in_matrix = |path: &str| {
+        MATRIX
+            .iter()
+            .any(|(method, p, _)| *method == "GET" && *p == path)
+    };
+    for page in &registry.pages {
+        let path = page
+            .path
+            .replace("{course}", "el2320")
+            .replace("{lab}", "ekf-localization")
+            .replace("{student}", "{A_ID}");
+        assert!(in_matrix(&path), "{path} is not in the access matrix");
+        if page.exercise.is_some() {
+            let starter = path.replace("/code", "/starter.js");
+            assert!(in_matrix(&starter), "{starter} is not in the access matrix");
+        }
+    }
 }

@@ -98,17 +98,26 @@ fn assert_static(binary: &Path) {
 
 // ---- Gradescope ----
 
-/// A Gradescope autograder's root: the package unpacked into `source/` and set up.
+/// A Gradescope autograder's root: the package of an exercise unpacked into `source/`
+/// and set up.
 struct Gradescope {
     root: tempfile::TempDir,
+    lab: &'static str,
 }
 
 impl Gradescope {
-    fn new() -> Gradescope {
+    fn new(lab: &'static str) -> Gradescope {
         let root = tempfile::tempdir().unwrap();
         let zip = root.path().join("autograder.zip");
         let said = succeeded(
-            &estlab(&["package", "gradescope", "--out", zip.to_str().unwrap()]),
+            &estlab(&[
+                "package",
+                "gradescope",
+                "--lab",
+                lab,
+                "--out",
+                zip.to_str().unwrap(),
+            ]),
             "estlab package gradescope",
         );
         assert!(said.contains("Configure Autograder"), "{said}");
@@ -152,7 +161,7 @@ impl Gradescope {
             root.path().join("run_autograder"),
         )
         .unwrap();
-        Gradescope { root }
+        Gradescope { root, lab }
     }
 
     fn path(&self, part: &str) -> PathBuf {
@@ -206,7 +215,8 @@ impl Gradescope {
         let output = Command::new(self.path("source/estlab"))
             .arg("grade")
             .arg(&file)
-            .args(["--seed", &seed.to_string(), "--format", "gradescope"])
+            .args(["--lab", self.lab, "--seed", &seed.to_string()])
+            .args(["--format", "gradescope"])
             .arg("--secret")
             .arg(self.path("source/secret"))
             .args(["--submission", &key.to_string()])
@@ -218,7 +228,7 @@ impl Gradescope {
 
 #[test]
 fn gradescope_grades_as_estlab_grade_does_with_hidden_cases_after_the_due_date() {
-    let gradescope = Gradescope::new();
+    let gradescope = Gradescope::new("ekf-localization");
     let ada = 4201;
     let seed = student_seed("el2320", "4201");
 
@@ -319,7 +329,7 @@ fn gradescope_grades_as_estlab_grade_does_with_hidden_cases_after_the_due_date()
 
 #[test]
 fn gradescope_says_which_file_it_wants_and_refuses_what_it_cannot_grade() {
-    let gradescope = Gradescope::new();
+    let gradescope = Gradescope::new("ekf-localization");
     let ada = [4201];
     // Several files: the one named like the starter is graded.
     let picked = gradescope.grade(
@@ -378,6 +388,8 @@ fn gradescope_says_which_file_it_wants_and_refuses_what_it_cannot_grade() {
 #[serde(rename_all = "camelCase")]
 struct Info {
     uuid: String,
+    title: String,
+    tags: Vec<String>,
     grading_method: String,
     external_grading_options: ExternalGrading,
 }
@@ -658,4 +670,73 @@ fn packaging_refuses_a_dynamic_binary_an_existing_output_and_an_unknown_exercise
     let mut secret = Vec::new();
     std::io::Read::read_to_end(&mut archive.by_name("secret").unwrap(), &mut secret).unwrap();
     assert_eq!(secret, [7u8; 32]);
+}
+
+/// The odometry exercise packaged: Gradescope grades `odometry.js` (picked by its name
+/// among the scripts submitted) with that exercise's tests and hidden cases, exactly as
+/// `estlab grade --lab odometry` does; PrairieLearn's question names that file and that
+/// exercise's workbench.
+#[test]
+fn packages_of_the_odometry_exercise_grade_its_file_and_name_its_workbench() {
+    const ODOMETRY: &str = student::odometry::CORRECT;
+    let gradescope = Gradescope::new("odometry");
+    let files = [("odometry.js", ODOMETRY), ("scratch.js", "// notes")];
+    let correct = gradescope.grade(&files, &[4301], 8001);
+    assert_eq!(correct, gradescope.graded_alone(ODOMETRY, &correct));
+    assert_eq!(correct.extra_data.lab, "odometry");
+    assert!(correct.score.is_some_and(|score| score > 0.0));
+    assert!(
+        correct.tests.iter().all(|t| t.status == Status::Passed),
+        "{:#?}",
+        correct.tests
+    );
+    assert!(
+        correct
+            .tests
+            .iter()
+            .any(|t| t.name.starts_with("odometry_step")),
+        "{:#?}",
+        correct.tests
+    );
+    let wrong = gradescope.grade(
+        &[("ekf_localization.js", CORRECT), ("x.js", "")],
+        &[4301],
+        8002,
+    );
+    assert_eq!(wrong.score, None, "{wrong:#?}");
+    assert!(
+        wrong
+            .output
+            .contains("submit only your odometry.js, or name the one to grade odometry.js"),
+        "{}",
+        wrong.output
+    );
+
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("question-package");
+    succeeded(
+        &estlab(&[
+            "package",
+            "prairielearn",
+            "--lab",
+            "odometry",
+            "--out",
+            out.to_str().unwrap(),
+            "--workbench",
+            "https://estlab.example.org",
+        ]),
+        "estlab package prairielearn --lab odometry",
+    );
+    let html = std::fs::read_to_string(out.join("question/question.html")).unwrap();
+    for part in [
+        r#"<pl-file-editor file-name="odometry.js""#,
+        "https://estlab.example.org/odometry/code?seed={{params.seed}}",
+    ] {
+        assert!(html.contains(part), "{part} not in\n{html}");
+    }
+    let starter = std::fs::read_to_string(out.join("question/starter.js")).unwrap();
+    assert!(starter.contains("function odometry_step"), "{starter}");
+    let info: Info = read(&out.join("question/info.json"));
+    assert!(info.title.starts_with("Odometry"), "{}", info.title);
+    assert!(info.tags.contains(&"odometry".to_owned()));
 }

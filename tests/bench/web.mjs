@@ -99,7 +99,10 @@ async function firstLoads() {
   say();
   say('| page | requests | transferred on first load |');
   say('| --- | ---: | ---: |');
-  for (const path of ['/', '/car', '/ekf', '/ekf/code', '/odometry']) {
+  // Every page of the registry that anyone may open (no sign-in, no path parameters).
+  const registry = JSON.parse(readFileSync(new URL('../../static/pages.json', import.meta.url), 'utf8'));
+  const open = registry.pages.filter((page) => !page.path.includes('{') && !['signin', 'me'].includes(page.name));
+  for (const { path } of open) {
     const context = await browser.newContext();
     const fresh = await context.newPage();
     const cdp = await context.newCDPSession(fresh);

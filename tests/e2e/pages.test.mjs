@@ -430,7 +430,7 @@ test('on a phone every page fits the screen: the settings fold above the plots, 
 test('the home page leads to every exercise; plots\' save buttons name their plot; no rejection reads as ∞', bounded, async () => {
   const home = await openPage(browser, `${server.url}/`);
   assert.deepEqual(await home.locator('.exercises h2 a').evaluateAll((links) => links.map((a) => a.getAttribute('href'))),
-    ['/car', '/ekf', '/ekf/code', '/odometry']);
+    ['/car', '/ekf', '/ekf/code', '/odometry', '/odometry/code']);
   await home.close();
   const page = await openPage(browser, `${server.url}/ekf`);
   assert.equal(await page.locator('figure[data-name="map"] .save button').first().getAttribute('aria-label'),

@@ -3,7 +3,7 @@
 
 use super::{exercise, from_json, seed};
 use labs::Exercise;
-use labs::exercises::ekf_localization;
+use labs::exercises::{ekf_localization, odometry};
 use labs::grading::{Case, Contract, Generator, Tolerance};
 use serde_json::Value;
 use wasm_bindgen::prelude::*;
@@ -15,6 +15,7 @@ pub fn generate_cases(lab: &str, seed_value: f64, per_function: usize) -> Result
     let seed = seed(seed_value)?;
     Ok(match exercise(lab)? {
         Exercise::EkfLocalization => cases(ekf_localization::generate, seed, per_function),
+        Exercise::Odometry => cases(odometry::generate, seed, per_function),
     })
 }
 
@@ -26,6 +27,7 @@ pub fn check_case(lab: &str, case: &str, got: &str) -> Result<String, JsError> {
     let got: Value = from_json("output", got)?;
     match exercise(lab)? {
         Exercise::EkfLocalization => check::<ekf_localization::Call>(case, &got),
+        Exercise::Odometry => check::<odometry::Call>(case, &got),
     }
 }
 

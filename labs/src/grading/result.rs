@@ -276,7 +276,15 @@ impl GradeResult {
     }
 
     /// What a result graded without hidden cases leaves out, for a person reading it.
-    pub const SHOWN_ONLY: &str = "Graded on the shown cases only: the server also grades hidden cases drawn from its secret, and data sets you have not seen.";
+    pub fn shown_only(exercise: Exercise) -> String {
+        let unseen = match exercise {
+            Exercise::EkfLocalization => "data sets",
+            Exercise::Odometry => "paths",
+        };
+        format!(
+            "Graded on the shown cases only: the server also grades hidden cases drawn from its secret, and {unseen} you have not seen."
+        )
+    }
 
     /// One line for the student: the score, or why there is none.
     pub fn summary(&self) -> String {

@@ -4,6 +4,8 @@ use super::{print, read};
 use crate::error::Error;
 use labs::Exercise;
 use labs::exercises::ekf_localization::{self, FIXTURE_FILES, load_fixtures};
+use labs::exercises::odometry;
+use labs::grading::{Contract, Generator};
 use std::path::PathBuf;
 use std::str::FromStr;
 
@@ -27,18 +29,26 @@ pub struct Args {
 }
 
 pub fn run(args: &Args) -> Result<(), Error> {
-    let json = |cases| serde_json::to_string(cases).expect("cases serialise");
     let text = match (args.lab, &args.el2320) {
         (Exercise::EkfLocalization, Some(dir)) => {
             let mut cases = Vec::new();
             for (function, file) in FIXTURE_FILES {
                 cases.extend(load_fixtures(function, file, &read(&dir.join(file))?)?);
             }
-            json(&cases)
+            serde_json::to_string(&cases).expect("cases serialise")
         }
-        (Exercise::EkfLocalization, None) => {
-            json(&ekf_localization::generate(args.seed, args.per_function))
+        (exercise, Some(_)) => {
+            return Err(Error::Invalid(format!(
+                "--el2320: the original EL2320 fixtures are the {} exercise's, not the {exercise} exercise's",
+                Exercise::EkfLocalization
+            )));
         }
+        (Exercise::EkfLocalization, None) => generated(ekf_localization::generate, args),
+        (Exercise::Odometry, None) => generated(odometry::generate, args),
     };
     print(&text)
+}
+
+fn generated<C: Contract>(generate: Generator<C>, args: &Args) -> String {
+    serde_json::to_string(&generate(args.seed, args.per_function)).expect("cases serialise")
 }

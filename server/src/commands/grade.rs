@@ -83,7 +83,11 @@ pub fn run(args: &Args) -> Result<(), Error> {
                 if result.hidden_cases {
                     result.summary()
                 } else {
-                    format!("{}\n{}", result.summary(), GradeResult::SHOWN_ONLY)
+                    format!(
+                        "{}\n{}",
+                        result.summary(),
+                        GradeResult::shown_only(args.lab)
+                    )
                 },
                 |text, test| text + "\n" + &test,
             )),

@@ -212,6 +212,7 @@ pub fn run(args: &Args) -> Result<(), Error> {
     write_csv(&rows, &args.out)?;
     print(&summary(
         &rows,
+        args.lab,
         &args.out,
         &results_dir,
         started.elapsed().as_secs_f64(),
@@ -301,7 +302,7 @@ fn write_csv(rows: &[Row], path: &Path) -> Result<(), Error> {
     csv.flush().map_err(Error::io(path))
 }
 
-fn summary(rows: &[Row], csv: &Path, results: &Path, seconds: f64) -> String {
+fn summary(rows: &[Row], exercise: Exercise, csv: &Path, results: &Path, seconds: f64) -> String {
     let scores: Vec<f64> = rows
         .iter()
         .filter_map(|row| match &row.outcome {
@@ -330,6 +331,6 @@ fn summary(rows: &[Row], csv: &Path, results: &Path, seconds: f64) -> String {
         csv.display(),
         results.display(),
         rows.len() as f64 / seconds.max(1e-9),
-        GradeResult::SHOWN_ONLY
+        GradeResult::shown_only(exercise)
     )
 }

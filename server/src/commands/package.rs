@@ -91,7 +91,7 @@ pub fn run(args: &Args) -> Result<(), Error> {
                     secret: &secret,
                     image,
                     uuid: uuid()?,
-                    starter: crate::web::STARTER,
+                    starter: crate::web::starter_file(common.lab),
                     workbench: workbench.as_deref(),
                 },
             )?;

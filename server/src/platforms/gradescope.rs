@@ -82,7 +82,7 @@ struct User {
 /// results. The variant is the submitter's Gradescope user id within the package's
 /// course (for a group the smallest of its members' ids, so that whoever uploads, the
 /// group keeps its variant); the results name its seed, which the workbench opens with
-/// `/ekf/code?seed=N`. When the package or the metadata cannot be read, the results say
+/// `?seed=N` on the exercise's workbench. When the package or the metadata cannot be read, the results say
 /// so (worth nothing) and the error is returned.
 pub fn autograde(root: &Path) -> Result<(), Error> {
     write_graded(root, graded(root), |result| {

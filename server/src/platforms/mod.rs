@@ -21,7 +21,7 @@ use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 use std::path::Path;
 
-pub use submitted::{STUDENT_FILE, student_file};
+pub use submitted::student_file;
 
 /// The file of a package holding its [`Settings`].
 pub const SETTINGS: &str = "estlab-package.json";
@@ -77,7 +77,7 @@ impl PackagedGrader {
     pub fn grade(&self, submitted: &Path, seed: u64, drawn: Drawn) -> (GradeResult, Option<i64>) {
         let lab = self.settings.lab.name();
         let not_gradable = |reason: String| (GradeResult::not_gradable(lab, seed, reason), None);
-        let path = match student_file(submitted) {
+        let path = match student_file(submitted, self.settings.lab.file_name()) {
             Ok(path) => path,
             Err(reason) => return not_gradable(reason),
         };

@@ -6,8 +6,9 @@
 //! question's data in `/grade/data/data.json`, runs the entrypoint, and reads
 //! `/grade/results/results.json`.
 
-use super::{Drawn, PackagedGrader, SECRET, STUDENT_FILE, Settings, write_graded};
+use super::{Drawn, PackagedGrader, SECRET, Settings, write_graded};
 use crate::error::Error;
+use labs::Exercise;
 use labs::grading::PrairieLearnResults;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -69,9 +70,10 @@ pub fn package(out: &Path, package: &Package) -> Result<(), Error> {
     for dir in [&grader, &question, &tests] {
         std::fs::create_dir(dir).map_err(Error::io(dir))?;
     }
+    let exercise = package.settings.lab;
     let info = Info {
         uuid: package.uuid.clone(),
-        title: "EKF localization with known and unknown associations (estlab)".to_owned(),
+        title: format!("{} (estlab)", exercise.title()),
         topic: "Localization".to_owned(),
         tags: vec!["estlab".to_owned(), package.settings.lab.name().to_owned()],
         kind: "v3".to_owned(),
@@ -87,8 +89,11 @@ pub fn package(out: &Path, package: &Package) -> Result<(), Error> {
         },
     };
     let info = serde_json::to_string_pretty(&info).expect("info serialises") + "\n";
-    let (dockerfile, html) = (dockerfile(), question_html(package.workbench));
-    let readme = readme(package.image);
+    let (dockerfile, html) = (
+        dockerfile(exercise),
+        question_html(exercise, package.workbench),
+    );
+    let readme = readme(exercise, package.image);
     let files: [(&Path, &str, &[u8], u32); 8] = [
         (&grader, "Dockerfile", dockerfile.as_bytes(), 0o644),
         (&grader, "estlab", package.binary, 0o755),
@@ -120,73 +125,96 @@ fn write(path: &Path, bytes: &[u8], mode: u32) -> Result<(), Error> {
     file.write_all(bytes).map_err(Error::io(path))
 }
 
-fn dockerfile() -> String {
+fn dockerfile(exercise: Exercise) -> String {
     format!(
-        "# The grader image of estlab's EKF localization question for PrairieLearn: estlab is one\n\
+        "# The grader image of estlab's question \"{}\" for PrairieLearn: estlab is one\n\
          # statically linked program, so a small base image does. Build it from this folder:\n\
          #   docker build -t IMAGE .\n\
          # and push it where PrairieLearn pulls images from (Docker Hub for prairielearn.com).\n\
          FROM alpine:3.21\n\
          COPY estlab {BINARY}\n\
-         RUN chmod 0755 {BINARY} && {BINARY} --version\n"
+         RUN chmod 0755 {BINARY} && {BINARY} --version\n",
+        exercise.title()
     )
 }
 
 /// The variant's seed, made from PrairieLearn's variant seed when the variant is made and
 /// shown in the question; the grader reads it back from `data.json`.
-const SERVER_PY: &str = r#"# estlab's EKF localization question: each variant gets its own seed (its test cases'
-# numbers); estlab's grader reads it back from /grade/data/data.json.
+const SERVER_PY: &str = r#"# estlab's question: each variant gets its own seed (its test cases' numbers);
+# estlab's grader reads it back from /grade/data/data.json.
 
 
 def generate(data):
     data["params"]["seed"] = int(data["variant_seed"]) % (2**53)
 "#;
 
-fn question_html(workbench: Option<&str>) -> String {
+/// What the student implements, and what the grader runs besides the cases.
+fn task(exercise: Exercise) -> (&'static str, &'static str) {
+    match exercise {
+        Exercise::EkfLocalization => (
+            "the odometry, the prediction, the observation model and its Jacobian, the \
+             maximum-likelihood association with the outlier test, and the sequential and \
+             batch updates",
+            "runs whole data sets against the lab's error bounds",
+        ),
+        Exercise::Odometry => (
+            "one step of odometry, its Jacobians with respect to the pose and to the \
+             wheels' distances, the wheels' noise, and one step of the propagation of the \
+             pose's covariance",
+            "drives your functions along whole paths against the reference",
+        ),
+    }
+}
+
+fn question_html(exercise: Exercise, workbench: Option<&str>) -> String {
+    let page = crate::web::workbench_path(exercise);
+    let file = exercise.file_name();
+    let (functions, runs) = task(exercise);
     let run = match workbench {
         Some(url) => format!(
             "Run the tests of your variant in your browser, as often as you like, in\n    \
-             <a href=\"{url}/ekf/code?seed={{{{params.seed}}}}\" target=\"_blank\">estlab's workbench</a>\n    \
+             <a href=\"{url}{page}?seed={{{{params.seed}}}}\" target=\"_blank\">estlab's workbench</a>\n    \
              before you submit here."
         ),
-        None => "Run the tests of your variant in your browser in estlab's workbench\n    \
-                 (<code>/ekf/code?seed=…</code> with your seed) before you submit here."
-            .to_owned(),
+        None => format!(
+            "Run the tests of your variant in your browser in estlab's workbench\n    \
+             (<code>{page}?seed=…</code> with your seed) before you submit here."
+        ),
     };
     format!(
         r#"<pl-question-panel>
   <p>
-    Implement the functions of the EKF localization exercise in
-    <code>{STUDENT_FILE}</code>: the odometry, the prediction, the observation model
-    and its Jacobian, the maximum-likelihood association with the outlier test, and the
-    sequential and batch updates. Each function is described in the file.
+    Implement the functions of the exercise "{title}" in <code>{file}</code>:
+    {functions}. Each function is described in the file.
   </p>
   <p>
     Your variant is seed <strong>{{{{params.seed}}}}</strong>. {run}
-    The grader also checks hidden cases and runs whole data sets against the lab's
-    error bounds.
+    The grader also checks hidden cases and {runs}.
   </p>
-  <pl-file-editor file-name="{STUDENT_FILE}" ace-mode="ace/mode/javascript" source-file-name="{STARTER}"></pl-file-editor>
+  <pl-file-editor file-name="{file}" ace-mode="ace/mode/javascript" source-file-name="{STARTER}"></pl-file-editor>
 </pl-question-panel>
 
 <pl-submission-panel>
   <pl-external-grader-results></pl-external-grader-results>
   <pl-file-preview></pl-file-preview>
 </pl-submission-panel>
-"#
+"#,
+        title = exercise.title()
     )
 }
 
-fn readme(image: &str) -> String {
+fn readme(exercise: Exercise, image: &str) -> String {
+    let title = exercise.title();
+    let folder = exercise.file_name().trim_end_matches(".js");
     format!(
-        "# estlab's EKF localization question for PrairieLearn\n\n\
+        "# estlab's question \"{title}\" for PrairieLearn\n\n\
          1. Build the grader image from `grader/` and push it where your PrairieLearn pulls\n   \
          images from:\n\n       \
          docker build -t {image} grader/\n       \
          docker push {image}\n\n   \
          (On prairielearn.com, images come from Docker Hub; sync them on the course's\n   \
          \"Sync\" page.)\n\
-         2. Copy `question/` into your course repository as `questions/ekfLocalization/`\n   \
+         2. Copy `question/` into your course repository as `questions/{folder}/`\n   \
          and add it to an assessment. `question/tests/` holds the secret that draws the\n   \
          hidden cases: PrairieLearn never shows that folder to students.\n\
          3. To regrade after a new estlab, build and push the new image under the same name\n   \

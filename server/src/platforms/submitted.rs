@@ -2,8 +2,6 @@
 
 use std::path::{Path, PathBuf};
 
-/// The name of the student's file: the starter's, as the workbench downloads it.
-pub const STUDENT_FILE: &str = "ekf_localization.js";
 /// Folders below the submission's that are looked into (a zip of a folder adds one).
 const DEPTH: usize = 4;
 /// Entries (files, folders, links) looked at, at most: a submission of thousands is not
@@ -11,12 +9,14 @@ const DEPTH: usize = 4;
 const ENTRIES: usize = 1000;
 
 /// The JavaScript file to grade among those under `dir`: the only `.js` file, or else the
-/// one named like the starter. Hidden files and macOS's `__MACOSX` folders are not the
-/// student's; links are not followed (a link to the grader's own files grades nothing).
-/// The error says what was found, for the student.
-pub fn student_file(dir: &Path) -> Result<PathBuf, String> {
+/// one called `name` (the exercise's file, as the workbench downloads it). Hidden files
+/// and macOS's `__MACOSX` folders are not the student's; links are not followed (a link to
+/// the grader's own files grades nothing). The error says what was found, for the student.
+pub fn student_file(dir: &Path, name: &str) -> Result<PathBuf, String> {
     let mut found = Found::default();
-    found.walk(dir, 0)?;
+    found.walk(dir, 0).map_err(|TooMany| {
+        format!("more than {ENTRIES} files and folders were submitted: submit your {name} alone")
+    })?;
     let relative = |path: &PathBuf| path.strip_prefix(dir).unwrap_or(path).display().to_string();
     let scripts: Vec<&PathBuf> = found
         .files
@@ -26,31 +26,34 @@ pub fn student_file(dir: &Path) -> Result<PathBuf, String> {
     match scripts.as_slice() {
         [one] => Ok((*one).clone()),
         [] if found.files.is_empty() && !found.skipped.is_empty() => Err(format!(
-            "only links or special files were submitted ({}), which are not graded: submit your {STUDENT_FILE} itself",
+            "only links or special files were submitted ({}), which are not graded: submit your {name} itself",
             list(found.skipped.iter().map(relative))
         )),
         [] if found.files.is_empty() => Err(format!(
-            "nothing was submitted (files more than {DEPTH} folders deep are not looked at): submit your {STUDENT_FILE}"
+            "nothing was submitted (files more than {DEPTH} folders deep are not looked at): submit your {name}"
         )),
         [] => Err(format!(
-            "no JavaScript file was submitted (found {}): submit your {STUDENT_FILE}",
+            "no JavaScript file was submitted (found {}): submit your {name}",
             list(found.files.iter().map(relative))
         )),
         several => {
             let named: Vec<&&PathBuf> = several
                 .iter()
-                .filter(|p| p.file_name().is_some_and(|n| n == STUDENT_FILE))
+                .filter(|p| p.file_name().is_some_and(|n| n == name))
                 .collect();
             match named.as_slice() {
                 [one] => Ok((**one).clone()),
                 _ => Err(format!(
-                    "several JavaScript files were submitted ({}): submit only your {STUDENT_FILE}, or name the one to grade {STUDENT_FILE}",
+                    "several JavaScript files were submitted ({}): submit only your {name}, or name the one to grade {name}",
                     list(several.iter().map(|p| relative(p)))
                 )),
             }
         }
     }
 }
+
+/// More than `ENTRIES` entries were submitted.
+struct TooMany;
 
 /// What a walk of the submission found.
 #[derive(Default)]
@@ -66,7 +69,7 @@ struct Found {
 impl Found {
     /// Walks `dir` depth first in name order, skipping hidden entries and `__MACOSX`;
     /// refuses a submission of more than `ENTRIES` entries.
-    fn walk(&mut self, dir: &Path, depth: usize) -> Result<(), String> {
+    fn walk(&mut self, dir: &Path, depth: usize) -> Result<(), TooMany> {
         let Ok(entries) = std::fs::read_dir(dir) else {
             return Ok(());
         };
@@ -75,9 +78,7 @@ impl Found {
         for entry in entries {
             self.entries += 1;
             if self.entries > ENTRIES {
-                return Err(format!(
-                    "more than {ENTRIES} files and folders were submitted: submit your {STUDENT_FILE} alone"
-                ));
+                return Err(TooMany);
             }
             let name = entry.file_name();
             let name = name.to_string_lossy();
@@ -129,7 +130,8 @@ mod tests {
 
     fn pick(files: &[&str]) -> Result<String, String> {
         let dir = folder(files);
-        student_file(dir.path()).map(|p| p.strip_prefix(dir.path()).unwrap().display().to_string())
+        student_file(dir.path(), "ekf_localization.js")
+            .map(|p| p.strip_prefix(dir.path()).unwrap().display().to_string())
     }
 
     #[test]
@@ -161,14 +163,18 @@ mod tests {
         // A link named like the starter, to the grader's secret: not read.
         let dir = tempfile::tempdir().unwrap();
         symlink(&secret, dir.path().join("ekf_localization.js")).unwrap();
-        let error = student_file(dir.path()).unwrap_err();
+        let error = student_file(dir.path(), "ekf_localization.js").unwrap_err();
         assert!(
             error.contains("only links or special files were submitted (ekf_localization.js)"),
             "{error}"
         );
         // Beside a real file, the link is passed over.
         std::fs::write(dir.path().join("mine.js"), "x").unwrap();
-        assert!(student_file(dir.path()).unwrap().ends_with("mine.js"));
+        assert!(
+            student_file(dir.path(), "ekf_localization.js")
+                .unwrap()
+                .ends_with("mine.js")
+        );
 
         // A linked folder is not entered; a named pipe is not opened.
         let dir = tempfile::tempdir().unwrap();
@@ -179,14 +185,14 @@ mod tests {
             .status()
             .unwrap();
         assert!(made.success());
-        let error = student_file(dir.path()).unwrap_err();
+        let error = student_file(dir.path(), "ekf_localization.js").unwrap_err();
         assert!(error.contains("lab, pipe.js"), "{error}");
 
         // A name that is not UTF-8 is still listed.
         let dir = tempfile::tempdir().unwrap();
         let odd = std::ffi::OsStr::from_bytes(b"r\xe9sum\xe9.txt");
         std::fs::write(dir.path().join(odd), "x").unwrap();
-        let error = student_file(dir.path()).unwrap_err();
+        let error = student_file(dir.path(), "ekf_localization.js").unwrap_err();
         assert!(
             error.contains("no JavaScript file was submitted (found r"),
             "{error}"
@@ -198,7 +204,7 @@ mod tests {
             std::fs::create_dir(dir.path().join(format!("d{i:04}"))).unwrap();
         }
         std::fs::write(dir.path().join("ekf_localization.js"), "x").unwrap();
-        let error = student_file(dir.path()).unwrap_err();
+        let error = student_file(dir.path(), "ekf_localization.js").unwrap_err();
         assert!(
             error.contains("more than 1000 files and folders"),
             "{error}"

@@ -3,6 +3,7 @@
 //! page's script and style.
 
 use super::Error;
+use super::registry;
 use axum::extract::Request;
 use axum::http::{HeaderValue, StatusCode, header};
 use axum::middleware::Next;
@@ -30,18 +31,6 @@ pub struct PageAssets<'a> {
     pub script: &'a str,
 }
 
-/// The pages that have a script of their own.
-pub const PAGES: [&str; 8] = [
-    "home",
-    "car",
-    "odometry",
-    "ekf",
-    "code",
-    "signin",
-    "me",
-    "dashboard",
-];
-
 /// The name of the Web Worker that runs students' code starts so.
 const WORKER_PREFIX: &str = "student-worker-";
 
@@ -67,10 +56,10 @@ impl Assets {
             ))
         })?;
         let manifest: Manifest = serde_json::from_str(&text).map_err(|e| broken(e.to_string()))?;
-        for page in PAGES {
-            if !manifest.scripts.contains_key(page) {
+        for script in registry::scripts() {
+            if !manifest.scripts.contains_key(script) {
                 return Err(broken(format!(
-                    "the script of the page '{page}' is missing"
+                    "the script '{script}' of the pages is missing"
                 )));
             }
         }
@@ -89,11 +78,11 @@ impl Assets {
         &self.manifest.worker
     }
 
-    /// The assets of one of [`PAGES`].
+    /// The assets of the page of the registry called `name`.
     pub fn page(&self, name: &str) -> PageAssets<'_> {
         PageAssets {
             style: &self.manifest.style,
-            script: &self.manifest.scripts[name],
+            script: &self.manifest.scripts[&registry::page(name).script],
         }
     }
 }

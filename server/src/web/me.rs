@@ -3,6 +3,7 @@
 
 use super::extract::Query;
 use super::pages::{Nav, html};
+use super::registry;
 use super::viewer::Viewer;
 use super::{AppState, Error, blocking, lab_field};
 use crate::courses::deadline::{Policy, Timing};
@@ -12,6 +13,7 @@ use axum::Json;
 use axum::extract::State;
 use axum::response::{IntoResponse, Redirect, Response};
 use jiff::Timestamp;
+use labs::Exercise;
 use labs::grading::student_seed;
 use serde::{Deserialize, Serialize};
 use std::collections::HashSet;
@@ -86,6 +88,12 @@ pub fn span(seconds: i64) -> String {
 pub struct StudentAssignment {
     #[serde(flatten)]
     pub assignment: Assignment,
+    /// Its exercise (`assignment.lab`, by name).
+    #[serde(skip)]
+    pub exercise: Exercise,
+    /// The path of its exercise's workbench, where the student writes, tests and submits
+    /// their file, and opens a submission (`?submission=ID`).
+    pub workbench: &'static str,
     pub standing: Standing,
     /// Their submissions, oldest first.
     pub history: Vec<SubmissionSummary>,
@@ -163,6 +171,11 @@ fn gather(
                 assignment,
             });
         } else {
+            // An exercise this release does not grade (in the database of a later one) has
+            // no workbench here, and takes no submission.
+            let Ok(exercise) = assignment.lab.parse::<Exercise>() else {
+                continue;
+            };
             let mut assignment = assignment;
             if let Some(policy) = store.policy_for(&member.course, &assignment.lab, member.id)? {
                 assignment.policy = policy;
@@ -188,6 +201,8 @@ fn gather(
             };
             assignments.push(StudentAssignment {
                 assignment,
+                exercise,
+                workbench: &registry::workbench(exercise).path,
                 standing,
                 history,
                 counting_score,

@@ -10,6 +10,7 @@ mod limiter;
 mod me;
 mod origin;
 mod pages;
+mod registry;
 mod signin;
 mod staff;
 mod viewer;
@@ -17,7 +18,7 @@ mod viewer;
 pub use assets::Assets;
 pub use error::Error;
 pub use limiter::SignInLimiter;
-pub use pages::STARTER;
+pub use pages::starter_file;
 pub use viewer::SESSION_COOKIE;
 
 use crate::clock::Clock;
@@ -26,8 +27,9 @@ use crate::submissions::Grader;
 use axum::Router;
 use axum::extract::{DefaultBodyLimit, MatchedPath, Request};
 use axum::http::{HeaderValue, header};
-use axum::routing::{get, post};
+use axum::routing::{MethodRouter, get, post};
 use labs::Exercise;
+use registry::Page;
 use std::sync::Arc;
 use std::time::Duration;
 use tower_http::compression::CompressionLayer;
@@ -35,6 +37,11 @@ use tower_http::set_header::SetResponseHeaderLayer;
 use tower_http::timeout::RequestBodyTimeoutLayer;
 use tower_http::trace::TraceLayer;
 use tracing::Span;
+
+/// The path of an exercise's workbench (`/ekf/code`).
+pub fn workbench_path(exercise: Exercise) -> &'static str {
+    &registry::workbench(exercise).path
+}
 
 /// What every request handler can reach.
 pub struct AppState {
@@ -60,23 +67,36 @@ const CONTENT_SECURITY_POLICY: &str = "default-src 'self'; script-src 'self' 'wa
     style-src 'self' 'unsafe-inline'; img-src 'self' data: blob:; font-src 'self'; \
     object-src 'none'; base-uri 'none'; frame-ancestors 'none'; form-action 'self'";
 
+/// What serves a page of the registry: its handler, by the page's name; a workbench's,
+/// for its exercise.
+fn page_route(page: &Page) -> MethodRouter<Arc<AppState>> {
+    if let Some(exercise) = page.exercise {
+        return get(move |state, viewer| pages::workbench(state, viewer, exercise));
+    }
+    match page.name.as_str() {
+        "home" => get(pages::home),
+        "car" => get(pages::car),
+        "ekf" => get(pages::ekf),
+        "odometry" => get(pages::odometry),
+        "signin" => get(signin::page).post(signin::sign_in),
+        "me" => get(me::page),
+        "dashboard" => get(staff::page),
+        "dashboard-student" => get(staff::student_page),
+        name => panic!("static/pages.json: no handler serves the page {name:?}"),
+    }
+}
+
 pub fn router(state: Arc<AppState>) -> Router {
     let static_files = assets::service(state.assets.dir());
-    Router::new()
-        .route("/", get(pages::home))
-        .route("/car", get(pages::car))
-        .route("/odometry", get(pages::odometry))
-        .route("/ekf", get(pages::ekf))
-        .route("/ekf/code", get(pages::code))
-        .route("/ekf/starter.js", get(pages::starter))
-        .route("/signin", get(signin::page).post(signin::sign_in))
+    let mut router = Router::new();
+    for page in registry::pages() {
+        router = router.route(&page.path, page_route(page));
+        if let (Some(exercise), Some(starter)) = (page.exercise, page.starter_path()) {
+            router = router.route(&starter, get(move || pages::starter(exercise)));
+        }
+    }
+    router
         .route("/signout", post(signin::sign_out))
-        .route("/me", get(me::page))
-        .route("/courses/{course}/{lab}", get(staff::page))
-        .route(
-            "/courses/{course}/{lab}/students/{student}",
-            get(staff::student_page),
-        )
         .route("/api/me", get(me::about))
         .route("/api/me/submissions", get(me::history))
         .route("/api/submissions", post(api::submit))

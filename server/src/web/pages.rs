@@ -1,12 +1,15 @@
 //! The pages, each an askama template over the base layout.
 
 use super::assets::PageAssets;
+use super::registry::{self, Page};
 use super::viewer::Viewer;
 use super::{AppState, Error, blocking};
 use askama::Template;
 use axum::extract::State;
 use axum::http::{StatusCode, Uri, header};
 use axum::response::{Html, IntoResponse, Response};
+use labs::Exercise;
+use std::collections::BTreeMap;
 use std::sync::Arc;
 
 #[derive(Template)]
@@ -47,13 +50,33 @@ struct Code<'a> {
     page: &'a str,
     assets: PageAssets<'a>,
     nav: Nav,
+    exercise: Exercise,
+    /// The workbench's own path, which its links go back to.
+    path: &'a str,
+    /// Every exercise's workbench (JSON: the path by the exercise's name), where this one
+    /// sends a submission of another exercise.
+    workbenches: String,
     worker: &'a str,
     starter: &'a str,
 }
 
-/// The file a student starts from: every function of the contract, documented, throwing
-/// "not implemented".
-pub const STARTER: &str = include_str!("../../../static/src/ekf/starter.js");
+/// Every exercise's workbench path by the exercise's name, as JSON.
+fn workbenches() -> String {
+    let paths: BTreeMap<&str, &str> = Exercise::ALL
+        .into_iter()
+        .map(|exercise| (exercise.name(), registry::workbench(exercise).path.as_str()))
+        .collect();
+    serde_json::to_string(&paths).expect("paths serialise")
+}
+
+/// The file a student of an exercise starts from: every function of the contract,
+/// documented, throwing "not implemented".
+pub fn starter_file(exercise: Exercise) -> &'static str {
+    match exercise {
+        Exercise::EkfLocalization => include_str!("../../../static/src/ekf/starter.js"),
+        Exercise::Odometry => include_str!("../../../static/src/odometry/starter.js"),
+    }
+}
 
 #[derive(Template)]
 #[template(path = "not_found.html")]
@@ -64,8 +87,10 @@ struct NotFound<'a> {
     path: &'a str,
 }
 
-/// What the header shows of who is signed in.
+/// What the header shows: the pages of the navigation, and who is signed in.
 pub struct Nav {
+    /// Every page of the registry (those with a `nav` title are linked).
+    pub pages: &'static [Page],
     /// Whether the server runs courses (else submitting is open to anyone).
     pub courses: bool,
     /// The signed-in person's name (or id) and course.
@@ -81,11 +106,13 @@ impl Nav {
                 member.name.clone()
             };
             return Ok(Nav {
+                pages: registry::pages(),
                 courses: true,
                 member: Some((name, member.course.clone())),
             });
         }
         Ok(Nav {
+            pages: registry::pages(),
             courses: blocking(state, |store| store.any_course()).await?,
             member: None,
         })
@@ -136,24 +163,33 @@ pub async fn ekf(State(state): State<Arc<AppState>>, viewer: Viewer) -> Result<R
     })
 }
 
-pub async fn code(State(state): State<Arc<AppState>>, viewer: Viewer) -> Result<Response, Error> {
+/// The workbench of an exercise.
+pub async fn workbench(
+    State(state): State<Arc<AppState>>,
+    viewer: Viewer,
+    exercise: Exercise,
+) -> Result<Response, Error> {
+    let page = registry::workbench(exercise);
     html(&Code {
-        page: "code",
-        assets: state.assets.page("code"),
+        page: &page.name,
+        assets: state.assets.page(&page.name),
         nav: Nav::of(&state, &viewer).await?,
+        exercise,
+        path: &page.path,
+        workbenches: workbenches(),
         worker: state.assets.worker(),
-        starter: STARTER,
+        starter: starter_file(exercise),
     })
 }
 
-/// The starter file on its own, to download.
-pub async fn starter() -> Response {
+/// An exercise's starter file on its own, to download.
+pub async fn starter(exercise: Exercise) -> Response {
     (
         [
             (header::CONTENT_TYPE, "text/javascript; charset=utf-8"),
             (header::CACHE_CONTROL, "no-cache"),
         ],
-        STARTER,
+        starter_file(exercise),
     )
         .into_response()
 }

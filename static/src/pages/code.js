@@ -1,14 +1,17 @@
-// The student's workbench for the EKF localization: an editor that keeps the file in
-// this browser, the tests (the student's functions run in a Web Worker, the wasm build of
-// `labs` makes the cases and judges the outputs, exactly as the server does), the runs
-// on the data sets with the lab's views, and the submission to the server: as the
-// signed-in student once the server runs courses, under any id on a server without.
-// With `?submission=ID` it shows an earlier submission, read-only, beside its result.
+// The student's workbench of an exercise (the page's `data-lab`: the EKF localization's,
+// odometry's): an editor that keeps the file in this browser, the tests (the student's
+// functions run in a Web Worker, the wasm build of `labs` makes the cases and judges the
+// outputs, exactly as the server does), the runs of the exercise's loop with their views
+// (the EKF's data sets with the lab's views, odometry's paths over the reference's), and
+// the submission to the server: as the signed-in student once the server runs courses,
+// under any id on a server without. With `?submission=ID` it shows an earlier submission,
+// read-only, beside its result.
 import { javascript } from '@codemirror/lang-javascript';
 import { EditorView, basicSetup } from 'codemirror';
 import { byId, download, showError } from '../controls.js';
-import { RunView, collect } from '../ekf/runview.js';
+import { datasetRuns } from '../ekf/workbench.js';
 import { fmt } from '../format.js';
+import { pathRuns } from '../odometry/workbench.js';
 import { Runner } from '../student/runner.js';
 import {
   element, getJson, link, notImplemented, percent, pollSubmission, renderSubmission, span, testItem, testKey,
@@ -19,8 +22,15 @@ const COURSE = 'el2320';
 /** The seed of the variant graded without a student id, as `estlab grade` without --seed. */
 const PUBLIC_VARIANT = 1;
 const MAX_SOURCE = 256 * 1024;
-const STORAGE = { source: 'estlab:ekf-localization:source', student: 'estlab:student' };
-const LAB = 'ekf-localization';
+const workbench = byId('workbench').dataset;
+/** The exercise of this workbench, by name (`labs::Exercise`). */
+const LAB = workbench.lab;
+/** Every exercise's workbench path, by the exercise's name. */
+const WORKBENCHES = JSON.parse(workbench.workbenches);
+/** How this exercise's runs are collected from the harness's outputs, and drawn. */
+const RUNS = { 'ekf-localization': datasetRuns, odometry: pathRuns }[LAB];
+/** The file is saved per exercise; the student id once for all. */
+const STORAGE = { source: `estlab:${LAB}:source`, student: 'estlab:student' };
 
 /** Who is signed in and what they have to do (GET /api/me), or why that is not known. */
 async function whoAmI() {
@@ -38,7 +48,7 @@ const ui = {
   student: byId('student'),
   seed: byId('seed'),
   runTests: byId('run-tests'),
-  runDatasets: byId('run-datasets'),
+  runLoops: byId('run-datasets'),
   submit: byId('submit'),
   stop: byId('stop'),
   saved: byId('saved'),
@@ -51,7 +61,9 @@ const ui = {
   runChoice: byId('run-choice'),
 };
 const starter = byId('starter').value;
-const runner = new Runner(byId('workbench').dataset.worker);
+const runner = new Runner(workbench.worker);
+/** What the button that runs the exercise's loop says: "Run data sets", "Run paths". */
+const runsLabel = ui.runLoops.textContent;
 
 // ---------------------------------------------------------------------------------------
 // The file: edited, saved as it is typed, reset, downloaded and uploaded.
@@ -95,7 +107,7 @@ byId('reset').addEventListener('click', () => {
     replaceSource(starter);
   }
 });
-byId('download').addEventListener('click', () => download('ekf_localization.js', source(), 'text/javascript'));
+byId('download').addEventListener('click', () => download(workbench.file, source(), 'text/javascript'));
 // A real button, reachable with the keyboard, opens the file chooser.
 byId('upload-button').addEventListener('click', () => byId('upload').click());
 byId('upload').addEventListener('change', async (event) => {
@@ -121,7 +133,7 @@ const state = {
   /** The harness's outputs so far, by function and by run name. */
   functions: new Map(),
   runs: new Map(),
-  /** The views of the data-set runs, by run name. */
+  /** The views of the runs, by run name. */
   views: new Map(),
   /** The file the outputs are of. */
   source: null,
@@ -218,10 +230,10 @@ function showWho() {
     ui.who.replaceChildren(`The server did not say who is signed in (${about.problem}): a submission may be refused.`);
   } else if (mode === 'anonymous') {
     ui.who.replaceChildren('This server runs a course: ', link('/signin', 'sign in'),
-      ' with your code to submit. Run tests and Run data sets need no sign-in (on the public variant).');
+      ` with your code to submit. Run tests and ${runsLabel} need no sign-in (on the public variant).`);
   } else if (mode === 'staff') {
     ui.who.replaceChildren(`Signed in as ${name} (${member.role} of ${member.course}): staff do not submit. ` +
-      'Run tests and Run data sets work, on the public variant.');
+      `Run tests and ${runsLabel} work, on the public variant.`);
   } else {
     const who = element('span', 'signed-in', `Signed in as ${name} (${member.login}), ${member.course}`);
     const when = element('span', 'deadline', member.dropped
@@ -302,7 +314,7 @@ ui.student.addEventListener('change', () => {
 
 function setBusy(busy) {
   state.busy = busy;
-  for (const button of [ui.runTests, ui.runDatasets, ui.submit, ...ui.tests.querySelectorAll('button')]) button.disabled = busy;
+  for (const button of [ui.runTests, ui.runLoops, ui.submit, ...ui.tests.querySelectorAll('button')]) button.disabled = busy;
   ui.stop.disabled = !busy;
 }
 
@@ -343,39 +355,34 @@ function runTests(functions) {
   return runPhases('function', phases, state.functions);
 }
 
-function runDatasets() {
+/** Runs the exercise's loop with the student's functions: every run of the job. */
+function runLoops() {
   useSeed();
   return runPhases('run', state.job.runs, state.runs, (phase, output) => {
     state.views.delete(phase.name);
-    let run;
-    let dataset;
     try {
-      run = state.grader.studentRun(JSON.stringify(output));
-      dataset = state.grader.dataset(phase.name);
-      state.views.set(phase.name, collect(run, dataset));
+      state.views.set(phase.name, RUNS.collect(state.grader, phase, output));
     } catch {
       // The run's test says what went wrong.
-    } finally {
-      run?.free();
-      dataset?.free();
     }
   });
 }
 
 ui.runTests.addEventListener('click', () => runTests(null));
-ui.runDatasets.addEventListener('click', runDatasets);
+ui.runLoops.addEventListener('click', runLoops);
 ui.stop.addEventListener('click', () => runner.cancel());
 ui.runChoice.addEventListener('change', showRun);
 
 // ---------------------------------------------------------------------------------------
 // The verdict: the wasm build grades the outputs so far, as the server grades a submission.
 
+/** Whether the test of `key` ran: a function's, or a run's (`square`; `o3` of `o3/sequential`). */
 function testRan(key) {
   if (state.functions.has(key)) return true;
-  return [...state.runs.keys()].some((name) => name.startsWith(`${key}/`));
+  return [...state.runs.keys()].some((name) => name === key || name.startsWith(`${key}/`));
 }
 
-/** The Run button of a function's test, or nothing for a data-set test. */
+/** The Run button of a function's test, or nothing for a run's test. */
 function runButton(key) {
   if (!state.job.functions.some((phase) => phase.function === key)) return null;
   const button = element('button', 'run', 'Run');
@@ -415,7 +422,7 @@ function render() {
 }
 
 // ---------------------------------------------------------------------------------------
-// The data-set runs, with the experiment page's views.
+// The runs, each with its exercise's views.
 
 function showRuns() {
   const names = [...state.views.keys()];
@@ -429,32 +436,8 @@ function showRuns() {
 function showRun() {
   const view = state.views.get(ui.runChoice.value);
   if (!view) return;
-  state.runView ??= new RunView(ui.runs, 'code');
-  state.runView.show(view, true);
-  byId('summary').textContent = view.report;
-  showPrefix(ui.runChoice.value);
-}
-
-/**
- * Where the run is shown, what part of the data set grading runs through (a prefix, so
- * that the server grades within a second), and a link to the whole data set on the
- * experiment page with the same update.
- */
-function showPrefix(name) {
-  const phase = state.job.runs.find((run) => run.name === name);
-  const note = byId('prefix');
-  if (!phase) {
-    note.replaceChildren();
-    return;
-  }
-  const readings = phase.steps.reduce((n, step) => n + step.z[0].length, 0);
-  const seconds = phase.steps.reduce((t, step) => t + step.delta_t, 0);
-  const whole = link(`/ekf?kind=${phase.dataset}&seed=${state.grader.dataSeed(name)}&mode=${phase.mode}`,
-    'the whole data set on the experiment page');
-  note.replaceChildren(
-    `Grading runs the first ${readings} readings of this data set (${fmt(seconds, 3)} s of ${phase.steps.length} time steps), ` +
-      'which keeps a grading on the server within a second; the map shows only that much of the path. See ',
-    whole, ' with the reference filter.');
+  state.runView ??= new RUNS.View(ui.runs);
+  state.runView.show(view);
 }
 
 // ---------------------------------------------------------------------------------------
@@ -463,7 +446,7 @@ function showPrefix(name) {
 
 async function submit() {
   const text = source();
-  const body = { source: text };
+  const body = { source: text, lab: LAB };
   if (typedId()) {
     const student = ui.student.value.trim();
     if (account.mode === 'open' && !student) {
@@ -527,7 +510,7 @@ function showSubmission(submission, text) {
   renderSubmission(ui.submission, submission, { comparison });
   if (account.mode === 'student') {
     ui.submission.append(element('p', 'links'));
-    ui.submission.lastChild.append(link(`/ekf/code?submission=${submission.id}`, `Open submission ${submission.id}`),
+    ui.submission.lastChild.append(link(`${location.pathname}?submission=${submission.id}`, `Open submission ${submission.id}`),
       ' · ', link('/me', 'all your submissions'));
   }
 }
@@ -583,6 +566,13 @@ async function openSubmission(id) {
       : `Submission ${id} could not be read: ${error.message}`);
     return;
   }
+  if (submission.lab !== LAB) {
+    // A link to the wrong workbench (an old one, or one edited by hand): the submission
+    // opens in its own exercise's, where its file can be loaded, run and submitted again.
+    viewer.facts.textContent = `Submission ${id} is of the exercise ${submission.lab}: opening it in that exercise's workbench…`;
+    window.location.replace(`${WORKBENCHES[submission.lab]}?submission=${encodeURIComponent(id)}`);
+    return;
+  }
   const late = submission.late_seconds > 0 ? `${span(submission.late_seconds)} late (−${percent(submission.penalty)})` : 'on time';
   const by = account.mode === 'student' ? '' : ` by ${submission.student}`;
   viewer.facts.textContent = `Submitted${by} ${localTime(submission.submitted_at)}, ${late}; variant seed ${submission.seed}.`;
@@ -621,7 +611,7 @@ async function route() {
 }
 
 function backToEditor() {
-  window.history.pushState(null, '', '/ekf/code');
+  window.history.pushState(null, '', location.pathname);
   return route();
 }
 

@@ -1,0 +1,119 @@
+//! The registry of the site's pages, `static/pages.json`: each page's path, the script the
+//! asset build bundles for it (`static/build.mjs` reads the same file), its link in the
+//! navigation, its card on the home page, and for a workbench the exercise it is for. The
+//! router serves every page of the registry ([`MethodRouter`]s by name, in `web::router`),
+//! and a test checks that each has a handler.
+
+use labs::Exercise;
+use serde::Deserialize;
+use std::sync::LazyLock;
+
+const REGISTRY: &str = include_str!("../../../static/pages.json");
+
+/// The file (its `about` says what it is for, to a person reading it).
+#[derive(Debug, Deserialize)]
+struct Registry {
+    pages: Vec<Page>,
+}
+
+/// A page of the site.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Page {
+    /// How the server's code names it.
+    pub name: String,
+    /// Its route (axum's syntax: `/courses/{course}/{lab}`).
+    pub path: String,
+    /// Its script in the asset manifest (`static/src/pages/<script>.js`).
+    pub script: String,
+    /// Its link in the site's navigation, if it has one.
+    #[serde(default)]
+    pub nav: Option<String>,
+    /// Its card on the home page, if it has one.
+    #[serde(default)]
+    pub card: Option<Card>,
+    /// For a workbench: the exercise whose functions it tests and submits.
+    #[serde(default)]
+    pub exercise: Option<Exercise>,
+}
+
+impl Page {
+    /// A workbench's starter file, to download: `/ekf/starter.js` beside `/ekf/code`.
+    pub fn starter_path(&self) -> Option<String> {
+        self.exercise?;
+        let folder = self.path.strip_suffix("/code")?;
+        Some(format!("{folder}/starter.js"))
+    }
+}
+
+/// A page's card on the home page.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Card {
+    pub title: String,
+    /// Text, with formulas between `\(` and `\)` for KaTeX.
+    pub text: String,
+}
+
+static PAGES: LazyLock<Vec<Page>> = LazyLock::new(|| {
+    let registry: Registry = serde_json::from_str(REGISTRY)
+        .unwrap_or_else(|e| panic!("static/pages.json does not read: {e}"));
+    registry.pages
+});
+
+/// Every page, in the order of the navigation and the home page.
+pub fn pages() -> &'static [Page] {
+    &PAGES
+}
+
+/// The page called `name`.
+pub fn page(name: &str) -> &'static Page {
+    pages()
+        .iter()
+        .find(|page| page.name == name)
+        .unwrap_or_else(|| panic!("static/pages.json has no page {name:?}"))
+}
+
+/// The workbench of an exercise.
+pub fn workbench(exercise: Exercise) -> &'static Page {
+    pages()
+        .iter()
+        .find(|page| page.exercise == Some(exercise))
+        .unwrap_or_else(|| panic!("static/pages.json has no workbench of {exercise}"))
+}
+
+/// The scripts of the pages, each once.
+pub fn scripts() -> Vec<&'static str> {
+    let mut scripts: Vec<&str> = Vec::new();
+    for page in pages() {
+        if !scripts.contains(&page.script.as_str()) {
+            scripts.push(&page.script);
+        }
+    }
+    scripts
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_exercise_has_one_workbench_and_names_are_unique() {
+        for exercise in Exercise::ALL {
+            let workbenches = pages()
+                .iter()
+                .filter(|page| page.exercise == Some(exercise))
+                .count();
+            assert_eq!(workbenches, 1, "{exercise}");
+            assert!(workbench(exercise).starter_path().is_some());
+        }
+        for (i, page) in pages().iter().enumerate() {
+            assert!(
+                pages()[..i].iter().all(|other| other.name != page.name),
+                "{} twice",
+                page.name
+            );
+            assert!(page.path.starts_with('/'), "{}", page.path);
+        }
+    }
+}
