@@ -36,6 +36,13 @@ pub enum Common {
 }
 
 impl Common {
+    /// Every kind, for the test that each has a name of its own.
+    pub const ALL: [Common; 3] = [
+        Common::NotSymmetrised,
+        Common::WrongShape,
+        Common::NotFinite,
+    ];
+
     fn text(self) -> &'static str {
         match self {
             Common::NotSymmetrised => {
@@ -211,5 +218,30 @@ pub fn negated(expected: &Value, got: &Value) -> bool {
     match (expected.as_f64(), got.as_f64()) {
         (Some(e), Some(g)) => (e + g).abs() <= 1e-9 * (1.0 + e.abs()),
         _ => false,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::BTreeSet;
+
+    /// Every exercise's hints are stored by name alone: each name is unique across the
+    /// exercises and reads back as the same hint, with a text.
+    #[test]
+    fn every_hint_has_a_name_of_its_own_and_reads_back_as_itself() {
+        let every = Common::ALL
+            .map(HintKind::Common)
+            .into_iter()
+            .chain(ekf_localization::HintKind::ALL.map(HintKind::EkfLocalization))
+            .chain(odometry::HintKind::ALL.map(HintKind::Odometry));
+        let mut names = BTreeSet::new();
+        for kind in every {
+            let stored = serde_json::to_value(kind).unwrap();
+            assert!(names.insert(stored.to_string()), "{stored} twice");
+            let read: HintKind = serde_json::from_value(stored.clone()).unwrap();
+            assert_eq!(read, kind, "{stored}");
+            assert!(!kind.text().is_empty());
+        }
     }
 }

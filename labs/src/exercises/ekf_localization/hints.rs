@@ -36,6 +36,26 @@ pub enum HintKind {
 }
 
 impl HintKind {
+    /// Every kind, for the test that each has a name of its own.
+    pub const ALL: [HintKind; 16] = [
+        HintKind::BearingNotWrapped,
+        HintKind::JacobianSign,
+        HintKind::JacobianTransposed,
+        HintKind::OneBasedIndex,
+        HintKind::ThresholdStrict,
+        HintKind::WheelsSwapped,
+        HintKind::FirstStep,
+        HintKind::PredictTransposed,
+        HintKind::RQSwapped,
+        HintKind::StaleAssociation,
+        HintKind::NearestMahalanobis,
+        HintKind::NearestInnovation,
+        HintKind::OutlierOtherLandmark,
+        HintKind::OdometryHeading,
+        HintKind::AbsoluteHeading,
+        HintKind::BatchQBar,
+    ];
+
     pub fn text(self) -> &'static str {
         match self {
             HintKind::BearingNotWrapped => {
