@@ -7,16 +7,14 @@
 
 use labs::Exercise;
 use labs::exercises::odometry::{
-    COVARIANCE_TOLERANCE, Call, Case, FUNCTIONS, PATH_FUNCTIONS, Plan, generate,
+    COVARIANCE_TOLERANCE, Call, Case, FUNCTIONS, PATH_FUNCTIONS, PathRecord, Plan, generate,
 };
 use labs::grading::{
-    self, CallResult, Contract, FunctionOutput, Outputs, RunOutput, Status, Stopped, Test,
+    self, CallResult, Contract, FunctionOutput, Outputs, RunOutput, RunRecord, Status, Stopped,
+    Test,
 };
-use labs::odometry::{
-    Increment, increment_jacobian, pose_jacobian, propagate_through, step, wheel_noise,
-};
-use nalgebra::{Matrix2, Matrix3, Matrix3x2, Vector3};
 use serde_json::{Value, json};
+use std::f64::consts::PI;
 
 /// The seeds every property is checked on.
 const SEEDS: u64 = 50;
@@ -60,14 +58,10 @@ fn reference_outputs(plan: &Plan) -> Outputs {
             name: spec.name.clone(),
             error: None,
             stopped: None,
-            init: None,
-            mu: spec.reference.poses[1..].to_vec(),
-            sigma: spec.reference.covariances[1..]
-                .iter()
-                .map(|rows| std::array::from_fn(|k| rows[k / 3][k % 3]))
-                .collect(),
-            c: Vec::new(),
-            outlier: Vec::new(),
+            record: Some(RunRecord::Path(PathRecord {
+                poses: spec.reference.poses[1..].to_vec(),
+                covariances: spec.reference.covariances[1..].to_vec(),
+            })),
         })
         .collect();
     Outputs { functions, runs }
@@ -107,59 +101,110 @@ fn the_reference_answers_pass_every_case_and_path_of_every_seed() {
     }
 }
 
-/// The model's answer to a call, computed here from `labs::odometry` directly.
-fn model_answer(call: &Call) -> Value {
-    fn rows<const R: usize, const C: usize>(a: &nalgebra::SMatrix<f64, R, C>) -> Value {
-        json!(
-            (0..R)
-                .map(|i| (0..C).map(|j| a[(i, j)]).collect::<Vec<f64>>())
-                .collect::<Vec<_>>()
-        )
-    }
+/// The answer to a call worked out here by hand from the contract's formulas, apart from
+/// `labs::odometry`: the step, its Jacobians by central differences of the step, the
+/// wheel noise and the propagation, each element compared within `close`.
+fn by_hand(call: &Call) -> Vec<f64> {
+    // p' = p + [ds cos(theta + dtheta/2), ds sin(theta + dtheta/2), dtheta], theta wrapped.
+    let step = |p: [f64; 3], r: f64, l: f64, b: f64| {
+        let (ds, dtheta) = ((r + l) / 2.0, (r - l) / b);
+        let phi = p[2] + dtheta / 2.0;
+        let theta = (p[2] + dtheta + PI).rem_euclid(2.0 * PI) - PI;
+        [p[0] + ds * phi.cos(), p[1] + ds * phi.sin(), theta]
+    };
+    // d p' / d v by central differences, the heading's difference unwrapped.
+    let derivative = |f: &dyn Fn(f64) -> [f64; 3]| {
+        let h = 1e-6;
+        let (plus, minus) = (f(h), f(-h));
+        (0..3)
+            .map(|i| {
+                let mut d = plus[i] - minus[i];
+                if i == 2 {
+                    d = (d + PI).rem_euclid(2.0 * PI) - PI;
+                }
+                d / (2.0 * h)
+            })
+            .collect::<Vec<f64>>()
+    };
+    let columns = |columns: Vec<Vec<f64>>| -> Vec<f64> {
+        (0..3)
+            .flat_map(|i| columns.iter().map(move |c| c[i]))
+            .collect()
+    };
     match call {
-        Call::OdometryStep { p, ds_r, ds_l, b } => {
-            json!(step(&Vector3::from(*p), Increment::new(*ds_r, *ds_l), *b).as_slice())
-        }
-        Call::PoseJacobian { p, ds_r, ds_l, b } => rows(&pose_jacobian(
-            &Vector3::from(*p),
-            Increment::new(*ds_r, *ds_l),
-            *b,
-        )),
-        Call::IncrementJacobian { p, ds_r, ds_l, b } => rows(&increment_jacobian(
-            &Vector3::from(*p),
-            Increment::new(*ds_r, *ds_l),
-            *b,
-        )),
+        Call::OdometryStep { p, ds_r, ds_l, b } => step(*p, *ds_r, *ds_l, *b).to_vec(),
+        Call::PoseJacobian { p, ds_r, ds_l, b } => columns(
+            (0..3)
+                .map(|j| {
+                    derivative(&|h| {
+                        let mut q = *p;
+                        q[j] += h;
+                        step(q, *ds_r, *ds_l, *b)
+                    })
+                })
+                .collect(),
+        ),
+        Call::IncrementJacobian { p, ds_r, ds_l, b } => columns(vec![
+            derivative(&|h| step(*p, ds_r + h, *ds_l, *b)),
+            derivative(&|h| step(*p, *ds_r, ds_l + h, *b)),
+        ]),
         Call::WheelNoise {
             ds_r,
             ds_l,
             k_r,
             k_l,
-        } => rows(&wheel_noise(Increment::new(*ds_r, *ds_l), *k_r, *k_l)),
+        } => vec![k_r * ds_r.abs(), 0.0, 0.0, k_l * ds_l.abs()],
         Call::Propagate {
             sigma_p,
             f_p,
             f_delta,
             sigma_delta,
-        } => rows(&propagate_through(
-            &Matrix3::from_fn(|i, j| sigma_p[i][j]),
-            &Matrix3::from_fn(|i, j| f_p[i][j]),
-            &Matrix3x2::from_fn(|i, j| f_delta[i][j]),
-            &Matrix2::from_fn(|i, j| sigma_delta[i][j]),
-        )),
+        } => {
+            // F_p Sigma_p F_p^T + F_delta Sigma_delta F_delta^T, element by element.
+            let element = |i: usize, j: usize| {
+                let mut sum = 0.0;
+                for a in 0..3 {
+                    for c in 0..3 {
+                        sum += f_p[i][a] * sigma_p[a][c] * f_p[j][c];
+                    }
+                }
+                for a in 0..2 {
+                    for c in 0..2 {
+                        sum += f_delta[i][a] * sigma_delta[a][c] * f_delta[j][c];
+                    }
+                }
+                sum
+            };
+            (0..3)
+                .flat_map(|i| (0..3).map(move |j| element(i, j)))
+                .collect()
+        }
+    }
+}
+
+/// Every element of a case's expected output, in order.
+fn elements(value: &Value) -> Vec<f64> {
+    match value {
+        Value::Array(items) => items.iter().flat_map(elements).collect(),
+        value => vec![value.as_f64().expect("a number")],
     }
 }
 
 #[test]
-fn every_case_expects_what_the_model_gives_and_its_covariances_are_symmetric() {
+fn every_case_expects_what_the_formulas_give_and_its_covariances_are_symmetric() {
     for seed in 1..=SEEDS {
         for case in generate(seed, PER_FUNCTION) {
-            assert_eq!(
-                case.expected,
-                model_answer(&case.call),
-                "seed {seed}, {}",
-                case.id
-            );
+            let (expected, by_hand) = (elements(&case.expected), by_hand(&case.call));
+            assert_eq!(expected.len(), by_hand.len(), "seed {seed}, {}", case.id);
+            for (e, h) in expected.iter().zip(&by_hand) {
+                // Central differences of a step are good to about 1e-6 of its size.
+                let close = 1e-5 * (1.0 + e.abs());
+                assert!(
+                    (e - h).abs() <= close,
+                    "seed {seed}, {}: {expected:?} by hand {by_hand:?}",
+                    case.id
+                );
+            }
             // The reference passes its own comparison: a wrapped heading, an exactly
             // symmetric covariance.
             assert!(
@@ -246,6 +291,14 @@ fn the_job_carries_the_wheels_of_each_path_and_nothing_of_the_reference() {
     assert!(!text.contains("expected") && !text.contains("covariances"));
 }
 
+/// What a run's output recorded along its path.
+fn path(run: &mut RunOutput) -> &mut PathRecord {
+    match run.record.as_mut() {
+        Some(RunRecord::Path(record)) => record,
+        _ => panic!("{} recorded no path", run.name),
+    }
+}
+
 /// The reference outputs of `plan` with `change` made to the square's run.
 fn graded_with(plan: &Plan, change: impl FnOnce(&mut RunOutput)) -> Test {
     let mut outputs = reference_outputs(plan);
@@ -277,8 +330,11 @@ fn a_path_that_departs_fails_at_the_step_and_the_element_where_it_does() {
 
     // A covariance element off by 1e-5 of the largest at step 17.
     let off = graded_with(&plan, |run| {
-        let largest = run.sigma[16].iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-        run.sigma[16][2] += 10.0 * COVARIANCE_TOLERANCE * largest;
+        let largest = path(run).covariances[16]
+            .iter()
+            .flatten()
+            .fold(0.0_f64, |m, v| m.max(v.abs()));
+        path(run).covariances[16][0][2] += 10.0 * COVARIANCE_TOLERANCE * largest;
     });
     assert_eq!((off.status, off.points), (Status::Failed, 0.0));
     assert!(
@@ -289,16 +345,19 @@ fn a_path_that_departs_fails_at_the_step_and_the_element_where_it_does() {
     );
     // Within the tolerance it passes.
     let close = graded_with(&plan, |run| {
-        let largest = run.sigma[16].iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-        run.sigma[16][2] += 0.1 * COVARIANCE_TOLERANCE * largest;
-        run.mu[40][0] += 1e-8;
+        let largest = path(run).covariances[16]
+            .iter()
+            .flatten()
+            .fold(0.0_f64, |m, v| m.max(v.abs()));
+        path(run).covariances[16][0][2] += 0.1 * COVARIANCE_TOLERANCE * largest;
+        path(run).poses[40][0] += 1e-8;
     });
     assert_eq!(close.status, Status::Passed, "{}", close.message);
 
     // The heading is compared modulo 2 pi, x and y within 1e-6 m.
-    let turned = graded_with(&plan, |run| run.mu[5][2] += std::f64::consts::TAU);
+    let turned = graded_with(&plan, |run| path(run).poses[5][2] += std::f64::consts::TAU);
     assert_eq!(turned.status, Status::Passed, "{}", turned.message);
-    let moved = graded_with(&plan, |run| run.mu[100][1] += 1e-5);
+    let moved = graded_with(&plan, |run| path(run).poses[100][1] += 1e-5);
     assert!(
         moved.message.contains("from step 101 of") && moved.message.contains("p[1]"),
         "{}",
@@ -307,7 +366,7 @@ fn a_path_that_departs_fails_at_the_step_and_the_element_where_it_does() {
 
     // A run that reports too little, that threw, or that was stopped.
     let short = graded_with(&plan, |run| {
-        run.mu.pop();
+        path(run).poses.pop();
     });
     assert!(
         short.message.contains(&format!("for {steps} steps")),

@@ -805,7 +805,7 @@ fn hostile_suite() -> Vec<Hostile> {
         ),
         hostile(
             "getters on the prototypes that answer NaN, nothing implemented",
-            "for (const name of ['error', 'output', 'results', 'repeats', 'mu', 'c']) {\n\
+            "for (const name of ['error', 'output', 'results', 'repeats', 'record', 'mu', 'c']) {\n\
                Object.defineProperty(Object.prototype, name, { get() { return NaN; }, set(v) {}, configurable: true });\n\
              }\n\
              Object.defineProperty(Array.prototype, '0', { get() { return NaN; }, set(v) {}, configurable: true });\n"

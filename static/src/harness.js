@@ -1,7 +1,7 @@
 // The harness that calls a student's code: this one file runs unchanged in the browser's
 // Web Worker and in the server's QuickJS sandbox. It takes a phase of a grading job (made
 // by `labs::grading::Plan::job`) as JSON, calls the student's functions on copies of the
-// inputs, and returns JSON that `labs::grading::grade` compares with the reference:
+// inputs, and returns JSON that `labs::grading::Plan::grade` compares with the reference:
 //
 //   estlabHarness.callFunction(source, phaseJson, progress) -> outputs of one function
 //   estlabHarness.run(source, runJson, progress)             -> one run of the exercise's
@@ -374,16 +374,11 @@
 
   /// One run of the loop named by the job (`run.loop`) over the run's data: the file is
   /// loaded, the functions the loop calls checked, and the loop records what it computes
-  /// in `out`. Whatever stops it is recorded with what was being done (`at.doing`).
+  /// in the report's `record`. Whatever stops it is recorded with what was being done (`at.doing`).
   function run(source, runJson, progress) {
     const job = parse(runJson);
     const out = record();
     put(out, 'name', job.name);
-    put(out, 'init', null);
-    put(out, 'mu', []);
-    put(out, 'sigma', []);
-    put(out, 'c', []);
-    put(out, 'outlier', []);
     const at = record();
     put(at, 'doing', 'loading your file');
     put(at, 'step', '');
@@ -402,7 +397,10 @@
         at.doing = label === undefined ? at.step + name : label;
         return plain(apply(functions[name], undefined, args));
       };
-      loop(job, out, invoke, at, progress);
+      // What the loop records, tagged by the loop as its job is (`RunRecord` in Rust).
+      const kept = put(out, 'record', record());
+      put(kept, 'loop', job.loop);
+      loop(job, kept, invoke, at, progress);
     } catch (error) {
       put(out, 'error', (at.doing ? at.doing + ': ' : '') +
         (error instanceof HarnessError ? error.message : 'threw ' + describeError(error)));
@@ -419,10 +417,15 @@
   }
 
   /// The EKF localization exercise's filter loop over a data set, as the lab's.
-  function filterLoop(run, out, invoke, at, progress) {
+  function filterLoop(run, kept, invoke, at, progress) {
+    put(kept, 'init', null);
+    put(kept, 'mu', []);
+    put(kept, 'sigma', []);
+    put(kept, 'c', []);
+    put(kept, 'outlier', []);
     const init = "init('" + run.dataset + "')";
     progress(run.name + ': ' + init);
-    const tuning = put(out, 'init', invoke('init', [run.dataset], init));
+    const tuning = put(kept, 'init', invoke('init', [run.dataset], init));
     let mu = field(tuning, 'mu', vector(3));
     let sigma = field(tuning, 'sigma', matrix(3, 3));
     const R = field(tuning, 'R', matrix(3, 3));
@@ -465,14 +468,14 @@
         const H = [];
         const nu = [];
         for (let i = 0; i < n; i++) {
-          push(out.c, index(c[i], 'c[' + i + ']'));
+          push(kept.c, index(c[i], 'c[' + i + ']'));
           if (!flag(outlier[i], 'outlier[' + i + ']')) {
             push(H, hBar[2 * i]);
             push(H, hBar[2 * i + 1]);
             push(nu, nuBar[2 * i]);
             push(nu, nuBar[2 * i + 1]);
           }
-          push(out.outlier, outlier[i]);
+          push(kept.outlier, outlier[i]);
         }
         if (nu.length > 0) {
           const post = invoke('batch_update', [copy(muBar), copy(sigmaBar), H,
@@ -486,8 +489,8 @@
             copy(M), lambda, copy(Q)]);
           const c = index(field(a, 'c', (v) => v), 'c');
           const isOutlier = flag(field(a, 'outlier', (v) => v), 'outlier');
-          push(out.c, c);
-          push(out.outlier, isOutlier);
+          push(kept.c, c);
+          push(kept.outlier, isOutlier);
           if (!isOutlier) {
             const H = field(a, 'H', list(landmarks))[c];
             const S = field(a, 'S', list(landmarks))[c];
@@ -502,8 +505,8 @@
       }
       mu = muBar;
       sigma = sigmaBar;
-      push(out.mu, mu);
-      push(out.sigma, [sigma[0][0], sigma[0][1], sigma[0][2], sigma[1][0], sigma[1][1],
+      push(kept.mu, mu);
+      push(kept.sigma, [sigma[0][0], sigma[0][1], sigma[0][2], sigma[1][0], sigma[1][1],
         sigma[1][2], sigma[2][0], sigma[2][1], sigma[2][2]]);
     }
   }
@@ -512,7 +515,9 @@
   /// (Sigma_p = 0), every step carries the pose's covariance through the step's Jacobians
   /// and adds the wheels' noise, then takes the step; the pose and its covariance after
   /// every step are recorded.
-  function pathLoop(run, out, invoke, at, progress) {
+  function pathLoop(run, kept, invoke, at, progress) {
+    put(kept, 'poses', []);
+    put(kept, 'covariances', []);
     const b = run.b;
     let p = copy(run.start);
     let sigma = [[0, 0, 0], [0, 0, 0], [0, 0, 0]];
@@ -529,9 +534,8 @@
       sigma = matrix(3, 3)(invoke('propagate', [copy(sigma), Fp, Fdelta, sigmaDelta]),
         'Sigma_p_next');
       p = vector(3)(invoke('odometry_step', [copy(p), ds_r, ds_l, b]), 'p_next');
-      push(out.mu, copy(p));
-      push(out.sigma, [sigma[0][0], sigma[0][1], sigma[0][2], sigma[1][0], sigma[1][1],
-        sigma[1][2], sigma[2][0], sigma[2][1], sigma[2][2]]);
+      push(kept.poses, copy(p));
+      push(kept.covariances, copy(sigma));
     }
   }
 

@@ -6,8 +6,8 @@ use super::ekf::{Dataset, EkfRun};
 use super::odometry::OdometryPropagation;
 use super::{exercise, from_json, seed};
 use labs::exercises::ekf_localization::{self, RunSpec};
-use labs::exercises::odometry::PathSpec;
-use labs::grading::{self, Plan, Reports, RunOutput};
+use labs::exercises::odometry::{PathRecord, PathSpec};
+use labs::grading::{self, Plan, Reports, RunOutput, RunRecord};
 use labs::odometry::{Path, Propagation};
 use std::iter;
 use wasm_bindgen::prelude::*;
@@ -86,22 +86,25 @@ impl Grader {
     pub fn student_path(&self, output: &str) -> Result<OdometryPropagation, JsError> {
         let output: RunOutput = from_json("run output", output)?;
         let reference = &self.path(&output.name)?.reference;
-        let steps = output
-            .mu
+        let record = match output.record {
+            Some(RunRecord::Path(record)) => record,
+            _ => PathRecord::default(),
+        };
+        let steps = record
+            .poses
             .len()
-            .min(output.sigma.len())
+            .min(record.covariances.len())
             .min(reference.path.steps());
-        let rows = |s: &[f64; 9]| std::array::from_fn(|i| std::array::from_fn(|j| s[3 * i + j]));
         let propagation = Propagation {
             path: Path {
                 start: reference.path.start,
                 increments: reference.path.increments[..steps].to_vec(),
             },
             poses: iter::once(reference.poses[0])
-                .chain(output.mu[..steps].iter().copied())
+                .chain(record.poses[..steps].iter().copied())
                 .collect(),
             covariances: iter::once(reference.covariances[0])
-                .chain(output.sigma[..steps].iter().map(rows))
+                .chain(record.covariances[..steps].iter().copied())
                 .collect(),
         };
         Ok(propagation.into())
@@ -145,17 +148,17 @@ mod tests {
         let x = reference.pose(0);
         let y = reference.pose(1);
         let theta = reference.pose(2);
-        let sigma = |k: usize| -> Vec<f64> {
-            (0..3)
-                .flat_map(|i| (0..3).map(move |j| (i, j)))
-                .map(|(i, j)| reference.covariance(i, j)[k])
-                .collect()
+        let sigma = |k: usize| -> [[f64; 3]; 3] {
+            std::array::from_fn(|i| std::array::from_fn(|j| reference.covariance(i, j)[k]))
         };
         let output = |reported: usize| {
             json!({
                 "name": "square",
-                "mu": (1..=reported).map(|k| [x[k], y[k], theta[k]]).collect::<Vec<_>>(),
-                "sigma": (1..=reported).map(sigma).collect::<Vec<_>>(),
+                "record": {
+                    "loop": "path",
+                    "poses": (1..=reported).map(|k| [x[k], y[k], theta[k]]).collect::<Vec<_>>(),
+                    "covariances": (1..=reported).map(sigma).collect::<Vec<_>>(),
+                },
             })
             .to_string()
         };

@@ -34,7 +34,9 @@ pub use hints::{
     Common, Hint, HintKind, describe, form_hint, holds_non_finite, negated, transpose,
 };
 pub use job::{CallJob, FunctionPhase, Job, Phase, PhaseKind, RunPhase};
-pub use outputs::{CallResult, FunctionOutput, Outputs, PhaseOutput, Reports, RunOutput, Stopped};
+pub use outputs::{
+    CallResult, FunctionOutput, Outputs, PhaseOutput, Reports, RunOutput, RunRecord, Stopped,
+};
 pub use platforms::{
     GraderData, GradescopeResults, GradescopeTest, HIDDEN_LATER, PrairieLearnResults,
     PrairieLearnTest,

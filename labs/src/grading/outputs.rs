@@ -1,9 +1,11 @@
 //! What the JavaScript harness reports after calling the student's code: the output (or
-//! the error) of every call, and the trajectory of every data-set run. Numbers that JSON
-//! cannot hold come as the strings "NaN", "Infinity" and "-Infinity"; `undefined` as the
-//! string "undefined".
+//! the error) of every call, and what every run of the exercise's loop recorded. Numbers
+//! that JSON cannot hold come as the strings "NaN", "Infinity" and "-Infinity"; `undefined`
+//! as the string "undefined".
 
 use super::job::Job;
+use crate::exercises::ekf_localization::FilterRecord;
+use crate::exercises::odometry::PathRecord;
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
@@ -130,11 +132,7 @@ impl PhaseOutput for RunOutput {
             name: name.to_owned(),
             error: Some(error),
             stopped: None,
-            init: None,
-            mu: Vec::new(),
-            sigma: Vec::new(),
-            c: Vec::new(),
-            outlier: Vec::new(),
+            record: None,
         }
     }
 }
@@ -179,7 +177,7 @@ pub struct CallResult {
     pub error: Option<String>,
 }
 
-/// One run of the given filter loop with the student's functions.
+/// One run of an exercise's loop with the student's functions.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RunOutput {
     pub name: String,
@@ -189,20 +187,17 @@ pub struct RunOutput {
     /// Set by the host when it stopped the code.
     #[serde(default)]
     pub stopped: Option<Stopped>,
-    /// What `init` returned.
+    /// What the loop recorded until it ended (none when the file did not load).
     #[serde(default)]
-    pub init: Option<Value>,
-    /// The belief after every step: `mu` and `sigma` (9 numbers, row by row).
-    #[serde(default)]
-    pub mu: Vec<[f64; 3]>,
-    #[serde(default)]
-    pub sigma: Vec<[f64; 9]>,
-    /// Per reading, in the order of the file: the associated landmark and whether it was
-    /// rejected as an outlier.
-    #[serde(default)]
-    pub c: Vec<usize>,
-    #[serde(default)]
-    pub outlier: Vec<bool>,
+    pub record: Option<RunRecord>,
+}
+
+/// What a run of a loop records, tagged by the loop as its job is (`RunPhase`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "loop", rename_all = "snake_case")]
+pub enum RunRecord {
+    Filter(FilterRecord),
+    Path(PathRecord),
 }
 
 impl RunOutput {

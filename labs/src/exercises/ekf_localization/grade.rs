@@ -3,13 +3,14 @@
 //! student's filter loop stays within the lab's bound.
 
 use super::hints::HintKind;
+use super::job::FilterRecord;
 use super::plan::{Plan, RUN_LIMIT_MS, RunSpec, bound, mode_name};
 use crate::Exercise;
 use crate::dataset::Kind;
 use crate::ekf::{self, Belief, Decision, UpdateMode};
 use crate::grading::{
-    FunctionVerdicts, GradeResult, HEADING_TURNS, Outputs, RunFigures, RunOutput, Test, describe,
-    function_tests, heading_within_turns, infinity,
+    FunctionVerdicts, GradeResult, HEADING_TURNS, Outputs, RunFigures, RunOutput, RunRecord, Test,
+    describe, function_tests, heading_within_turns, infinity,
 };
 use nalgebra::{Matrix2, Matrix3, Vector3};
 use serde_json::Value;
@@ -93,7 +94,7 @@ fn dataset_test(plan: &Plan, outputs: &Outputs, kind: Kind, functions: &Function
             .runs
             .iter()
             .find(|r| r.name == graded.name)
-            .and_then(|output| output.init.as_ref());
+            .and_then(|output| record(output)?.init.as_ref());
         lines.extend(
             init.and_then(|init| tuning(kind.name(), init).ok())
                 .and_then(|tuning| settings_hint(kind, &tuning)),
@@ -259,6 +260,14 @@ fn matrix_text<R: nalgebra::Dim, C: nalgebra::Dim, S: nalgebra::RawStorage<f64, 
     }
 }
 
+/// What the filter loop recorded of a run, if it is a filter loop's.
+fn record(output: &RunOutput) -> Option<&FilterRecord> {
+    match &output.record {
+        Some(RunRecord::Filter(record)) => Some(record),
+        _ => None,
+    }
+}
+
 /// The student's run as a whole `ekf::Run` (errors against the ground truth, summary,
 /// odometry for plotting), or what went wrong with it.
 pub fn student_run(spec: &RunSpec, output: &RunOutput) -> Result<ekf::Run, String> {
@@ -267,6 +276,8 @@ pub fn student_run(spec: &RunSpec, output: &RunOutput) -> Result<ekf::Run, Strin
         .error
         .clone()
         .or_else(|| output.stopped.as_ref().map(|s| s.message(RUN_LIMIT_MS)));
+    let empty = FilterRecord::default();
+    let output = record(output).unwrap_or(&empty);
     let init = output.init.as_ref().ok_or_else(|| {
         error
             .clone()

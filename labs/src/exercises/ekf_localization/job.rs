@@ -1,7 +1,9 @@
-//! What the harness's filter loop gets for one data-set run: the robot's constants, the
-//! map and every step's encoder ticks and readings (never the ground truth).
+//! What the harness's filter loop gets for one data-set run (the robot's constants, the
+//! map and every step's encoder ticks and readings, never the ground truth) and what it
+//! records.
 
 use serde::{Deserialize, Serialize};
+use serde_json::Value;
 
 /// One run of the lab's filter loop with the student's functions.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -51,4 +53,24 @@ pub struct StepJob {
     pub e_l: f64,
     /// The readings of the step, 2 x n: ranges, then bearings.
     pub z: [Vec<f64>; 2],
+}
+
+/// What the filter loop records of a run: `init`'s answer, the belief after every step,
+/// and every reading's association.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct FilterRecord {
+    /// What `init` returned.
+    #[serde(default)]
+    pub init: Option<Value>,
+    /// The belief after every step: `mu` and `sigma` (9 numbers, row by row).
+    #[serde(default)]
+    pub mu: Vec<[f64; 3]>,
+    #[serde(default)]
+    pub sigma: Vec<[f64; 9]>,
+    /// Per reading, in the order of the file: the associated landmark and whether it was
+    /// rejected as an outlier.
+    #[serde(default)]
+    pub c: Vec<usize>,
+    #[serde(default)]
+    pub outlier: Vec<bool>,
 }

@@ -16,7 +16,7 @@ pub use el2320::{FIXTURE_FILES, load_fixtures};
 pub use generate::generate;
 pub use grade::{grade, student_run};
 pub use hints::HintKind;
-pub use job::{FilterRun, Mode, RobotJob, StepJob};
+pub use job::{FilterRecord, FilterRun, Mode, RobotJob, StepJob};
 pub use plan::{Plan, RunSpec, bound, graded_readings, mode_name, run_name, shows_the_lesson};
 
 /// A test case of this exercise.

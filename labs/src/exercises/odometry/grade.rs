@@ -4,11 +4,12 @@
 //! after every step.
 
 use super::contract::FUNCTIONS;
+use super::job::PathRecord;
 use super::plan::{PathSpec, Plan, RUN_LIMIT_MS};
 use crate::Exercise;
 use crate::grading::{
-    FunctionVerdicts, GradeResult, Outputs, RunOutput, Test, Tolerance, compare, function_tests,
-    matrix, pose,
+    FunctionVerdicts, GradeResult, Outputs, RunOutput, RunRecord, Test, Tolerance, compare,
+    function_tests, matrix, pose,
 };
 use serde_json::json;
 
@@ -86,24 +87,27 @@ fn departure(spec: &PathSpec, output: &RunOutput) -> Result<(), String> {
     {
         return Err(error);
     }
+    let empty = PathRecord::default();
+    let record = match &output.record {
+        Some(RunRecord::Path(record)) => record,
+        _ => &empty,
+    };
     let steps = spec.steps();
-    if output.mu.len() != steps || output.sigma.len() != steps {
+    if record.poses.len() != steps || record.covariances.len() != steps {
         return Err(format!(
             "the run reported {} poses and {} covariances for {steps} steps",
-            output.mu.len(),
-            output.sigma.len()
+            record.poses.len(),
+            record.covariances.len()
         ));
     }
     let reference = &spec.reference;
-    for (k, (p, sigma)) in output.mu.iter().zip(&output.sigma).enumerate() {
+    for (k, (p, sigma)) in record.poses.iter().zip(&record.covariances).enumerate() {
         // The reference's poses and covariances start with the start's.
         let expected_sigma = reference.covariances[k + 1];
         let largest = expected_sigma
             .iter()
             .flatten()
             .fold(0.0_f64, |m, v| m.max(v.abs()));
-        let sigma: [[f64; 3]; 3] =
-            std::array::from_fn(|i| std::array::from_fn(|j| sigma[3 * i + j]));
         let mut mismatches = compare(
             &("p", pose()),
             &json!(reference.poses[k + 1]),

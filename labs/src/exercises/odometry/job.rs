@@ -1,5 +1,5 @@
-//! What the harness's path loop gets for one run: the robot, its wheels' noise, where the
-//! path starts and how far each wheel rolls at every step.
+//! What the harness's path loop gets for one run (the robot, its wheels' noise, where the
+//! path starts and how far each wheel rolls at every step) and what it records.
 
 use serde::{Deserialize, Serialize};
 
@@ -28,4 +28,14 @@ pub struct PathRun {
     pub steps: Vec<[f64; 2]>,
     /// CPU time for the whole run.
     pub limit_ms: u32,
+}
+
+/// What the path loop records of a run: the pose and its covariance after every step.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct PathRecord {
+    #[serde(default)]
+    pub poses: Vec<[f64; 3]>,
+    /// Sigma_p, as an array of rows.
+    #[serde(default)]
+    pub covariances: Vec<[[f64; 3]; 3]>,
 }
