@@ -6,10 +6,10 @@
 use super::compare::{Mismatch, Shape, Tolerance, compare};
 use super::hints::{Hint, HintKind};
 use crate::{Error, Exercise};
-use serde::de::DeserializeOwned;
+use serde::de::{DeserializeOwned, Deserializer, IgnoredAny, MapAccess, Visitor};
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
-use std::fmt::Debug;
+use std::fmt::{self, Debug};
 
 /// One call of one student function of an exercise, arguments named as in its contract.
 /// Serialised as `{"function": name, "args": {...}}`.
@@ -25,9 +25,14 @@ pub trait Contract: Clone + Debug + PartialEq + Serialize + DeserializeOwned {
     /// The function's name in the contract.
     fn function(&self) -> &'static str;
 
-    /// The arguments in the contract's order, as the harness passes them (an infinity as
-    /// [`super::infinity`] writes it).
-    fn arguments(&self) -> Vec<Value>;
+    /// The arguments in the contract's order, as the harness passes them: the call's
+    /// fields as it serialises them (an infinity as [`super::infinity`] writes it), in the
+    /// order they are declared in.
+    fn arguments(&self) -> Vec<Value> {
+        let text = serde_json::to_string(self).expect("calls serialise");
+        let call: Serialised = serde_json::from_str(&text).expect("calls read back");
+        call.args.0
+    }
 
     /// The name of the output in the contract (the root of every path into it: `""` for an
     /// object of named fields) and its shape for this call.
@@ -57,5 +62,34 @@ impl<C: Contract> Case<C> {
     /// Every element of `got` that differs from the expected output.
     pub fn check(&self, got: &Value, tolerance: Tolerance) -> Vec<Mismatch> {
         compare(&self.call.output_shape(), &self.expected, got, tolerance)
+    }
+}
+
+/// A call as it serialises: `{"function": ..., "args": {...}}`.
+#[derive(Deserialize)]
+struct Serialised {
+    args: InOrder,
+}
+
+/// The values of a JSON object's fields, in the order of the text.
+struct InOrder(Vec<Value>);
+
+impl<'de> Deserialize<'de> for InOrder {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct Values;
+        impl<'de> Visitor<'de> for Values {
+            type Value = InOrder;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("the arguments of a call")
+            }
+            fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<InOrder, A::Error> {
+                let mut values = Vec::new();
+                while let Some((IgnoredAny, value)) = map.next_entry::<IgnoredAny, Value>()? {
+                    values.push(value);
+                }
+                Ok(InOrder(values))
+            }
+        }
+        deserializer.deserialize_map(Values)
     }
 }

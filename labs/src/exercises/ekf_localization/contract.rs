@@ -134,10 +134,6 @@ impl Contract for Call {
         }]
     }
 
-    fn arguments(&self) -> Vec<Value> {
-        arguments(self)
-    }
-
     fn output_shape(&self) -> (&'static str, Shape) {
         output_shape(self)
     }
@@ -316,94 +312,6 @@ pub fn reference(call: &Call) -> Result<Value, Error> {
             posterior_json(&posterior)
         }
     })
-}
-
-/// The arguments of a call in the contract's order; an infinite `Lambda_M` as
-/// [`grading::infinity`] writes it (the harness turns it back into a number).
-fn arguments(call: &Call) -> Vec<Value> {
-    let threshold = |lambda: &f64| grading::infinity::value(*lambda);
-    match call {
-        Call::CalculateOdometry {
-            e_r,
-            e_l,
-            e_t,
-            b,
-            r_r,
-            r_l,
-            delta_t,
-            mu,
-        } => vec![
-            json!(e_r),
-            json!(e_l),
-            json!(e_t),
-            json!(b),
-            json!(r_r),
-            json!(r_l),
-            json!(delta_t),
-            json!(mu),
-        ],
-        Call::Predict { mu, sigma, u, r } => vec![json!(mu), json!(sigma), json!(u), json!(r)],
-        Call::ObservationModel { x, m, j } => vec![json!(x), json!(m), json!(j)],
-        Call::JacobianObservationModel { x, m, j, z_hat } => {
-            vec![json!(x), json!(m), json!(j), json!(z_hat)]
-        }
-        Call::Associate {
-            mu_bar,
-            sigma_bar,
-            z_i,
-            m,
-            lambda_m,
-            q,
-        } => vec![
-            json!(mu_bar),
-            json!(sigma_bar),
-            json!(z_i),
-            json!(m),
-            threshold(lambda_m),
-            json!(q),
-        ],
-        Call::BatchAssociate {
-            mu_bar,
-            sigma_bar,
-            z,
-            m,
-            lambda_m,
-            q,
-        } => vec![
-            json!(mu_bar),
-            json!(sigma_bar),
-            json!(z),
-            json!(m),
-            threshold(lambda_m),
-            json!(q),
-        ],
-        Call::Update {
-            mu_bar,
-            sigma_bar,
-            h,
-            s,
-            nu,
-        } => vec![
-            json!(mu_bar),
-            json!(sigma_bar),
-            json!(h),
-            json!(s),
-            json!(nu),
-        ],
-        Call::BatchUpdate {
-            mu_bar,
-            sigma_bar,
-            h_bar,
-            q_bar,
-            nu_bar,
-        } => vec![
-            json!(mu_bar),
-            json!(sigma_bar),
-            json!(h_bar),
-            json!(q_bar),
-            json!(nu_bar),
-        ],
-    }
 }
 
 fn posterior_json(posterior: &Belief) -> Value {

@@ -82,35 +82,6 @@ impl Contract for Call {
         }]
     }
 
-    fn arguments(&self) -> Vec<Value> {
-        match self {
-            Call::OdometryStep { p, ds_r, ds_l, b }
-            | Call::PoseJacobian { p, ds_r, ds_l, b }
-            | Call::IncrementJacobian { p, ds_r, ds_l, b } => {
-                vec![json!(p), json!(ds_r), json!(ds_l), json!(b)]
-            }
-            Call::WheelNoise {
-                ds_r,
-                ds_l,
-                k_r,
-                k_l,
-            } => {
-                vec![json!(ds_r), json!(ds_l), json!(k_r), json!(k_l)]
-            }
-            Call::Propagate {
-                sigma_p,
-                f_p,
-                f_delta,
-                sigma_delta,
-            } => vec![
-                json!(sigma_p),
-                json!(f_p),
-                json!(f_delta),
-                json!(sigma_delta),
-            ],
-        }
-    }
-
     fn output_shape(&self) -> (&'static str, Shape) {
         output_shape(self)
     }
