@@ -8,11 +8,12 @@ use sha2::{Digest, Sha256};
 use std::path::{Path, PathBuf};
 
 /// What the hash covers, from the server crate's folder.
-const INPUTS: [&str; 5] = [
+const INPUTS: [&str; 6] = [
     "../labs/src",
     "src",
     "templates",
     "../static/src",
+    "../static/pages.json",
     "../Cargo.lock",
 ];
 

@@ -233,7 +233,11 @@ async fn a_regrade_lists_every_changed_score_and_keeps_the_replaced_results() {
 #[tokio::test(flavor = "multi_thread")]
 async fn a_regrade_cut_off_by_a_stop_resumes_at_the_next_start() {
     let Class { app, students, .. } = class().await;
-    let grader = app.state.grader.version().to_string();
+    let grader = app
+        .state
+        .grader
+        .version(Exercise::EkfLocalization)
+        .to_string();
     // Started, but its grading never begun before the stop.
     let (regrade, total) = app
         .store()

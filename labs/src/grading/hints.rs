@@ -5,6 +5,7 @@
 
 use super::compare::{Mismatch, Problem, Tolerance, compare};
 use super::contract::Contract;
+use super::infinity;
 use crate::exercises::{ekf_localization, odometry};
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
@@ -122,7 +123,7 @@ pub fn form_hint<C: Contract>(
 /// Whether the output holds a number JSON cannot (the harness writes them as strings).
 pub fn holds_non_finite(value: &Value) -> bool {
     match value {
-        Value::String(s) => matches!(s.as_str(), "NaN" | "Infinity" | "-Infinity"),
+        Value::String(s) => infinity::is_non_finite(s),
         Value::Array(items) => items.iter().any(holds_non_finite),
         Value::Object(fields) => fields.values().any(holds_non_finite),
         _ => false,
@@ -165,11 +166,7 @@ pub fn describe(value: &Value) -> String {
         Value::Null => "missing".to_owned(),
         Value::Bool(_) => "true or false".to_owned(),
         Value::Number(_) => "a number".to_owned(),
-        Value::String(s)
-            if matches!(s.as_str(), "NaN" | "Infinity" | "-Infinity" | "undefined") =>
-        {
-            s.clone()
-        }
+        Value::String(s) if infinity::is_non_finite(s) || s == "undefined" => s.clone(),
         Value::String(_) => "a string".to_owned(),
         Value::Array(items) => {
             let n = items.len();

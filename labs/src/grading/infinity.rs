@@ -9,6 +9,14 @@ use serde_json::{Value, json};
 
 /// How JSON carries positive infinity here.
 pub const INFINITY: &str = "Infinity";
+/// How the harness reports the other numbers JSON has none for.
+pub const MINUS_INFINITY: &str = "-Infinity";
+pub const NOT_A_NUMBER: &str = "NaN";
+
+/// Whether a text the harness reported stands for a number JSON cannot hold.
+pub fn is_non_finite(text: &str) -> bool {
+    [INFINITY, MINUS_INFINITY, NOT_A_NUMBER].contains(&text)
+}
 
 /// The value as an argument: a number, or [`INFINITY`].
 pub fn value(number: f64) -> Value {

@@ -75,7 +75,7 @@ pub enum Phase<'a> {
 }
 
 impl Job {
-    /// Every phase, the data-set runs (the longest) first.
+    /// Every phase, the runs of the loop (the longest) first.
     pub fn phases(&self) -> impl Iterator<Item = Phase<'_>> {
         self.runs
             .iter()

@@ -215,7 +215,7 @@ impl RunOutput {
 /// memory or crashed. The outputs of that phase are lost.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Stopped {
-    /// What was running: a case id, or a data-set run's time step.
+    /// What was running: a case id, or a run's step.
     pub during: String,
     /// "time", or what else stopped it ("out of memory").
     pub cause: String,

@@ -31,8 +31,8 @@ pub const POINTS: f64 = 10.0;
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Test {
-    /// Contains the name of the function it tests: `predict`, or the functions of the
-    /// filter loop for a data-set run.
+    /// Contains the name of the function it tests (`predict`), or for a run of the
+    /// exercise's loop the functions the loop calls.
     pub name: String,
     pub points: f64,
     pub max_points: f64,
@@ -46,7 +46,7 @@ pub struct Test {
     /// The failing cases, in detail, for the browser's view.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub failures: Vec<Failure>,
-    /// A data-set run's figures, for the browser's view.
+    /// An EKF data-set run's figures, for the browser's view.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub run: Option<RunFigures>,
     /// In the stored form: every classic mistake the failing cases point to, once each

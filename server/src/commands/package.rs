@@ -34,9 +34,10 @@ enum Platform {
         /// The folder to write (must not exist yet).
         #[arg(long)]
         out: PathBuf,
-        /// The grader image's name, as you will build and push it.
-        #[arg(long, default_value = "estlab/grader-ekf-localization")]
-        image: String,
+        /// The grader image's name, as you will build and push it (default:
+        /// estlab/grader-<the exercise's name>).
+        #[arg(long)]
+        image: Option<String>,
         /// The address of an estlab site where students can run the tests in their
         /// browser, linked from the question (e.g. https://estlab.example.org).
         #[arg(long, value_parser = site_address)]
@@ -83,6 +84,10 @@ pub fn run(args: &Args) -> Result<(), Error> {
             workbench,
         } => {
             let (binary, settings, secret) = common.contents(&out.join("question/tests/secret"))?;
+            let image = image
+                .clone()
+                .unwrap_or_else(|| format!("estlab/grader-{}", common.lab));
+            let image = image.as_str();
             prairielearn::package(
                 out,
                 &prairielearn::Package {

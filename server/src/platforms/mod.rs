@@ -64,7 +64,7 @@ impl PackagedGrader {
         let settings = Settings::read(dir)?;
         let secret = Secret::read(&dir.join(SECRET))?;
         Ok(PackagedGrader {
-            version: grader_version(Some(&secret)),
+            version: grader_version(settings.lab, Some(&secret)),
             settings,
             secret,
         })

@@ -8,6 +8,7 @@ use super::{Secret, grader_version};
 use crate::clock::Clock;
 use crate::sandbox::Sandbox;
 use crate::store::{Error, NewSubmission, Store};
+use labs::Exercise;
 use std::sync::Arc;
 use std::time::Instant;
 use tokio::sync::{Notify, Semaphore};
@@ -19,8 +20,9 @@ pub struct Grader {
     /// Draws every submission's hidden cases.
     secret: Secret,
     permits: Semaphore,
-    /// Which grader this is: the release and a hash of what it grades (see `version`).
-    version: String,
+    /// Which grader grades each exercise (in the order of `Exercise::ALL`): the release and
+    /// a hash of what it grades (see `version`).
+    versions: [String; Exercise::ALL.len()],
     /// Wakes the regrade loop when a regrade starts.
     regrades: Notify,
     clock: Arc<dyn Clock>,
@@ -36,7 +38,7 @@ impl Grader {
         clock: Arc<dyn Clock>,
     ) -> Arc<Grader> {
         Arc::new(Grader {
-            version: grader_version(Some(&secret)),
+            versions: Exercise::ALL.map(|exercise| grader_version(exercise, Some(&secret))),
             store,
             sandbox,
             secret,
@@ -50,8 +52,13 @@ impl Grader {
         &self.store
     }
 
-    pub fn version(&self) -> &str {
-        &self.version
+    /// The version of an exercise's grader, which its results name.
+    pub fn version(&self, exercise: Exercise) -> &str {
+        let index = Exercise::ALL
+            .iter()
+            .position(|e| *e == exercise)
+            .expect("every exercise is in Exercise::ALL");
+        &self.versions[index]
     }
 
     /// Stores a submission, then queues its grading; returns its id once it is stored.
@@ -118,7 +125,7 @@ impl Grader {
             .grade(job.exercise, &job.source, job.seed, Some(hidden));
         let score = result.gradable.then_some(result.score);
         self.store
-            .finish_grading(id, &result.stored(), Some(&self.version))?;
+            .finish_grading(id, &result.stored(), Some(self.version(job.exercise)))?;
         tracing::info!(
             submission = id,
             course = job.course,
@@ -181,7 +188,7 @@ impl Grader {
             regrade,
             submission,
             &result.stored(),
-            &self.version,
+            self.version(job.exercise),
             self.clock.now(),
         )?;
         tracing::info!(

@@ -6,7 +6,7 @@
 
 use crate::store::Error;
 use labs::Exercise;
-use labs::grading::{Job, Plan};
+use labs::grading::Plan;
 use sha2::{Digest, Sha256};
 use std::io::Write;
 use std::os::unix::fs::OpenOptionsExt;
@@ -99,16 +99,13 @@ fn failed(path: &Path) -> impl Fn(std::io::Error) -> Error + '_ {
     }
 }
 
-/// The grader's version: the release, and a hash of the jobs of one plan of every exercise
-/// (with the hidden cases the secret draws, if there is one), so that it changes when the
-/// cases, the runs or the secret change.
-pub fn grader_version(secret: Option<&Secret>) -> String {
+/// The version of an exercise's grader: the release, and a hash of the job of one plan of
+/// the exercise (with the hidden cases the secret draws, if there is one), so that it
+/// changes when the exercise's cases, its runs or the secret change, and only then.
+pub fn grader_version(exercise: Exercise, secret: Option<&Secret>) -> String {
     let hidden = secret.map(|secret| secret.hidden_seed(0));
-    let jobs: Vec<Job> = Exercise::ALL
-        .into_iter()
-        .map(|exercise| Plan::new(exercise, 1, hidden).job())
-        .collect();
-    let digest = Sha256::digest(serde_json::to_vec(&jobs).expect("jobs serialise"));
+    let job = Plan::new(exercise, 1, hidden).job();
+    let digest = Sha256::digest(serde_json::to_vec(&job).expect("jobs serialise"));
     let hash: String = digest[..6].iter().map(|b| format!("{b:02x}")).collect();
     format!("estlab {} plan {hash}", env!("CARGO_PKG_VERSION"))
 }
@@ -116,6 +113,19 @@ pub fn grader_version(secret: Option<&Secret>) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Each exercise's grader has a version of its own, so that a change to one exercise
+    /// leaves the others' results as graded by the same grader; another secret is another
+    /// grader.
+    #[test]
+    fn each_exercise_and_secret_has_its_grader_version() {
+        let (one, other) = (Secret([1; BYTES]), Secret([2; BYTES]));
+        let ekf = grader_version(Exercise::EkfLocalization, Some(&one));
+        assert_eq!(ekf, grader_version(Exercise::EkfLocalization, Some(&one)));
+        assert_ne!(ekf, grader_version(Exercise::Odometry, Some(&one)));
+        assert_ne!(ekf, grader_version(Exercise::EkfLocalization, Some(&other)));
+        assert_ne!(ekf, grader_version(Exercise::EkfLocalization, None));
+    }
 
     #[test]
     fn is_made_once_kept_private_and_gives_each_submission_its_own_seed() {

@@ -89,14 +89,14 @@ pub async fn submit(
                 )));
             }
         }
-        let lab = submit.lab.clone();
+        let lab = exercise.name();
         let course = member.course.clone();
         let id = member.id;
         let hour_ago = now - jiff::SignedDuration::from_hours(1);
         let (recent, policy) = blocking(&state, move |store| {
             Ok((
-                store.submitted_since(id, &lab, hour_ago)?,
-                store.policy_for(&course, &lab, id)?,
+                store.submitted_since(id, lab, hour_ago)?,
+                store.policy_for(&course, lab, id)?,
             ))
         })
         .await?;
@@ -107,8 +107,7 @@ pub async fn submit(
         }
         let policy = policy.ok_or_else(|| {
             Error::Forbidden(format!(
-                "your course has not opened the exercise {:?}",
-                submit.lab
+                "your course has not opened the exercise {exercise}"
             ))
         })?;
         let (late_seconds, penalty) = match policy.timing(now) {

@@ -3,7 +3,6 @@
 
 use super::extract::Query;
 use super::pages::{Nav, html};
-use super::registry;
 use super::viewer::Viewer;
 use super::{AppState, Error, blocking, lab_field};
 use crate::courses::deadline::{Policy, Timing};
@@ -202,7 +201,7 @@ fn gather(
             assignments.push(StudentAssignment {
                 assignment,
                 exercise,
-                workbench: &registry::workbench(exercise).path,
+                workbench: super::workbench_path(exercise),
                 standing,
                 history,
                 counting_score,

@@ -64,7 +64,7 @@ struct Code<'a> {
 fn workbenches() -> String {
     let paths: BTreeMap<&str, &str> = Exercise::ALL
         .into_iter()
-        .map(|exercise| (exercise.name(), registry::workbench(exercise).path.as_str()))
+        .map(|exercise| (exercise.name(), super::workbench_path(exercise)))
         .collect();
     serde_json::to_string(&paths).expect("paths serialise")
 }

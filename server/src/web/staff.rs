@@ -50,13 +50,18 @@ pub struct ClassAnswer {
     pub regrades: Vec<Regrade>,
 }
 
-async fn class_answer(state: &AppState, course: String, lab: String) -> Result<ClassAnswer, Error> {
-    let grader = state.grader.version().to_string();
+async fn class_answer(
+    state: &AppState,
+    course: String,
+    exercise: Exercise,
+) -> Result<ClassAnswer, Error> {
+    let grader = state.grader.version(exercise).to_string();
+    let lab = exercise.name();
     blocking(state, move |store| {
-        let Some(assignment) = store.assignment(&course, &lab)? else {
+        let Some(assignment) = store.assignment(&course, lab)? else {
             return Ok(None);
         };
-        let Some(view) = class::load(store, &course, &lab)? else {
+        let Some(view) = class::load(store, &course, lab)? else {
             return Ok(None);
         };
         let regrades = store
@@ -67,7 +72,7 @@ async fn class_answer(state: &AppState, course: String, lab: String) -> Result<C
         Ok(Some(ClassAnswer {
             course,
             policy: assignment.policy,
-            lab,
+            lab: lab.to_owned(),
             grader,
             view,
             regrades,
@@ -83,8 +88,8 @@ pub async fn class(
     Path((course, lab)): Path<(String, String)>,
 ) -> Result<Response, Error> {
     viewer.staff_of(&course)?;
-    known_lab(&lab)?;
-    Ok(Json(class_answer(&state, course, lab).await?).into_response())
+    let exercise = known_lab(&lab)?;
+    Ok(Json(class_answer(&state, course, exercise).await?).into_response())
 }
 
 /// `GET /api/courses/{course}/labs/{lab}/students/{student}`: one student's submissions.
@@ -156,10 +161,10 @@ pub async fn start_regrade(
 ) -> Result<Response, Error> {
     viewer.staff_of(&course)?;
     let request: RegradeRequest = body.json("the regrade request")?;
-    lab_field(&request.lab)?;
+    let exercise = lab_field(&request.lab)?;
     let who = actor(&viewer);
     let now = state.clock.now();
-    let grader = state.grader.version().to_string();
+    let grader = state.grader.version(exercise).to_string();
     let url_course = course.clone();
     let (id, total) = blocking(&state, move |store| {
         let started =

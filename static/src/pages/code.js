@@ -567,10 +567,15 @@ async function openSubmission(id) {
     return;
   }
   if (submission.lab !== LAB) {
+    const own = WORKBENCHES[submission.lab];
+    if (own === undefined) {
+      showError(viewer.error, `Submission ${id} is of the exercise ${submission.lab}, which this server no longer has a workbench for.`);
+      return;
+    }
     // A link to the wrong workbench (an old one, or one edited by hand): the submission
     // opens in its own exercise's, where its file can be loaded, run and submitted again.
     viewer.facts.textContent = `Submission ${id} is of the exercise ${submission.lab}: opening it in that exercise's workbench…`;
-    window.location.replace(`${WORKBENCHES[submission.lab]}?submission=${encodeURIComponent(id)}`);
+    window.location.replace(`${own}?submission=${encodeURIComponent(id)}`);
     return;
   }
   const late = submission.late_seconds > 0 ? `${span(submission.late_seconds)} late (−${percent(submission.penalty)})` : 'on time';

@@ -219,7 +219,7 @@ export function renderSubmission(box, submission, { comparison = '', open = fals
   if (result.hidden_cases) {
     // The browser knows only the shown cases; the server's differ at every submission.
     const hidden = result.tests.flatMap((test) => (test.failures ?? []).filter((f) => f.hidden));
-    let note = `The server also graded hidden cases of every function and ${hiddenRuns[result.lab]}, which your browser cannot: ` +
+    let note = `The server also graded hidden cases of every function and ${hiddenRuns[result.lab] ?? 'ran your code on data you have not seen'}, which your browser cannot: ` +
       'a function earns the smaller of its pass rates on the shown and the hidden cases.';
     for (const failure of hidden) {
       note += `\nHidden case ${failure.case} (${failure.note}) fails` +
