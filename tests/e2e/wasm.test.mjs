@@ -123,7 +123,12 @@ test('simulated data sets and whole EKF runs', bounded, async () => {
 });
 
 /** The name of each function's output where it is an array (the root of a mismatch's path). */
-const outputName = { calculate_odometry: 'u', observation_model: 'z_hat', jacobian_observation_model: 'H' };
+/** The name of each output in its exercise's contract, where it has one (the root of paths). */
+const outputName = {
+  calculate_odometry: 'u', observation_model: 'z_hat', jacobian_observation_model: 'H',
+  odometry_step: 'p_next', pose_jacobian: 'F_p', increment_jacobian: 'F_delta',
+  wheel_noise: 'Sigma_delta', propagate: 'Sigma_p_next',
+};
 
 /**
  * `expected` with its first number that is not a whole number (not an index) moved by a
@@ -149,16 +154,16 @@ function oneNumberWrong(expected, path) {
   return null;
 }
 
-test('generated test cases', bounded, async () => {
-  for (const seed of [3, 99]) {
-    const wasm = JSON.parse(await page.evaluate((seed) => window.estlab.generateCases('ekf-localization', seed, 12), seed));
-    const native = JSON.parse(estlab('cases', '--seed', String(seed), '--per-function', '12'));
-    assert.deepEqual(wasm, native, `seed ${seed}`);
+test('generated test cases of every exercise', bounded, async () => {
+  for (const [lab, count, seed] of [['ekf-localization', 8, 3], ['ekf-localization', 8, 99], ['odometry', 5, 3], ['odometry', 5, 99]]) {
+    const wasm = JSON.parse(await page.evaluate(([lab, seed]) => window.estlab.generateCases(lab, seed, 12), [lab, seed]));
+    const native = JSON.parse(estlab('cases', '--lab', lab, '--seed', String(seed), '--per-function', '12'));
+    assert.deepEqual(wasm, native, `${lab}, seed ${seed}`);
     const functions = [...new Set(native.map((c) => c.function))];
-    assert.equal(functions.length, 8, 'cases of every student function');
+    assert.equal(functions.length, count, `${lab}: cases of every student function`);
 
     // Every case passes with its own expected output, and one number wrong is found.
-    const check = (pairs) => page.evaluate((pairs) => pairs.map(([c, got]) => JSON.parse(window.estlab.checkCase('ekf-localization', JSON.stringify(c), JSON.stringify(got)))), pairs);
+    const check = (pairs) => page.evaluate(([lab, pairs]) => pairs.map(([c, got]) => JSON.parse(window.estlab.checkCase(lab, JSON.stringify(c), JSON.stringify(got)))), [lab, pairs]);
     const verdicts = await check(native.map((c) => [c, c.expected]));
     verdicts.forEach((verdict, i) => assert.deepEqual(verdict, [], `${native[i].id} passes with its own expected output`));
     for (const name of functions) {
