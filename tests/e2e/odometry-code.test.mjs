@@ -259,7 +259,7 @@ test('in a course, one server grades an EKF and an odometry submission, each wit
     assert.equal(await section.locator('a.workbench').getAttribute('href'), path, `${lab}: Open the workbench`);
     assert.equal(await section.locator(`table.history tr[data-id="${id}"] a.open`).getAttribute('href'), `${path}?submission=${id}`, lab);
   }
-  assert.equal(await page.locator('section.assignment[data-lab="odometry"] h3').textContent(), 'Odometry (odometry)');
+  assert.equal(await page.locator('section.assignment[data-lab="odometry"] h3').textContent(), 'Odometry and its error propagation (odometry)');
   const about = await page.evaluate(async () => (await fetch('/api/me')).json());
   assert.deepEqual(Object.fromEntries(about.assignments.map((a) => [a.lab, a.workbench])),
     { 'ekf-localization': '/ekf/code', odometry: '/odometry/code' });
