@@ -17,7 +17,13 @@
 //!   the database files;
 //! - `a_database_of_estlab_0_1_0_migrates_forward`: nothing of an 0.1.0 database is lost;
 //! - `refusals_of_the_api_are_json_naming_what_is_wrong`: a body too large, a query that
-//!   does not parse and a body of the wrong JSON are answered with `{"error": ...}`.
+//!   does not parse and a body of the wrong JSON are answered with `{"error": ...}`;
+//! - `every_route_of_the_router_is_in_the_matrix` and
+//!   `every_page_of_the_registry_is_in_the_matrix`: a new route is in the matrix too.
+//!
+//! `objects.rs` asks who may reach which object (another course's ids) through each
+//! route; `scores.rs` holds the rules that decide a grade (the hourly limit, the score
+//! that counts, the deadline's edges).
 //!
 //! The server grades submissions on tasks of its own; a test waits for a result by
 //! polling the database, for at most `GRADING_BOUND`.
@@ -66,6 +72,8 @@ const MATRIX: &[(&str, &str, [u16; 9])] = &[
     // Only a signed-in person has a page of their own; the rest are sent to sign in.
     ("GET",  "/me",                            [303, 200, 200, 200, 200, 200, 303, 401, 401]),
     ("GET",  "/healthz",                       [200, 200, 200, 200, 200, 200, 200, 200, 200]),
+    ("GET",  "/favicon.svg",                   [200, 200, 200, 200, 200, 200, 200, 200, 200]),
+    ("GET",  "/favicon.ico",                   [200, 200, 200, 200, 200, 200, 200, 200, 200]),
     // A token is nobody: courses true, member null (like anonymous).
     ("GET",  "/api/me",                        [200, 200, 200, 200, 200, 200, 200, 401, 401]),
     ("GET",  "/api/me/submissions",            [401, 200, 200, 200, 200, 200, 401, 401, 401]),
@@ -418,9 +426,13 @@ async fn changes_from_other_sites_are_refused() {
             .json(json!({ "source": quick_source("cross-site") }))
     };
 
+    // A page of another origin on the same site (another port, a sibling subdomain) is
+    // another site too: SameSite=Lax cookies go with its requests.
     for (name, value) in [
         ("origin", "http://evil.example"),
         ("sec-fetch-site", "cross-site"),
+        ("sec-fetch-site", "same-site"),
+        ("origin", "http://estlab.test:8081"),
     ] {
         let answer = app.send(submit().header(name, value)).await;
         assert_eq!(
@@ -462,6 +474,7 @@ async fn changes_from_other_sites_are_refused() {
     for (name, value) in [
         ("origin", "http://evil.example"),
         ("sec-fetch-site", "cross-site"),
+        ("sec-fetch-site", "same-site"),
     ] {
         let answer = app.send(Req::sign_in(&code).header(name, value)).await;
         assert_eq!(
@@ -1039,6 +1052,19 @@ async fn refusals_of_the_api_are_json_naming_what_is_wrong() {
         error.starts_with("the submission body: ") && error.contains("line 1 column 4"),
         "{error}"
     );
+}
+
+/// Every route of the router (`web::router`'s own and the registry's pages) is in the
+/// matrix, so a new route is checked too (`objects.rs` asks those with a parameter with
+/// another course's ids).
+#[test]
+fn every_route_of_the_router_is_in_the_matrix() {
+    for route in routes() {
+        assert!(
+            MATRIX.iter().any(|(_, path, _)| route_serves(&route, path)),
+            "{route} is not in the access matrix"
+        );
+    }
 }
 
 /// Every page of the site's registry (`static/pages.json`, which the router serves) and

@@ -9,34 +9,12 @@ use common::*;
 use estlab::store::{Role, Scope};
 use jiff::SignedDuration;
 use labs::Exercise;
-use serde::Deserialize;
 use serde_json::json;
-use std::io::Read;
 use std::time::{Duration, Instant};
-
-const MISTAKES: &str = include_str!("../../tests/student/mistakes.json");
 
 /// The first catalogued mistake: correct.js with the wheels swapped.
 fn wheels_swapped() -> String {
-    #[derive(Deserialize)]
-    struct Mistake {
-        name: String,
-        replace: Vec<Replacement>,
-    }
-    #[derive(Deserialize)]
-    struct Replacement {
-        from: String,
-        to: String,
-    }
-    let mistakes: Vec<Mistake> = serde_json::from_str(MISTAKES).unwrap();
-    let mistake = mistakes
-        .iter()
-        .find(|m| m.name == "odometry-wheels-swapped")
-        .expect("the wheels-swapped mistake is catalogued");
-    mistake
-        .replace
-        .iter()
-        .fold(CORRECT.to_string(), |s, r| s.replace(&r.from, &r.to))
+    with_mistake("odometry-wheels-swapped")
 }
 
 /// A course with three students who have each submitted once (a correct file, a file
@@ -378,19 +356,7 @@ async fn the_exports_hold_each_students_submission_that_counts() {
     assert_eq!(rows[0], ("s1".to_string(), "1.0000".to_string()));
     assert_eq!(rows[2], ("s3".to_string(), "0.0000".to_string()));
 
-    let unzip = |bytes: Vec<u8>| -> Vec<(String, String)> {
-        let mut archive = zip::ZipArchive::new(std::io::Cursor::new(bytes)).unwrap();
-        (0..archive.len())
-            .map(|i| {
-                let mut file = archive.by_index(i).unwrap();
-                let mut text = String::new();
-                file.read_to_string(&mut text).unwrap();
-                (file.name().unwrap().into_owned(), text)
-            })
-            .collect()
-    };
-    let bytes = |answer: Answer| answer.raw;
-    let gradescope = unzip(bytes(app.send(export("gradescope")).await));
+    let gradescope = unzip(&app.send(export("gradescope")).await.raw);
     assert_eq!(
         gradescope
             .iter()
@@ -400,13 +366,13 @@ async fn the_exports_hold_each_students_submission_that_counts() {
     );
     let s1: serde_json::Value = serde_json::from_str(&gradescope[0].1).unwrap();
     assert!(s1["tests"].as_array().unwrap().len() > 8);
-    let prairielearn = unzip(bytes(app.send(export("prairielearn")).await));
+    let prairielearn = unzip(&app.send(export("prairielearn")).await.raw);
     let s3: serde_json::Value = serde_json::from_str(&prairielearn[2].1).unwrap();
     assert_eq!(s3["score"], 0.0);
-    let sources = unzip(bytes(app.send(export("sources")).await));
+    let sources = unzip(&app.send(export("sources")).await.raw);
     assert_eq!(sources[0].0, "s1.js");
     assert_eq!(sources[0].1, CORRECT);
     assert!(sources[2].1.contains("nothing yet"));
-    let unknown = app.send(export("xlsx")).await;
+    let unknown = app.send(export("ods")).await;
     assert_eq!(unknown.status, StatusCode::BAD_REQUEST);
 }

@@ -28,6 +28,9 @@ use tower::ServiceExt;
 /// The correct solution: scores 1.
 pub const CORRECT: &str = include_str!("../../../tests/student/correct.js");
 
+/// The catalogue of classic mistakes, each a change to correct.js.
+pub const MISTAKES: &str = include_str!("../../../tests/student/mistakes.json");
+
 /// How long a test waits for one grading before it gives up.
 pub const GRADING_BOUND: Duration = Duration::from_secs(120);
 
@@ -247,6 +250,139 @@ impl App {
     pub fn count(&self) -> usize {
         self.store().all_submissions().unwrap().len()
     }
+
+    /// Opens `exercise` for `course` with `policy` (again: new dates).
+    pub fn assign(&self, course: &str, exercise: Exercise, policy: &Policy) {
+        self.store()
+            .assign(course, exercise.name(), policy)
+            .unwrap();
+    }
+
+    /// Submits `source` to `exercise` as `who`; the answer, whatever it is (nothing waits
+    /// for a grading).
+    pub async fn submit_to(&self, who: &Who, exercise: Exercise, source: &str) -> Answer {
+        self.send(
+            Req::post("/api/submissions")
+                .who(who)
+                .json(json!({ "source": source, "lab": exercise.name() })),
+        )
+        .await
+    }
+
+    /// Waits until every regrade begun is done; panics after `GRADING_BOUND`.
+    pub async fn regrades_done(&self) {
+        let give_up = Instant::now() + GRADING_BOUND;
+        while let Some((regrade, submission)) = self.store().next_regrade_item().unwrap() {
+            assert!(
+                Instant::now() < give_up,
+                "regrade {regrade} did not regrade submission {submission} within {GRADING_BOUND:?}"
+            );
+            tokio::time::sleep(Duration::from_millis(25)).await;
+        }
+    }
+
+    /// `GET path` as `who`, expecting 200 and JSON.
+    pub async fn get_json(&self, who: &Who, path: &str) -> Value {
+        let answer = self.send(Req::get(path).who(who)).await;
+        assert_eq!(answer.status, StatusCode::OK, "GET {path}: {}", answer.body);
+        answer.json()
+    }
+}
+
+/// correct.js with one of the catalogued classic mistakes (`tests/student/mistakes.json`)
+/// made.
+pub fn with_mistake(name: &str) -> String {
+    #[derive(serde::Deserialize)]
+    struct Mistake {
+        name: String,
+        replace: Vec<Replacement>,
+    }
+    #[derive(serde::Deserialize)]
+    struct Replacement {
+        from: String,
+        to: String,
+    }
+    let mistakes: Vec<Mistake> = serde_json::from_str(MISTAKES).unwrap();
+    let mistake = mistakes
+        .iter()
+        .find(|m| m.name == name)
+        .unwrap_or_else(|| panic!("the mistake {name:?} is not catalogued"));
+    let source = mistake
+        .replace
+        .iter()
+        .fold(CORRECT.to_string(), |s, r| s.replace(&r.from, &r.to));
+    assert_ne!(source, CORRECT, "the mistake {name:?} changed nothing");
+    source
+}
+
+/// The files of a zip, by name, as text.
+pub fn unzip(bytes: &[u8]) -> Vec<(String, String)> {
+    use std::io::Read;
+    let mut archive = zip::ZipArchive::new(std::io::Cursor::new(bytes)).unwrap();
+    (0..archive.len())
+        .map(|i| {
+            let mut file = archive.by_index(i).unwrap();
+            let mut text = String::new();
+            file.read_to_string(&mut text).unwrap();
+            (file.name().unwrap().into_owned(), text)
+        })
+        .collect()
+}
+
+/// The rows of a CSV file (without its header), each as its cells.
+pub fn csv_rows(text: &str) -> Vec<Vec<String>> {
+    csv::Reader::from_reader(text.as_bytes())
+        .records()
+        .map(|r| r.unwrap().iter().map(str::to_string).collect())
+        .collect()
+}
+
+// ---- the routes ----
+
+/// The router's own source: its routes are read from it, so that a test that must cover
+/// every route learns of a new one.
+const ROUTER_SOURCE: &str = include_str!("../../src/web/mod.rs");
+
+/// The site's registry of pages, which the router serves too.
+pub const PAGES: &str = include_str!("../../../static/pages.json");
+
+/// Every route the router serves, as it names them (`/api/submissions/{id}`): the
+/// literal ones of `web::router` and the pages of the registry.
+pub fn routes() -> Vec<String> {
+    let mut routes: Vec<String> = ROUTER_SOURCE
+        .split(".route(")
+        .skip(1)
+        .filter_map(|after| {
+            let rest = after.trim_start().strip_prefix('"')?;
+            Some(rest[..rest.find('"')?].to_string())
+        })
+        .collect();
+    #[derive(serde::Deserialize)]
+    struct Registry {
+        pages: Vec<Page>,
+    }
+    #[derive(serde::Deserialize)]
+    struct Page {
+        path: String,
+    }
+    let registry: Registry = serde_json::from_str(PAGES).unwrap();
+    routes.extend(registry.pages.into_iter().map(|p| p.path));
+    assert!(
+        routes.iter().any(|r| r == "/api/submissions/{id}"),
+        "no routes read from web/mod.rs: {routes:?}"
+    );
+    routes
+}
+
+/// Whether `path` (without its query) is one the route `pattern` serves: segment by
+/// segment, a `{name}` standing for any one segment.
+pub fn route_serves(pattern: &str, path: &str) -> bool {
+    let path = path.split('?').next().unwrap_or(path);
+    let (a, b): (Vec<&str>, Vec<&str>) = (pattern.split('/').collect(), path.split('/').collect());
+    a.len() == b.len()
+        && a.iter()
+            .zip(&b)
+            .all(|(p, s)| (p.starts_with('{') && p.ends_with('}')) || p == s)
 }
 
 pub fn roster_line(id: &str, name: &str, email: &str) -> roster::Student {
