@@ -893,7 +893,7 @@ fn hostile_suite() -> Vec<Hostile> {
                 p.whole_file_fails(
                     r,
                     &[
-                        "a single call ran on past the time limit where it cannot be interrupted",
+                        "a single call ran for more than a second of CPU time where the time limit cannot interrupt it",
                     ],
                 );
                 p.score_is(r, 0.0);

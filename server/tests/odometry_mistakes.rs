@@ -164,7 +164,14 @@ fn problems(mistake: &Mistake, seeds: (u64, u64)) -> Vec<String> {
             .iter()
             .map(|f| f.hint.as_ref().map(|h| h.kind))
             .collect();
-        if kinds.is_empty() || kinds.iter().any(|kind| *kind != Some(hint)) {
+        let unhinted = |failure: &grading::Failure| {
+            failure.hint.is_none() && mistake.unhinted.contains(&failure.note)
+        };
+        let wrong = test
+            .failures
+            .iter()
+            .any(|f| f.hint.as_ref().map(|h| h.kind) != Some(hint) && !unhinted(f));
+        if kinds.iter().all(Option::is_none) || wrong {
             problems.push(format!(
                 "{name}: {} gives the hints {kinds:?}, not {}: {}",
                 test.name, mistake.hint, test.message

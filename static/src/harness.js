@@ -41,7 +41,10 @@
   const toText = String;
   const stringSlice = String.prototype.slice;
   const stringReplace = String.prototype.replace;
+  const charCodeAt = String.prototype.charCodeAt;
   const regExpExec = RegExp.prototype.exec;
+  const weakSetAdd = WeakSet.prototype.add;
+  const weakSetHas = WeakSet.prototype.has;
 
   /// Values the student's code may return from one call, at most: the largest answer of
   /// any contract is the EKF exercise's associate with 40 landmarks, 482 values. More is not an answer, and
@@ -57,6 +60,8 @@
     'importScripts', 'postMessage', 'close', 'Deno', 'Bun'];
   // What `import(...)` calls become (see load).
   const IMPORT_STAND_IN = 'estlabImportIsNotAvailable';
+  // What the end of the student's file calls with its functions (see load).
+  const TAKE = 'estlabTakeFunctions';
   const WHY = ' is not available here: your file runs on its own, with no modules, ' +
     'files or network. Write everything it needs in the file itself.';
 
@@ -98,21 +103,20 @@
   // Firefox "> Function:5:15"), calibrated once, since every engine wraps a Function body
   // in a header of its own length.
   const LINE = /(?:<anonymous>|<input>|> Function):(\d+)/;
-  function stackLine(error) {
-    const stack = error && typeof error.stack === 'string' ? error.stack : '';
-    const found = apply(regExpExec, LINE, [stack]);
+  function stackLine(stack) {
+    const found = typeof stack === 'string' ? apply(regExpExec, LINE, [stack]) : null;
     return found ? +found[1] : null;
   }
   let lineOffset = null;
   try {
     FunctionConstructor('throw new Error("probe");')();
   } catch (probe) {
-    const line = stackLine(probe);
+    const line = stackLine(probe.stack);
     lineOffset = line === null ? null : line - 1;
   }
 
-  /// What was thrown, in words. The thrown value is the student's: its getters may throw
-  /// in turn, which is said rather than passed on.
+  /// What was thrown, in words. The thrown value is the student's: its getters and a
+  /// Proxy's traps may throw in turn, which is said rather than passed on.
   function describeError(error) {
     try {
       return describeThrown(error);
@@ -121,19 +125,25 @@
     }
   }
 
+  /// Each property is read once, and only a string is taken for a text: a getter may
+  /// answer differently when read again, and an object's `length` need not be its text's
+  /// (a name that is short when checked and a megabyte when used). No `instanceof`: it
+  /// would run a Proxy's getPrototypeOf trap. (A `null` thrown is what QuickJS throws when
+  /// it has no memory even for the error; the host tells that from the engine's state.)
   function describeThrown(error) {
-    if (error === null) {
-      // What QuickJS throws when it has no memory left even for the error.
-      return 'null was thrown: your code most likely ran out of memory (far too much data allocated)';
+    if (error === null || (typeof error !== 'object' && typeof error !== 'function')) {
+      return 'a value that is not an Error: ' + clip(safeText(error));
     }
-    if (error instanceof ErrorConstructor || (error && typeof error.message === 'string')) {
-      const name = typeof error.name === 'string' ? clip(error.name, NAME_LENGTH) : 'Error';
-      const line = stackLine(error);
-      const where = line !== null && lineOffset !== null && line > lineOffset
-        ? ' (line ' + (line - lineOffset) + ')' : '';
-      return name + ': ' + clip(toText(error.message)) + where;
+    const message = error.message;
+    if (typeof message !== 'string') {
+      return 'a value that is not an Error: ' + clip(safeText(error));
     }
-    return 'a value that is not an Error: ' + clip(safeText(error));
+    const name = error.name;
+    const line = stackLine(error.stack);
+    const where = line !== null && lineOffset !== null && line > lineOffset
+      ? ' (line ' + (line - lineOffset) + ')' : '';
+    return (typeof name === 'string' ? clip(name, NAME_LENGTH) : 'Error') + ': ' +
+      clip(message) + where;
   }
 
   function safeText(value) {
@@ -145,8 +155,24 @@
   /// Characters kept of a name it made (an error's name, a field of a returned object).
   const NAME_LENGTH = 60;
 
+  /// A string the student's code made, at most `length` characters, cut between code
+  /// points and with every lone half of a surrogate pair (which JSON text cannot carry to
+  /// the host) made U+FFFD: the report must read, whatever the text.
   function clip(text, length = TEXT_LENGTH) {
-    return text.length > length ? apply(stringSlice, text, [0, length]) + '...' : text;
+    let kept = text;
+    if (text.length > length) {
+      // Cutting after a pair's first half would leave that half alone.
+      const first = apply(charCodeAt, text, [length - 1]);
+      const end = first >= 0xd800 && first <= 0xdbff ? length - 1 : length;
+      kept = apply(stringSlice, text, [0, end]) + '...';
+    }
+    return apply(stringReplace, kept, [SURROGATES, wellFormed]);
+  }
+
+  /// A surrogate pair, or a half of one alone.
+  const SURROGATES = /[\ud800-\udbff][\udc00-\udfff]|[\ud800-\udfff]/g;
+  function wellFormed(found) {
+    return found.length === 2 ? found : '\ufffd';
   }
 
   /// JSON text of plain data, written here rather than by JSON.stringify, which a file
@@ -203,43 +229,70 @@
         '). ' + NO_MODULES);
     }
     let body = apply(stringReplace, source, [DYNAMIC_IMPORT, '$1' + IMPORT_STAND_IN + '$2']) +
-      '\n;return {';
+      '\n;' + TAKE + '(';
     for (let i = 0; i < names.length; i++) {
       const name = names[i];
       if (apply(regExpExec, IDENTIFIER, [name]) === null) {
         throw new HarnessError('the job names a function that is no identifier');
       }
-      body += name + ': typeof ' + name + " === 'function' ? " + name + ' : undefined,';
+      body += 'typeof ' + name + " === 'function' ? " + name + ' : undefined,';
     }
-    body += '};';
+    body += ');';
     const params = [];
     for (let i = 0; i < UNAVAILABLE.length; i++) push(params, UNAVAILABLE[i]);
     push(params, IMPORT_STAND_IN);
+    push(params, TAKE);
     push(params, body);
-    return params;
+    const prepared = record();
+    put(prepared, 'names', names);
+    put(prepared, 'params', params);
+    return prepared;
   }
 
   /// A name the harness may write into the body of `prepare`.
   const IDENTIFIER = /^[A-Za-z_][A-Za-z0-9_]*$/;
 
   /// The student's file (prepared) evaluated afresh: its top-level functions of the
-  /// phase.
-  function load(params) {
+  /// phase, in a record of the harness's. The end of the file hands them to a function
+  /// of the harness's rather than returning them: what the file's code returns (a
+  /// `return` at its top level) is never read, and one that returns early is told so.
+  function load(prepared) {
     let make;
     try {
-      make = apply(FunctionConstructor, undefined, params);
+      make = apply(FunctionConstructor, undefined, prepared.params);
     } catch (error) {
       throw new HarnessError('Your file does not compile: ' + describeError(error));
     }
+    const names = prepared.names;
+    let functions = null;
+    const take = function () {
+      functions = record();
+      for (let i = 0; i < names.length; i++) put(functions, names[i], arguments[i]);
+    };
+    const args = [];
+    for (let i = 0; i < standIns.length; i++) push(args, standIns[i]);
+    push(args, take);
     try {
-      return apply(make, undefined, standIns);
+      apply(make, undefined, args);
     } catch (error) {
       throw new HarnessError('Your file throws while it loads: ' + describeError(error));
     }
+    if (functions === null) {
+      throw new HarnessError('Your file returns at its top level: a return statement ' +
+        'outside any function ends the file before its functions can be taken. Remove it.');
+    }
+    return functions;
   }
 
+  /// The harness's own errors, told from the student's by identity (a WeakSet runs no
+  /// trap of a Proxy, as instanceof would).
+  const harnessErrors = new WeakSet();
   function HarnessError(message) {
     put(this, 'message', message);
+    apply(weakSetAdd, harnessErrors, [this]);
+  }
+  function isHarnessError(error) {
+    return apply(weakSetHas, harnessErrors, [error]);
   }
 
   /// How JSON carries the numbers it has none for, both ways (`labs::grading::infinity`).
@@ -326,7 +379,7 @@
       prepared = prepare(source, [phase.function]);
       functions = load(prepared);
     } catch (error) {
-      put(out, 'error', error instanceof HarnessError ? error.message : describeError(error));
+      put(out, 'error', isHarnessError(error) ? error.message : describeError(error));
       return toJson(out);
     }
     const f = functions[phase.function];
@@ -347,7 +400,7 @@
       try {
         again = load(prepared)[phase.function];
       } catch (error) {
-        put(out, 'error', error instanceof HarnessError ? error.message : describeError(error));
+        put(out, 'error', isHarnessError(error) ? error.message : describeError(error));
         return toJson(out);
       }
       for (let i = calls.length - 1; i >= 0; i--) {
@@ -365,7 +418,7 @@
       put(result, 'output', plain(apply(f, undefined, copy(testCall.args))));
     } catch (error) {
       put(result, 'error',
-        error instanceof HarnessError ? error.message : 'threw ' + describeError(error));
+        isHarnessError(error) ? error.message : 'threw ' + describeError(error));
     }
     return result;
   }
@@ -382,6 +435,7 @@
     const at = record();
     put(at, 'doing', 'loading your file');
     put(at, 'step', '');
+    progress(job.name + ': ' + at.doing);
     try {
       const loop = hasOwn(LOOPS, job.loop) ? LOOPS[job.loop] : null;
       if (loop === null) throw new HarnessError('the job names no loop the harness has');
@@ -391,19 +445,20 @@
           throw new HarnessError(job.functions[i] + ' is not defined');
         }
       }
-      // Calls a student function by name, saying first where in the loop it is: at the
-      // step `at.step` names, or as `label` says.
+      // Calls a student function by name, saying first (to the host too) where in the
+      // loop it is: at the step `at.step` names, or as `label` says.
       const invoke = (name, args, label) => {
         at.doing = label === undefined ? at.step + name : label;
+        progress(job.name + ': ' + at.doing);
         return plain(apply(functions[name], undefined, args));
       };
       // What the loop records, tagged by the loop as its job is (`RunRecord` in Rust).
       const kept = put(out, 'record', record());
       put(kept, 'loop', job.loop);
-      loop(job, kept, invoke, at, progress);
+      loop(job, kept, invoke, at);
     } catch (error) {
       put(out, 'error', (at.doing ? at.doing + ': ' : '') +
-        (error instanceof HarnessError ? error.message : 'threw ' + describeError(error)));
+        (isHarnessError(error) ? error.message : 'threw ' + describeError(error)));
     }
     return toJson(out);
   }
@@ -417,14 +472,13 @@
   }
 
   /// The EKF localization exercise's filter loop over a data set, as the lab's.
-  function filterLoop(run, kept, invoke, at, progress) {
+  function filterLoop(run, kept, invoke, at) {
     put(kept, 'init', null);
     put(kept, 'mu', []);
     put(kept, 'sigma', []);
     put(kept, 'c', []);
     put(kept, 'outlier', []);
     const init = "init('" + run.dataset + "')";
-    progress(run.name + ': ' + init);
     const tuning = put(kept, 'init', invoke('init', [run.dataset], init));
     let mu = field(tuning, 'mu', vector(3));
     let sigma = field(tuning, 'sigma', matrix(3, 3));
@@ -449,7 +503,6 @@
     };
     for (let k = 0; k < run.steps.length; k++) {
       const step = run.steps[k];
-      if (k % 100 === 0) progress(run.name + ': time step ' + (k + 1));
       at.step = 'at time step ' + (k + 1) + ', ';
       const u = vector(3)(invoke('calculate_odometry', [step.e_r, step.e_l, robot.E_T,
         robot.B, robot.R_R, robot.R_L, step.delta_t, copy(mu)]), 'u');
@@ -515,7 +568,7 @@
   /// (Sigma_p = 0), every step carries the pose's covariance through the step's Jacobians
   /// and adds the wheels' noise, then takes the step; the pose and its covariance after
   /// every step are recorded.
-  function pathLoop(run, kept, invoke, at, progress) {
+  function pathLoop(run, kept, invoke, at) {
     put(kept, 'poses', []);
     put(kept, 'covariances', []);
     const b = run.b;
@@ -524,7 +577,6 @@
     for (let k = 0; k < run.steps.length; k++) {
       const ds_r = run.steps[k][0];
       const ds_l = run.steps[k][1];
-      if (k % 100 === 0) progress(run.name + ': step ' + (k + 1));
       at.step = 'at step ' + (k + 1) + ', ';
       const Fp = matrix(3, 3)(invoke('pose_jacobian', [copy(p), ds_r, ds_l, b]), 'F_p');
       const Fdelta = matrix(3, 2)(invoke('increment_jacobian', [copy(p), ds_r, ds_l, b]),

@@ -170,11 +170,18 @@ impl FunctionOutput {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct CallResult {
     pub id: String,
-    #[serde(default)]
+    /// What the call returned: `null` is an answer too (`Some(Value::Null)`).
+    #[serde(default, deserialize_with = "answer")]
     pub output: Option<Value>,
     /// What the call threw.
     #[serde(default)]
     pub error: Option<String>,
+}
+
+/// An output that is there, even as `null`: a call that returned null returned something,
+/// where serde's own `Option` would read null as no output at all ("not run").
+fn answer<'de, D: serde::Deserializer<'de>>(output: D) -> Result<Option<Value>, D::Error> {
+    Value::deserialize(output).map(Some)
 }
 
 /// One run of an exercise's loop with the student's functions.

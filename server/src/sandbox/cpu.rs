@@ -52,7 +52,12 @@ impl ThreadClock {
 
     /// CPU time this thread used since the start.
     pub fn elapsed(&self) -> Duration {
-        now(self.clock).saturating_sub(self.start.get())
+        self.now().saturating_sub(self.start.get())
+    }
+
+    /// CPU time this thread used in all.
+    pub fn now(&self) -> Duration {
+        now(self.clock)
     }
 }
 

@@ -3,23 +3,26 @@
 //! network, module loader or host functions beyond the harness's progress callback; each
 //! phase of the job runs within a limit of its own CPU time (the interrupt handler reads
 //! the clock of the engine's thread, so a busy machine changes no verdict), a memory limit
-//! and a stack limit. A phase that is stopped loses its outputs.
+//! and a stack limit. A phase that is stopped loses its outputs. What stopped it is read
+//! from the engine's state, never from what was thrown (which the student's code can
+//! imitate): the interrupt handler's flag for time, the allocator's for memory.
 
 use super::cpu::ThreadClock;
-use super::watchdog::Watchdog;
+use super::memory::Metered;
+use super::watchdog::{Pulse, Watchdog};
 use labs::grading::{
     FUNCTION_LIMIT_MS, FunctionOutput, FunctionPhase, Job, Outputs, Phase, PhaseKind, PhaseOutput,
     RunOutput, Stopped,
 };
-use rquickjs::{CatchResultExt, Context, Function, Object, Persistent, Runtime};
+use rquickjs::{CatchResultExt, CaughtError, Context, Function, Object, Persistent, Runtime};
 use std::cell::{Cell, RefCell};
 use std::rc::Rc;
-use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 const HARNESS: &str = include_str!("../../../static/src/harness.js");
-/// Memory for the student's code and its data.
+/// Memory for the student's code and its data (the harness's too).
 pub const MEMORY_LIMIT: usize = 64 << 20;
 /// Stack for the student's code: deep recursion ends in "stack overflow".
 pub const STACK_LIMIT: usize = 512 << 10;
@@ -38,10 +41,14 @@ struct Budget {
     /// Set when the handler stopped the code: the phase ended for time, whatever the
     /// error that unwound it says.
     interrupted: Cell<bool>,
+    /// Where the watchdog sees that the engine looked at its clock.
+    pulse: Arc<Pulse>,
 }
 
 impl Budget {
     fn exhausted(&self) -> bool {
+        let now = self.clock.now();
+        self.pulse.looked(now);
         let over = self.clock.elapsed() > self.limit.get();
         if over {
             self.interrupted.set(true);
@@ -63,17 +70,23 @@ struct Engine {
     context: Context,
     _runtime: Runtime,
     budget: Rc<Budget>,
+    /// Set by the allocator when it first refused an allocation, to what the engine ran
+    /// then: the phase ran out of memory there.
+    out_of_memory: Rc<RefCell<Option<String>>>,
 }
 
 impl Engine {
-    fn new() -> Result<Engine, String> {
-        let runtime = Runtime::new().map_err(|e| format!("QuickJS: {e}"))?;
-        runtime.set_memory_limit(MEMORY_LIMIT);
+    /// An engine with the harness loaded, showing the watchdog its `pulse`.
+    fn new(pulse: Arc<Pulse>) -> Result<Engine, String> {
+        let out_of_memory = Rc::new(RefCell::new(None));
+        let allocator = Metered::new(MEMORY_LIMIT, Arc::clone(&pulse), Rc::clone(&out_of_memory));
+        let runtime = Runtime::new_with_alloc(allocator).map_err(|e| format!("QuickJS: {e}"))?;
         runtime.set_max_stack_size(STACK_LIMIT);
         let budget = Rc::new(Budget {
             clock: ThreadClock::start(),
             limit: Cell::new(HARNESS_LIMIT),
             interrupted: Cell::new(false),
+            pulse,
         });
         let handler = Rc::clone(&budget);
         // The handler runs on this thread only: the engine never leaves it.
@@ -99,6 +112,7 @@ impl Engine {
             context,
             _runtime: runtime,
             budget,
+            out_of_memory,
         })
     }
 
@@ -110,7 +124,7 @@ impl Engine {
         phase: &str,
         limit: Duration,
     ) -> Result<String, Stopped> {
-        let during = Rc::new(RefCell::new(String::from("your file")));
+        let pulse = &self.budget.pulse;
         let harness = match kind {
             PhaseKind::Run => &self.run,
             PhaseKind::Function => &self.call_function,
@@ -118,44 +132,57 @@ impl Engine {
         self.budget.start(limit);
         let outcome = self.context.with(|ctx| {
             let f = harness.clone().restore(&ctx).map_err(|e| e.to_string())?;
-            let label = Rc::clone(&during);
-            let progress = Function::new(ctx.clone(), move |text: String| {
-                *label.borrow_mut() = text;
-            })
-            .map_err(|e| e.to_string())?;
+            let label = Arc::clone(pulse);
+            let progress = Function::new(ctx.clone(), move |text: String| label.running(text))
+                .map_err(|e| e.to_string())?;
             f.call::<_, String>((source, phase, progress))
                 .catch(&ctx)
-                .map_err(|e| e.to_string())
+                .map_err(|e| escaped(&e))
         });
         // QuickJS looks at the clock between bytecode steps only: one built-in call on
         // huge data (a naive indexOf, a huge BigInt's digits) can run past the limit and
         // return. Such a phase is over its time all the same.
         let over_time = self.budget.interrupted.get() || self.budget.exhausted();
-        let stopped = |cause: String| Stopped {
+        // Where it stopped: where it ran out of memory, if it did, else where it was
+        // when it ended (what the harness said last).
+        let out_of_memory = self.out_of_memory.borrow().clone();
+        let stopped = |label: String, cause: String| Stopped {
             limit_ms: None,
-            during: during.borrow().clone(),
+            during: if label.is_empty() {
+                "your file".to_owned()
+            } else {
+                label
+            },
             cause,
         };
-        match outcome {
-            Ok(report) if !over_time => Ok(report),
-            Ok(_) => Err(stopped("time".to_owned())),
-            Err(_) if over_time => Err(stopped("time".to_owned())),
-            Err(message) => Err(stopped(cause(&message))),
+        match (outcome, out_of_memory) {
+            _ if over_time => Err(stopped(pulse.label(), "time".to_owned())),
+            // However the phase ended: its code, or the harness after it, lacked memory
+            // for something, and what it reported is not to be trusted.
+            (_, Some(label)) => Err(stopped(
+                label,
+                format!(
+                    "out of memory (the limit is {} MB): far too much data allocated",
+                    MEMORY_LIMIT >> 20
+                ),
+            )),
+            (Ok(report), None) => Ok(report),
+            (Err(what), None) => Err(stopped(
+                pulse.label(),
+                format!("the test harness failed: {what}"),
+            )),
         }
     }
 }
 
-/// What QuickJS said, in the words a student understands.
-fn cause(message: &str) -> String {
-    if message.contains("out of memory") {
-        format!(
-            "out of memory (the limit is {} MB): far too much data allocated",
-            MEMORY_LIMIT >> 20
-        )
-    } else if message.contains("stack overflow") {
-        "stack overflow: recursion too deep".to_owned()
-    } else {
-        format!("the sandbox failed: {}", message.trim())
+/// What escaped the harness, by its kind only: the harness describes everything the
+/// student's code throws, so this is a fault of the harness, and no text of the student's
+/// belongs in it (nor an address of the engine's heap, as a value's display has).
+fn escaped(error: &CaughtError) -> String {
+    match error {
+        CaughtError::Exception(_) => "an exception escaped it".to_owned(),
+        CaughtError::Value(value) => format!("a value ({}) escaped it", value.type_name()),
+        CaughtError::Error(error) => format!("the engine said: {error}"),
     }
 }
 
@@ -166,8 +193,8 @@ const THREAD_STACK: usize = 8 << 20;
 /// once: the outputs the grader reads. The file is evaluated once first; if that is
 /// stopped, every phase reports it without running. Otherwise every phase gets a fresh
 /// engine, so that nothing one phase leaves behind reaches another, the longest (the
-/// data-set runs) first. A watchdog ends the process if a phase overruns its limit inside
-/// a single call (see `watchdog`).
+/// data-set runs) first. A watchdog ends the process if a phase stalls in a single call
+/// (see `watchdog`).
 pub fn carry_out(source: &str, job: &Job, threads: usize) -> Result<Outputs, String> {
     let phases: Vec<Phase> = job.phases().collect();
     let threads = threads.clamp(1, phases.len().max(1));
@@ -289,8 +316,9 @@ fn run_phase(
     watchdog: &Watchdog,
     (slot, watched_as): (usize, &str),
 ) -> Result<Report, String> {
-    let engine = Engine::new()?;
+    let pulse = Arc::new(Pulse::default());
+    let engine = Engine::new(Arc::clone(&pulse))?;
     let limit = Duration::from_millis(phase.limit_ms().into());
-    let _watching = watchdog.watch(slot, watched_as, limit);
+    let _watching = watchdog.watch(slot, watched_as, pulse);
     Ok(engine.phase(phase.kind(), source, &phase.to_json(), limit))
 }

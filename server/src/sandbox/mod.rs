@@ -2,11 +2,20 @@
 
 mod cpu;
 mod engine;
+mod memory;
 mod watchdog;
 mod worker;
 
 pub use engine::carry_out;
 pub use worker::{MAX_SOURCE, Sandbox, WorkerInput, check_length, check_size};
+
+/// A worker that could not be started (`Command::spawn` failed: no descriptors left for
+/// its pipes, no memory or processes for a fork, the executable missing). The student's
+/// code has not run, so this is the server's fault, never a result: the grader waits and
+/// tries again (`Sandbox::try_grade`), while `estlab grade` reports it as "not gradable".
+#[derive(Debug, thiserror::Error)]
+#[error("the sandbox did not start: {0}")]
+pub struct DidNotStart(pub std::io::Error);
 
 /// The cores this process may use: what a lone grading spreads its phases over.
 pub fn cores() -> usize {

@@ -1,30 +1,84 @@
-//! A watch on every engine's CPU time from outside the engines. QuickJS checks its limit
-//! between bytecode steps only, so one built-in call on huge data (a naive `indexOf` of a
-//! long string, the digits of a huge BigInt) can run for a minute without a check. The
-//! watchdog reads each engine thread's CPU clock, and when a phase runs on past its limit
-//! by [`GRACE`], it ends the whole worker process with [`OVERRUN_EXIT`], naming the phase
-//! on stderr: the student's code, not the sandbox, and the server grades it so.
+//! A watch on every engine's CPU time from outside the engines. QuickJS looks at its
+//! clock (the interrupt handler) between bytecode steps only, so one built-in call on
+//! huge data (a naive `indexOf` of a long string, the digits of a huge BigInt) can run for
+//! a minute without a look. Each engine thread shows the watchdog a [`Pulse`]: the CPU
+//! time at which its engine last looked at its clock, and what it is running. When a
+//! thread has used [`STALL`] of CPU time since its engine last looked, the watchdog ends
+//! the whole worker process with [`OVERRUN_EXIT`], naming the call and the phase on
+//! stderr: the student's code, not the sandbox, and the server grades it so.
+//!
+//! A stalled call is so ended within a second of CPU time, whatever the phase's limit,
+//! plus at most one [`PATROL`] (20 ms): no legitimate call of a student's code runs that
+//! long without the engine looking (it looks every 10,000 bytecode steps or so).
 
 use super::cpu::CpuClock;
-use std::sync::Mutex;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 /// The worker's exit code when the watchdog ended it.
 pub const OVERRUN_EXIT: i32 = 3;
-/// What starts the watchdog's line on stderr; the phase's name follows.
+/// What starts the watchdog's line on stderr; the call and the phase follow.
 pub const OVERRUN_PREFIX: &str = "estlab-sandbox overran: ";
-/// How far past its limit a phase may get inside one call before the worker is ended.
-const GRACE: Duration = Duration::from_secs(1);
+/// How much CPU time a thread may use without its engine looking at its clock.
+const STALL: Duration = Duration::from_secs(1);
 /// How often the watchdog looks.
 const PATROL: Duration = Duration::from_millis(20);
 
-/// One phase being watched: the thread's clock and where it stood at the start.
+/// What an engine's thread shows the watchdog, written by the engine.
+#[derive(Default)]
+pub struct Pulse {
+    /// What the engine runs now, as the harness said it (a case, a step of a run).
+    running: Mutex<String>,
+    /// The thread's CPU time, in nanoseconds, when its engine last looked at its clock.
+    looked_ns: AtomicU64,
+}
+
+impl Pulse {
+    /// The engine is about to run `label`.
+    pub fn running(&self, label: String) {
+        *self.running.lock().unwrap_or_else(|e| e.into_inner()) = label;
+    }
+
+    /// What the engine runs now (empty before the harness said).
+    pub fn label(&self) -> String {
+        self.running
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .clone()
+    }
+
+    /// The engine looked at its clock when its thread had used `cpu`.
+    pub fn looked(&self, cpu: Duration) {
+        self.looked_ns.store(nanos(cpu), Ordering::Relaxed);
+    }
+
+    fn looked_at(&self) -> Duration {
+        Duration::from_nanos(self.looked_ns.load(Ordering::Relaxed))
+    }
+}
+
+fn nanos(time: Duration) -> u64 {
+    u64::try_from(time.as_nanos()).unwrap_or(u64::MAX)
+}
+
+/// One phase being watched: its thread's clock and its engine's pulse.
 struct Watch {
     clock: CpuClock,
-    started: Duration,
-    limit: Duration,
     phase: String,
+    pulse: Arc<Pulse>,
+}
+
+impl Watch {
+    /// The call and the phase, as the student reads them (the harness's labels start with
+    /// their phase's name: `o3/sequential: at time step 1, predict`, `predict/p3`).
+    fn stalled(&self) -> String {
+        match self.pulse.label() {
+            label if label.is_empty() => self.phase.clone(),
+            label if label.starts_with(&self.phase) => label,
+            label => format!("{label}, in the phase {}", self.phase),
+        }
+    }
 }
 
 /// Watches the engines of one worker, one slot per engine thread.
@@ -52,23 +106,23 @@ impl Watchdog {
         }
     }
 
-    /// Watches the phase `phase` that the calling thread runs now, in slot `slot`, with
-    /// `limit` of CPU time, until the returned guard is dropped.
-    pub fn watch(&self, slot: usize, phase: &str, limit: Duration) -> Watching<'_> {
+    /// Watches the phase `phase` that the calling thread runs now, in slot `slot`, by the
+    /// engine's `pulse`, until the returned guard is dropped.
+    pub fn watch(&self, slot: usize, phase: &str, pulse: Arc<Pulse>) -> Watching<'_> {
         let clock = CpuClock::of_this_thread();
-        let started = clock.read().unwrap_or_default();
+        // The watch starts as if the engine had just looked.
+        pulse.looked(clock.read().unwrap_or_default());
         let slot = &self.slots[slot];
         *slot.lock().unwrap_or_else(|e| e.into_inner()) = Some(Watch {
             clock,
-            started,
-            limit,
             phase: phase.to_owned(),
+            pulse,
         });
         Watching { slot }
     }
 
     /// Looks at every watched phase until [`Watchdog::stop`]; ends the process when one
-    /// has run past its limit by the grace.
+    /// has stalled in a single call.
     pub fn patrol(&self) {
         while !self.done.load(Ordering::Relaxed) {
             for slot in &self.slots {
@@ -76,12 +130,11 @@ impl Watchdog {
                 let Some(watch) = watch.as_ref() else {
                     continue;
                 };
-                let used = watch
-                    .clock
-                    .read()
-                    .map_or(Duration::ZERO, |now| now.saturating_sub(watch.started));
-                if used > watch.limit + GRACE {
-                    eprintln!("{OVERRUN_PREFIX}{}", watch.phase);
+                let unlooked = watch.clock.read().map_or(Duration::ZERO, |now| {
+                    now.saturating_sub(watch.pulse.looked_at())
+                });
+                if unlooked > STALL {
+                    eprintln!("{OVERRUN_PREFIX}{}", watch.stalled());
                     std::process::exit(OVERRUN_EXIT);
                 }
             }

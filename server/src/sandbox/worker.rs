@@ -6,6 +6,7 @@
 //! a generous wall-clock allowance, makes the result "not gradable", which costs the
 //! student nothing.
 
+use super::DidNotStart;
 use super::engine::LOAD_LIMIT_MS;
 use super::watchdog::{OVERRUN_EXIT, OVERRUN_PREFIX};
 use labs::Exercise;
@@ -87,16 +88,31 @@ impl Sandbox {
         seed: u64,
         hidden: Option<u64>,
     ) -> GradeResult {
-        let plan = Plan::new(exercise, seed, hidden);
-        match self.carry_out(source, plan.job()) {
-            Ok(outputs) => plan.grade(&outputs),
-            Err(reason) => GradeResult::not_gradable(exercise.name(), seed, reason),
-        }
+        self.try_grade(exercise, source, seed, hidden)
+            .unwrap_or_else(|e| GradeResult::not_gradable(exercise.name(), seed, e.to_string()))
     }
 
-    fn carry_out(&self, source: &str, job: Job) -> Result<Outputs, String> {
+    /// As `grade`, but a worker that did not start is an error rather than a result "not
+    /// gradable": the server's grader tries again later.
+    pub fn try_grade(
+        &self,
+        exercise: Exercise,
+        source: &str,
+        seed: u64,
+        hidden: Option<u64>,
+    ) -> Result<GradeResult, DidNotStart> {
+        let plan = Plan::new(exercise, seed, hidden);
+        let job = plan.job();
         let cpu_limit = SPARE + Duration::from_millis(job.limits_ms() + u64::from(LOAD_LIMIT_MS));
-        let limit = cpu_limit * WALL_CLOCK_FACTOR;
+        let child = self.start(cpu_limit)?;
+        Ok(match self.carry_out(child, source, job, cpu_limit) {
+            Ok(outputs) => plan.grade(&outputs),
+            Err(reason) => GradeResult::not_gradable(exercise.name(), seed, reason),
+        })
+    }
+
+    /// A worker, started with its limits, before it is given anything.
+    fn start(&self, cpu_limit: Duration) -> Result<std::process::Child, DidNotStart> {
         let parent = std::process::id();
         let mut command = Command::new(&self.executable);
         command
@@ -111,9 +127,18 @@ impl Sandbox {
         unsafe {
             command.pre_exec(move || die_with_parent(parent, seconds));
         }
-        let mut child = command
-            .spawn()
-            .map_err(|e| format!("the sandbox did not start: {e}"))?;
+        command.spawn().map_err(DidNotStart)
+    }
+
+    /// The outputs of a worker that started, or why it gave none.
+    fn carry_out(
+        &self,
+        mut child: std::process::Child,
+        source: &str,
+        job: Job,
+        cpu_limit: Duration,
+    ) -> Result<Outputs, String> {
+        let limit = cpu_limit * WALL_CLOCK_FACTOR;
         let input = serde_json::to_string(&WorkerInput {
             source: source.to_owned(),
             job: job.clone(),
@@ -196,13 +221,13 @@ fn student_fault(
         ));
     }
     if status.code() == Some(OVERRUN_EXIT) {
-        // The watchdog ended the worker: a phase ran past its limit inside one call.
-        let phase = complaints
+        // The watchdog ended the worker: a phase stalled in one call, which it names.
+        let call = complaints
             .lines()
             .find_map(|line| line.strip_prefix(OVERRUN_PREFIX))
             .unwrap_or("a test");
         return Some(format!(
-            "Stopped while running {phase}: a single call ran on past the time limit where it cannot be interrupted (a built-in function on huge data, such as indexOf on long strings?), and every test fails."
+            "Stopped while running {call}: a single call ran for more than a second of CPU time where the time limit cannot interrupt it (a built-in function on huge data, such as indexOf on long strings?), and every test fails."
         ));
     }
     // The kernel's limit on the worker's CPU time: only the student's code gets there,

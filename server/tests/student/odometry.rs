@@ -26,6 +26,11 @@ pub struct Mistake {
     /// gives what it should.
     #[serde(default)]
     runs: Option<Vec<String>>,
+    /// The cases (by their note) where the mistake may get no hint, because another
+    /// mistake gives the very same answer there: on the spot (ds = 0) F_delta's columns
+    /// swapped and its last row's signs flipped are one answer.
+    #[serde(default)]
+    pub unhinted: Vec<String>,
     replace: Vec<Replacement>,
 }
 

@@ -15,13 +15,23 @@ const harness = self.estlabHarness;
 const apply = Reflect.apply;
 const postToPort = MessagePort.prototype.postMessage;
 const errorMessage = (error) => String(error && error.message ? error.message : error);
+const now = performance.now.bind(performance);
+/// The harness says what it runs before every call of the student's code: the page hears
+/// of it at most this often (in ms), enough to say where a phase ran out of time.
+const PROGRESS_EVERY = 20;
 
 self.onmessage = ({ data }) => {
   const { port } = data;
   const post = (message) => apply(postToPort, port, [message]);
   self.onmessage = null;
   const phase = JSON.stringify(data.phase);
-  const progress = (label) => post({ progress: String(label) });
+  let told = -Infinity;
+  const progress = (label) => {
+    const time = now();
+    if (time - told < PROGRESS_EVERY) return;
+    told = time;
+    post({ progress: String(label) });
+  };
   try {
     const output = data.kind === 'function'
       ? harness.callFunction(data.source, phase, progress)

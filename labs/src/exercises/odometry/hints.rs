@@ -30,8 +30,16 @@ pub enum HintKind {
     IncrementJacobianTransposed,
     /// F_delta with phi held fixed: the ds/(2b) terms left out.
     IncrementJacobianTurn,
+    /// F_delta's turn terms ds/b where ds/(2b) belongs.
+    IncrementJacobianTurnDoubled,
+    /// F_delta's columns in the order (ds_l, ds_r).
+    IncrementJacobianColumnsSwapped,
     /// k |ds| without the absolute value.
     NegativeWheelVariance,
+    /// sqrt(k |ds|): the wheel's standard deviation in place of its variance.
+    WheelDeviation,
+    /// k ds^2: the variance growing with the distance squared.
+    WheelVarianceSquared,
     /// A wheel's distance with the other wheel's constant, or the wheels in the other order.
     WheelConstantsSwapped,
     /// F_p^T Sigma_p F_p.
@@ -44,7 +52,7 @@ pub enum HintKind {
 
 impl HintKind {
     /// Every kind, for the tests that each has a name of its own.
-    pub const ALL: [HintKind; 14] = [
+    pub const ALL: [HintKind; 18] = [
         HintKind::MidpointHeading,
         HintKind::HalfAxle,
         HintKind::HeadingNotWrapped,
@@ -54,7 +62,11 @@ impl HintKind {
         HintKind::IncrementJacobianSign,
         HintKind::IncrementJacobianTransposed,
         HintKind::IncrementJacobianTurn,
+        HintKind::IncrementJacobianTurnDoubled,
+        HintKind::IncrementJacobianColumnsSwapped,
         HintKind::NegativeWheelVariance,
+        HintKind::WheelDeviation,
+        HintKind::WheelVarianceSquared,
         HintKind::WheelConstantsSwapped,
         HintKind::PropagateTransposed,
         HintKind::WheelNoiseNotMapped,
@@ -113,6 +125,29 @@ impl HintKind {
                  / (2b) depends on the wheels too, which adds -ds sin(phi)/(2b) to d x'/d \
                  ds_r and +ds cos(phi)/(2b) to d y'/d ds_r, and the opposite to the left \
                  wheel's column, besides cos(phi)/2 and sin(phi)/2."
+            }
+            HintKind::IncrementJacobianTurnDoubled => {
+                "F_delta's turn terms are twice what they should be: the heading of the \
+                 step, phi = theta + (ds_r - ds_l) / (2b), moves by 1/(2b) per unit of a \
+                 wheel (half of dtheta's 1/b), so the terms are -ds sin(phi)/(2b) and +ds \
+                 cos(phi)/(2b) in the right wheel's column (opposite in the left's), not \
+                 ds sin(phi)/b. Only theta' itself moves by 1/b."
+            }
+            HintKind::IncrementJacobianColumnsSwapped => {
+                "F_delta's columns are the wrong way round: the first column holds the \
+                 derivatives by the right wheel's distance ds_r, the second those by ds_l, \
+                 so the last row reads [1/b, -1/b]. This is the order, not a sign."
+            }
+            HintKind::WheelDeviation => {
+                "Sigma_delta holds standard deviations, not variances: a wheel's variance \
+                 is proportional to the distance it rolled, Sigma_delta = diag(k_r |ds_r|, \
+                 k_l |ds_l|), without a square root."
+            }
+            HintKind::WheelVarianceSquared => {
+                "Sigma_delta grows with the square of the distance: in this model a \
+                 wheel's variance grows linearly with the distance it rolled (the errors of \
+                 its small pieces add up), Sigma_delta = diag(k_r |ds_r|, k_l |ds_l|), not \
+                 k ds^2."
             }
             HintKind::NegativeWheelVariance => {
                 "A wheel that rolled backwards got a negative variance: a wheel's error grows \
@@ -174,17 +209,25 @@ pub fn diagnose(
         .filter(|(_, alternative)| gives(alternative))
         .map(|(kind, _)| kind)
         .collect();
-    if mismatches.iter().all(|m| negated(&m.expected, &m.got)) {
-        kinds.extend(match call {
-            Call::PoseJacobian { .. } => Some(HintKind::PoseJacobianSign),
-            Call::IncrementJacobian { .. } => Some(HintKind::IncrementJacobianSign),
-            _ => None,
-        });
-    }
+    kinds.extend(sign_flipped(call, mismatches));
     kinds.sort_by_key(|kind| *kind as u8);
     kinds.dedup();
     match kinds[..] {
         [kind] => Some(kind.hint()),
+        _ => None,
+    }
+}
+
+/// The sign mistake of a Jacobian whose every mismatch is a sign flipped. (On the spot,
+/// ds = 0, F_delta's columns swapped flip the signs of its last row too: both explain the
+/// answer then, and neither is said.)
+fn sign_flipped(call: &Call, mismatches: &[Mismatch]) -> Option<HintKind> {
+    if !mismatches.iter().all(|m| negated(&m.expected, &m.got)) {
+        return None;
+    }
+    match call {
+        Call::PoseJacobian { .. } => Some(HintKind::PoseJacobianSign),
+        Call::IncrementJacobian { .. } => Some(HintKind::IncrementJacobianSign),
         _ => None,
     }
 }
@@ -239,6 +282,20 @@ fn mistakes(call: &Call, expected: &Value) -> Vec<(HintKind, Value)> {
                 fixed[(1, j)] = mean[1];
             }
             variants.push((HintKind::IncrementJacobianTurn, json!(rows(&fixed))));
+            // The turn terms doubled: the right answer's distance from the fixed one, twice.
+            let right = at(&model.p, model.increment, model.b);
+            let doubled = fixed + (right - fixed) * 2.0;
+            variants.push((
+                HintKind::IncrementJacobianTurnDoubled,
+                json!(rows(&doubled)),
+            ));
+            variants.push((
+                HintKind::IncrementJacobianColumnsSwapped,
+                json!(rows(&Matrix3x2::from_columns(&[
+                    right.column(1),
+                    right.column(0)
+                ]))),
+            ));
             variants
         }
         Call::WheelNoise {
@@ -256,8 +313,22 @@ fn mistakes(call: &Call, expected: &Value) -> Vec<(HintKind, Value)> {
                 1.0,
                 ds_l.signum(),
             ));
+            let variance = wheel_noise(increment, *k_r, *k_l);
             vec![
                 (HintKind::NegativeWheelVariance, json!(rows(&signed))),
+                (
+                    HintKind::WheelDeviation,
+                    json!(rows(&variance.map(f64::sqrt))),
+                ),
+                (
+                    HintKind::WheelVarianceSquared,
+                    json!(rows(&Matrix2::new(
+                        k_r * ds_r * ds_r,
+                        0.0,
+                        0.0,
+                        k_l * ds_l * ds_l
+                    ))),
+                ),
                 (
                     HintKind::WheelConstantsSwapped,
                     noise(increment, *k_l, *k_r),
@@ -377,7 +448,11 @@ mod tests {
             HintKind::TurnReversed,
             HintKind::PoseJacobianTransposed,
             HintKind::IncrementJacobianTurn,
+            HintKind::IncrementJacobianTurnDoubled,
+            HintKind::IncrementJacobianColumnsSwapped,
             HintKind::NegativeWheelVariance,
+            HintKind::WheelDeviation,
+            HintKind::WheelVarianceSquared,
             HintKind::WheelConstantsSwapped,
             HintKind::PropagateTransposed,
             HintKind::WheelNoiseNotMapped,
@@ -391,9 +466,11 @@ mod tests {
                     if same(&case, &case.expected, wrong) {
                         continue;
                     }
+                    let mismatches = case.check(wrong, Tolerance::default());
                     let rivalled = variants
                         .iter()
-                        .any(|(other, answer)| other != kind && same(&case, answer, wrong));
+                        .any(|(other, answer)| other != kind && same(&case, answer, wrong))
+                        || sign_flipped(&case.call, &mismatches).is_some_and(|sign| sign != *kind);
                     let expected = (!rivalled).then_some(grading::HintKind::Odometry(*kind));
                     assert_eq!(
                         diagnosed(&case, wrong),
@@ -425,12 +502,15 @@ mod tests {
                         wrong[0][2] = json!(-wrong[0][2].as_f64().unwrap());
                         assert_eq!(diagnosed(&case, &wrong), hint(HintKind::PoseJacobianSign));
                     }
-                    Call::IncrementJacobian { .. } => {
+                    Call::IncrementJacobian { ds_r, ds_l, .. } => {
+                        // On the spot (ds = 0) the columns differ in the last row only,
+                        // and this is the columns swapped too: no hint then.
+                        let sign = (ds_r + ds_l != 0.0).then_some(HintKind::IncrementJacobianSign);
                         let reversed = [wrong[2][1].clone(), wrong[2][0].clone()];
                         wrong[2] = json!(reversed);
                         assert_eq!(
                             diagnosed(&case, &wrong),
-                            hint(HintKind::IncrementJacobianSign),
+                            sign.and_then(hint),
                             "seed {seed}, {}",
                             case.id
                         );
