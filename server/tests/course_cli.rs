@@ -2,6 +2,8 @@
 //! machine: set-up from scratch, re-runs that change only what they should, and bad
 //! input refused with a message naming the file's line, the flag or the course.
 
+use calamine::Reader;
+use estlab::courses::codes::read_code;
 use estlab::store::{NewSubmission, Store};
 use jiff::Timestamp;
 use std::os::unix::fs::PermissionsExt;
@@ -209,8 +211,18 @@ fn a_course_is_set_up_from_scratch_and_re_imports_change_only_what_changed() {
     let new_code = &codes(&reissued)[0];
     assert_eq!(new_code[0], "u1");
     let old_code = &rows[0][3];
-    assert!(store.find_code(old_code).unwrap().is_none());
-    assert!(store.find_code(&new_code[3]).unwrap().is_some());
+    assert!(
+        store
+            .find_code(read_code(old_code).unwrap())
+            .unwrap()
+            .is_none()
+    );
+    assert!(
+        store
+            .find_code(read_code(&new_code[3]).unwrap())
+            .unwrap()
+            .is_some()
+    );
 
     let assigned = ok(
         &data,
@@ -303,6 +315,37 @@ fn a_course_is_set_up_from_scratch_and_re_imports_change_only_what_changed() {
         ]
     );
     assert!(refused(&data, &export).contains("exists already"));
+    // The same gradebook as a workbook: the ids as string cells.
+    let workbook = dir.path().join("grades.xlsx");
+    ok(
+        &data,
+        &[
+            "course",
+            "export",
+            "el2320",
+            "ekf-localization",
+            "--format",
+            "xlsx",
+            "--out",
+            workbook.to_str().unwrap(),
+        ],
+    );
+    let mut book: calamine::Xlsx<_> = calamine::open_workbook(&workbook).unwrap();
+    let sheet = book.worksheet_range("grades").unwrap();
+    let ids: Vec<&calamine::Data> = sheet.rows().skip(1).map(|r| &r[0]).collect();
+    assert_eq!(
+        ids,
+        ["u1", "u2", "u3", "u4"]
+            .map(|id| calamine::Data::String(id.into()))
+            .iter()
+            .collect::<Vec<_>>()
+    );
+    let u3 = sheet.rows().nth(3).unwrap();
+    assert_eq!(
+        u3[1],
+        calamine::Data::String("=1+1".into()),
+        "a string, not a formula"
+    );
 
     // Every change is in the audit log, newest first, by the command line.
     let log = store.audit_log("el2320").unwrap();
@@ -423,6 +466,46 @@ fn bad_input_is_refused_naming_the_line_the_flag_or_the_course() {
             "line 1 (the header): no column \"email\"",
         ),
         (
+            vec!["course", "roster", "el2320", roster],
+            Some("id,name,email\nu1,Ada,ada@kth.se\nu\u{200b}2,Grace,g@kth.se\n"),
+            "roster.csv: line 3: the id \"u\\u{200b}2\" holds U+200B, a space, an invisible character",
+        ),
+        (
+            vec!["course", "roster", "el2320", roster],
+            Some("id,name,email\nalice,Ada,ada@kth.se\nbob,Bob,b@kth.se\nALICE,Grace,g@kth.se\n"),
+            "roster.csv: line 4: the id \"ALICE\" is too like \"alice\" of line 2: ids must differ in more than case",
+        ),
+        (
+            vec!["course", "roster", "el2320", roster],
+            Some("id,name,email\nace,Ada,ada@kth.se\n\u{430}\u{441}\u{435},Grace,g@kth.se\n"),
+            "roster.csv: line 3: the id \"асе\" is too like \"ace\" of line 2",
+        ),
+        (
+            vec!["course", "roster", "el2320", roster],
+            Some("id,name,email\n\u{430}da,Ada,ada@kth.se\n"),
+            "roster.csv: line 2: the id \"аda\" mixes scripts",
+        ),
+        (
+            vec!["course", "roster", "el2320", roster],
+            Some("id,name,email\nu1,Ada,ada@kth.se\nCON,Grace,g@kth.se\n"),
+            "roster.csv: line 3: the id \"CON\" is CON, which Windows keeps for a device",
+        ),
+        (
+            vec!["course", "roster", "el2320", roster],
+            Some("id,name,email\na\u{ff0f}b,Ada,ada@kth.se\n"),
+            "roster.csv: line 2: the id \"a／b\" holds '/'",
+        ),
+        (
+            vec!["course", "roster", "el2320", roster],
+            Some("id,name,email\nu1.,Ada,ada@kth.se\n"),
+            "roster.csv: line 2: the id \"u1.\" ends with '.'",
+        ),
+        (
+            vec!["course", "roster", "el2320", roster],
+            Some("id,name,email\nu1,Ada,ada@kth.se\nu2,Grace\u{202e}exe.js,g@kth.se\n"),
+            "roster.csv: line 3: the name \"Grace\\u{202e}exe.js\" holds U+202E",
+        ),
+        (
             vec![
                 "course",
                 "roster",
@@ -456,6 +539,84 @@ fn bad_input_is_refused_naming_the_line_the_flag_or_the_course() {
         !dir.path().join("roster-codes.csv").exists(),
         "nothing written for a refused roster"
     );
+}
+
+/// Proves that an id an earlier release let into the database (a right-to-left override
+/// disguising `.exe` as `.js`) is printed escaped when the roster drops it, in the
+/// command's output and in the audit log, and that a new id too like one already on the
+/// course's roster is refused, naming both.
+#[test]
+fn ids_from_before_the_rules_are_printed_escaped_and_new_ones_may_not_look_like_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("data");
+    ok(&data, &["course", "create", "el2320", "--title", "x"]);
+    let disguised = "u9\u{202e}sj.exe";
+    let store = Store::open(&data).unwrap();
+    store
+        .import_roster(
+            "el2320",
+            &[estlab::courses::roster::Student {
+                id: disguised.into(),
+                name: "Old".into(),
+                email: String::new(),
+            }],
+        )
+        .unwrap();
+    let roster = dir.path().join("roster.csv");
+    let roster = roster.to_str().unwrap();
+    std::fs::write(roster, "id,name,email\nu1,Ada,ada@kth.se\n").unwrap();
+    let printed = ok(&data, &["course", "roster", "el2320", roster]);
+    assert!(!printed.contains('\u{202e}'), "{printed:?}");
+    assert!(
+        printed.contains("1 marked dropped (\"u9\\u{202e}sj.exe\")"),
+        "{printed}"
+    );
+    let log = store.audit_log("el2320").unwrap();
+    assert!(
+        log[0].detail.ends_with("(\"u9\\u{202e}sj.exe\")"),
+        "{}",
+        log[0].detail
+    );
+
+    std::fs::write(
+        roster,
+        "id,name,email\nu1,Ada,ada@kth.se\nU1,Grace,g@kth.se\n",
+    )
+    .unwrap();
+    let out = dir.path().join("more-codes.csv");
+    let message = refused(
+        &data,
+        &[
+            "course",
+            "roster",
+            "el2320",
+            roster,
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    );
+    assert!(
+        message.contains("line 3: the id \"U1\" is too like \"u1\" of line 2"),
+        "{message}"
+    );
+    std::fs::write(roster, "id,name,email\nU1,Grace,g@kth.se\n").unwrap();
+    let message = refused(
+        &data,
+        &[
+            "course",
+            "roster",
+            "el2320",
+            roster,
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    );
+    assert!(
+        message
+            .contains("line 2: the id \"U1\" is too like \"u1\", already on the course's roster"),
+        "{message}"
+    );
+    assert!(!out.exists());
 }
 
 #[test]

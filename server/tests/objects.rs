@@ -134,6 +134,10 @@ const OBJECTS: &[Row] = &[
     row("POST", EXTENSIONS, EXTENSIONS).body(r#"{"student": "{student}", "due": "2032-01-01T00:00Z"}"#)
         .other(404),
     row("POST", EXTENSIONS, EXTENSIONS).body(r#"{"student": "u-both-3090", "due": "2032-01-01T00:00Z"}"#),
+    // A waiver names a submission: the other course's is a 404 like one that does not
+    // exist, and keeps its penalty.
+    row("POST", "/api/courses/{course}/submissions/{id}/waiver", "/api/courses/{course}/submissions/{submission}/waiver")
+        .body(r#"{"reason": "a doctor's note"}"#).other(404),
     // The audit log: this course's actions only.
     row("GET", "/api/courses/{course}/audit", "/api/courses/{course}/audit"),
     // The pages (their data comes from the API above); a student's page names whoever

@@ -6,7 +6,7 @@ use crate::commands::serve::PUBLIC_URL;
 use crate::courses::codes::{self, NewCode};
 use crate::courses::deadline::{Counts, Policy, parse_moment, parse_penalty};
 use crate::courses::export::{Format, inert};
-use crate::courses::{check_course_name, roster};
+use crate::courses::{check_course_name, ids, roster};
 use crate::error::Error;
 use crate::store::{Member, NewMember, Role, Store};
 use jiff::{SignedDuration, Timestamp};
@@ -106,7 +106,8 @@ enum Command {
         lab: Exercise,
         #[arg(long, value_enum)]
         format: Format,
-        /// Where the export goes (a CSV, or a zip); an existing file is not overwritten.
+        /// Where the export goes (a CSV, an XLSX or a zip); an existing file is not
+        /// overwritten.
         #[arg(long, value_name = "PATH")]
         out: PathBuf,
     },
@@ -388,40 +389,44 @@ fn roster_command(
     let mut needing: Vec<Member> = Vec::new();
     if let Some(file) = file {
         let text = read(file)?;
-        let students = roster::read(&text)
+        let on_roster: Vec<String> = store
+            .members(course)?
+            .into_iter()
+            .filter(|m| !m.role.is_staff())
+            .map(|m| m.login)
+            .collect();
+        let students = roster::read(&text, &on_roster)
             .map_err(|problem| Error::Invalid(format!("{}: {problem}", file.display())))?;
         let change = store.import_roster(course, &students)?;
+        // Ids stored before the roster checked them may hold characters that reorder
+        // or hide what is printed around them.
+        let dropped = if change.dropped.is_empty() {
+            String::new()
+        } else {
+            let shown: Vec<String> = change.dropped.iter().map(|id| ids::shown(id)).collect();
+            format!(" ({})", shown.join(", "))
+        };
         store.audit(
             course,
             &actor(),
             "roster",
             &format!(
-                "{}: {} new, {} updated, {} dropped{}",
+                "{}: {} new, {} updated, {} dropped{dropped}",
                 file_name(file),
                 change.added.len(),
                 change.updated,
                 change.dropped.len(),
-                if change.dropped.is_empty() {
-                    String::new()
-                } else {
-                    format!(" ({})", change.dropped.join(", "))
-                }
             ),
             now,
         )?;
         summary.push(format!(
-            "{}: {} students; {} new, {} updated, {} unchanged, {} marked dropped{}",
+            "{}: {} students; {} new, {} updated, {} unchanged, {} marked dropped{dropped}",
             file.display(),
             students.len(),
             change.added.len(),
             change.updated,
             change.unchanged,
             change.dropped.len(),
-            if change.dropped.is_empty() {
-                String::new()
-            } else {
-                format!(" ({})", change.dropped.join(", "))
-            }
         ));
         needing.extend(change.added);
     }
@@ -448,7 +453,7 @@ fn roster_command(
                 course,
                 &actor(),
                 "roster",
-                &format!("new code for {}", member.login),
+                &format!("new code for {}", ids::shown(&member.login)),
                 now,
             )?;
         }

@@ -5,6 +5,7 @@ use crate::error::Error;
 use crate::sandbox::{Sandbox, cores};
 use crate::store::Store;
 use crate::submissions::{Grader, Secret};
+use crate::web::connections::{self, Limits, raise_descriptor_limit};
 use crate::web::{self, AppState, Assets, SignInLimiter};
 use std::net::SocketAddr;
 use std::path::PathBuf;
@@ -96,13 +97,9 @@ async fn serve(args: &Args) -> Result<(), Error> {
         "estlab is serving on http://{addr}/ (submissions in {})",
         args.data_dir.display()
     );
-    axum::serve(
-        listener,
-        app.into_make_service_with_connect_info::<SocketAddr>(),
-    )
-    .with_graceful_shutdown(stop_asked())
-    .await
-    .map_err(Error::io(addr.to_string()))
+    let limits = Limits::for_server(raise_descriptor_limit(), args.behind_https);
+    connections::serve(listener, app, limits, stop_asked()).await;
+    Ok(())
 }
 
 /// Every sign-in checks its code with Argon2id, which takes a 19 MiB block. glibc's

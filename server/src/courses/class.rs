@@ -17,6 +17,8 @@ pub struct Shown {
     pub penalty: f64,
     pub final_score: Option<f64>,
     pub late_seconds: i64,
+    /// Its late penalty waived by staff.
+    pub waived: bool,
 }
 
 impl Shown {
@@ -28,6 +30,7 @@ impl Shown {
             penalty: s.penalty,
             final_score: s.final_score,
             late_seconds: s.late_seconds,
+            waived: s.waiver.is_some(),
         }
     }
 }

@@ -63,6 +63,21 @@ pub struct Policy {
     pub counts: Counts,
 }
 
+/// How late a submission is and the share of its score that costs.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Lateness {
+    /// After the due date by this much (0: on time).
+    pub seconds: i64,
+    pub penalty: f64,
+}
+
+impl Lateness {
+    pub const ON_TIME: Lateness = Lateness {
+        seconds: 0,
+        penalty: 0.0,
+    };
+}
+
 /// What the policy makes of a submission at some moment.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Timing {
@@ -79,22 +94,47 @@ pub enum Timing {
 const DAY_SECONDS: i64 = 24 * 3600;
 
 impl Policy {
-    /// Late by `t − due`: the penalty counts every day begun, ⌈(t − due) / 1 day⌉ ×
-    /// penalty, and takes at most the whole score.
+    /// Whether a submission at `at` is taken, and how late it is.
     pub fn timing(&self, at: Timestamp) -> Timing {
         if at > self.cutoff {
             return Timing::Closed;
         }
+        match self.lateness(at) {
+            Lateness { seconds: 0, .. } => Timing::OnTime,
+            Lateness { seconds, penalty } => Timing::Late { seconds, penalty },
+        }
+    }
+
+    /// How late a submission made at `at` is by these dates: `t − due`, and the penalty
+    /// of every day begun, ⌈(t − due) / 1 day⌉ × penalty, at most the whole score. The
+    /// cutoff plays no part: a submission once taken is judged, never refused, so one
+    /// taken under dates since replaced is late by as much as it is.
+    pub fn lateness(&self, at: Timestamp) -> Lateness {
         let late = at.duration_since(self.due);
         if late <= SignedDuration::ZERO {
-            return Timing::OnTime;
+            return Lateness::ON_TIME;
         }
         let seconds = late.as_secs().max(1);
         let days = (seconds + DAY_SECONDS - 1) / DAY_SECONDS;
-        Timing::Late {
+        Lateness {
             seconds,
             penalty: (days as f64 * self.penalty_per_day).min(1.0),
         }
+    }
+}
+
+/// A length of time in words, as every page and the command line write lateness and
+/// time left: `18 s` under a minute, then `40 min`, `5 h 12 min`, `3 days 4 h`.
+pub fn span(seconds: i64) -> String {
+    let seconds = seconds.max(0);
+    let minutes = seconds / 60;
+    let (days, hours, minutes) = (minutes / 1440, minutes / 60 % 24, minutes % 60);
+    match (days, hours, minutes) {
+        (0, 0, 0) => format!("{seconds} s"),
+        (0, 0, _) => format!("{minutes} min"),
+        (0, _, _) => format!("{hours} h {minutes} min"),
+        (1, _, _) => format!("1 day {hours} h"),
+        _ => format!("{days} days {hours} h"),
     }
 }
 
@@ -175,6 +215,35 @@ mod tests {
             policy.timing(at("2026-12-18T23:59:01+01:00")),
             Timing::Closed
         );
+    }
+
+    #[test]
+    fn a_submission_taken_is_judged_by_the_dates_now_also_past_their_cutoff() {
+        let policy = policy();
+        let due = policy.due;
+        assert_eq!(policy.lateness(due), Lateness::ON_TIME);
+        assert_eq!(
+            policy.lateness(due + SignedDuration::from_secs(18)),
+            Lateness {
+                seconds: 18,
+                penalty: 0.1
+            }
+        );
+        // Past the cutoff: refused when submitted, but judged once taken.
+        let after = policy.cutoff + SignedDuration::from_hours(1);
+        assert_eq!(policy.timing(after), Timing::Closed);
+        assert!(policy.lateness(after).penalty > 0.3);
+    }
+
+    #[test]
+    fn spans_are_in_seconds_under_a_minute() {
+        assert_eq!(span(18), "18 s");
+        assert_eq!(span(54), "54 s");
+        assert_eq!(span(60), "1 min");
+        assert_eq!(span(5 * 3600 + 12 * 60 + 5), "5 h 12 min");
+        assert_eq!(span(DAY_SECONDS + 3600), "1 day 1 h");
+        assert_eq!(span(3 * DAY_SECONDS + 4 * 3600), "3 days 4 h");
+        assert_eq!(span(-5), "0 s");
     }
 
     #[test]

@@ -1,11 +1,12 @@
 //! What a course is made of, apart from its storage: the deadline and late policy of an
 //! assignment, the sign-in codes and tokens (made here, kept only as hashes), and the
-//! roster file an instructor imports.
+//! roster file an instructor imports, with the rules a student id keeps (`ids`).
 
 pub mod class;
 pub mod codes;
 pub mod deadline;
 pub mod export;
+pub mod ids;
 pub mod roster;
 
 /// A course's short name (`el2320`): what `estlab course` and the database call it.

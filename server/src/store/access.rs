@@ -11,7 +11,7 @@ use serde::Serialize;
 /// A typed code whose selector names someone; its secret not checked yet.
 pub struct FoundCode {
     pub member: Member,
-    selector: String,
+    pub selector: String,
     secret: String,
     hash: String,
     once: bool,
@@ -68,12 +68,10 @@ impl Store {
         Ok(())
     }
 
-    /// Finds whose a typed code is, by its selector; `None` when it cannot be a code or
-    /// no code has that selector (then as slowly as a check of a secret takes).
-    pub fn find_code(&self, typed: &str) -> Result<Option<FoundCode>, Error> {
-        let Some(TypedCode { selector, secret }) = codes::read_code(typed) else {
-            return Ok(None);
-        };
+    /// Finds whose a typed code is, by its selector (no secret is checked: the caller
+    /// checks a decoy's for a selector of nobody's, `codes::spend_like_a_check`).
+    pub fn find_code(&self, typed: TypedCode) -> Result<Option<FoundCode>, Error> {
+        let TypedCode { selector, secret } = typed;
         let connection = self.connection();
         let row: Option<(i64, String, bool, Option<i64>)> = connection
             .query_row(
@@ -83,8 +81,6 @@ impl Store {
             )
             .optional()?;
         let Some((member, hash, once, expires_at)) = row else {
-            drop(connection);
-            codes::spend_like_a_check(&secret);
             return Ok(None);
         };
         Ok(Some(FoundCode {

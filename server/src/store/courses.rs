@@ -118,6 +118,31 @@ fn assignment(row: &Row) -> rusqlite::Result<Assignment> {
 
 const ASSIGNMENT_COLUMNS: &str = "course, lab, due, cutoff, late_penalty, counts";
 
+/// The dates in force for one student, from the columns `a.due, a.cutoff, a.late_penalty,
+/// a.counts, e.due, e.cutoff` from `first` on (an assignment and, left-joined, the
+/// student's extension): the assignment's policy with the extension's dates when there
+/// is one; `None` when no assignment was joined.
+pub(super) fn policy_in_force(row: &Row, first: usize) -> rusqlite::Result<Option<Policy>> {
+    let Some(due) = row.get::<_, Option<i64>>(first)? else {
+        return Ok(None);
+    };
+    let policy = Policy {
+        due: timestamp(due),
+        cutoff: timestamp(row.get(first + 1)?),
+        penalty_per_day: row.get(first + 2)?,
+        counts: Counts::parse(&row.get::<_, String>(first + 3)?),
+    };
+    let extended: (Option<i64>, Option<i64>) = (row.get(first + 4)?, row.get(first + 5)?);
+    Ok(Some(match extended {
+        (Some(due), Some(cutoff)) => Policy {
+            due: timestamp(due),
+            cutoff: timestamp(cutoff),
+            ..policy
+        },
+        _ => policy,
+    }))
+}
+
 fn find_member(
     connection: &Connection,
     course: &str,

@@ -14,8 +14,10 @@ mod submissions;
 pub use access::{CodeCheck, FoundCode, TokenInfo};
 pub use courses::{Assignment, Course, Member, NewMember, Role, RosterChange};
 pub use regrades::{Change, EarlierResult, Regrade, Scope};
-pub use staff::{AuditEntry, Extension, NewExtension};
-pub use submissions::{NewSubmission, Status, Submission, SubmissionSummary, ToGrade};
+pub use staff::{
+    AuditEntry, Extension, Granted, NewExtension, NewWaiver, Rejudged, Waived, Waiver,
+};
+pub use submissions::{NewSubmission, Status, Submission, SubmissionSummary, ToGrade, Unfinished};
 
 use rusqlite::Connection;
 use std::path::{Path, PathBuf};

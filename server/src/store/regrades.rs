@@ -2,6 +2,7 @@
 //! each result replacing the current one while the replaced one is kept, so that nobody's
 //! score changes silently and a stop resumes the job where it was.
 
+use super::submissions::{SUMMARY_COLUMNS, SUMMARY_FROM, SUMMARY_WIDTH, summary};
 use super::timestamp;
 use super::{Error, Store};
 use jiff::Timestamp;
@@ -43,7 +44,8 @@ pub struct Change {
     pub student: String,
     pub old_score: Option<f64>,
     pub new_score: Option<f64>,
-    /// The same after the submission's late penalty (which a regrade leaves alone).
+    /// The same after the submission's late penalty as judged now (a regrade leaves it
+    /// alone).
     pub old_final: Option<f64>,
     pub new_final: Option<f64>,
 }
@@ -256,18 +258,22 @@ impl Store {
         else {
             return Ok(None);
         };
-        let mut statement = connection.prepare(
-            "SELECT i.submission, s.student, i.old_score, i.new_score, s.penalty
-             FROM regrade_items i JOIN submissions s ON s.id = i.submission
-             WHERE i.regrade = ?1 AND i.done = 1 ORDER BY s.student, i.submission",
-        )?;
+        // The finals with the penalty as it is judged now (by the dates in force and any
+        // waiver), which a regrade leaves alone.
+        let mut statement = connection.prepare(&format!(
+            "SELECT {SUMMARY_COLUMNS}, i.old_score, i.new_score
+             FROM {SUMMARY_FROM} JOIN regrade_items i ON i.submission = s.id
+             WHERE i.regrade = ?1 AND i.done = 1 ORDER BY s.student, s.id"
+        ))?;
         regrade.changed = statement
             .query_map([id], |row| {
-                let (old_score, new_score): (Option<f64>, Option<f64>) = (row.get(2)?, row.get(3)?);
-                let kept = 1.0 - row.get::<_, f64>(4)?;
+                let (old_score, new_score): (Option<f64>, Option<f64>) =
+                    (row.get(SUMMARY_WIDTH)?, row.get(SUMMARY_WIDTH + 1)?);
+                let submission = summary(row)?;
+                let kept = 1.0 - submission.penalty;
                 Ok(Change {
-                    submission: row.get(0)?,
-                    student: row.get(1)?,
+                    submission: submission.id,
+                    student: submission.student,
                     old_score,
                     new_score,
                     old_final: old_score.map(|s| s * kept),

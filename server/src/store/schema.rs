@@ -131,6 +131,14 @@ const MIGRATIONS: &[&str] = &[
         detail TEXT NOT NULL
     );
     CREATE INDEX audit_by_course ON audit (course, id);",
+    // 4: a submission's late penalty waived by staff, with their reason. Lateness itself
+    // is not stored for the scores: it is judged from `submitted_at` and the dates in force.
+    "CREATE TABLE waivers (
+        submission INTEGER PRIMARY KEY REFERENCES submissions (id),
+        reason TEXT NOT NULL,
+        waived_by TEXT NOT NULL,
+        waived_at INTEGER NOT NULL
+    );",
 ];
 
 /// Brings the schema up to the newest version, one migration per transaction.

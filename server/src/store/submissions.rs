@@ -1,8 +1,13 @@
 //! The submissions: each written before it is graded, its result written when grading
-//! ends. A signed-in student's submission names them (`member`) and records how late it
-//! came and the penalty that costs.
+//! ends. A signed-in student's submission names them (`member`). How late it is and the
+//! penalty that costs are judged whenever it is read, from its `submitted_at` and the
+//! dates in force for its student (the assignment's, or their extension's), unless staff
+//! waived the penalty; what was judged when it was taken is stored too, for the record.
 
+use super::courses::policy_in_force;
+use super::staff::{Waiver, waiver_at};
 use super::{Error, Store};
+use crate::courses::deadline::Lateness;
 use jiff::Timestamp;
 use labs::Exercise;
 use labs::grading::GradeResult;
@@ -48,9 +53,10 @@ pub struct NewSubmission<'a> {
     pub seed: u64,
     pub source: &'a str,
     pub submitted_at: Timestamp,
-    /// After the due date by this much (0: on time).
+    /// After the due date by this much when taken (0: on time), for the record: what
+    /// counts is judged from `submitted_at` by the dates in force when read.
     pub late_seconds: i64,
-    /// The share of the score the lateness costs.
+    /// The share of the score the lateness cost when taken, for the record too.
     pub penalty: f64,
 }
 
@@ -59,6 +65,14 @@ pub struct ToGrade {
     pub exercise: Exercise,
     pub source: String,
     pub seed: u64,
+    pub course: String,
+    pub student: String,
+}
+
+/// A submission waiting to be graded, and whose it is.
+#[derive(Debug, PartialEq)]
+pub struct Unfinished {
+    pub id: i64,
     pub course: String,
     pub student: String,
 }
@@ -72,12 +86,16 @@ pub struct SubmissionSummary {
     pub lab: String,
     pub status: Status,
     pub submitted_at: String,
+    /// After the student's due date in force by this much (0: on time).
     pub late_seconds: i64,
+    /// The share of the score that costs (0 when waived).
     pub penalty: f64,
     /// The grader's score, once graded (none when not gradable).
     pub score: Option<f64>,
     /// The score after the late penalty: what counts.
     pub final_score: Option<f64>,
+    /// The late penalty waived by staff, and why.
+    pub waiver: Option<Waiver>,
 }
 
 /// A stored submission with its result; its source only for those who may read it.
@@ -104,23 +122,50 @@ fn moment(at: Timestamp) -> String {
     at.strftime("%Y-%m-%dT%H:%M:%S%.3fZ").to_string()
 }
 
-const SUMMARY_COLUMNS: &str =
-    "id, course, student, lab, status, submitted_at, late_seconds, penalty, score";
+/// A submission with what judges its lateness now: its assignment (a student's only: an
+/// open server's submissions belong to no course's people), its student's extension and
+/// its waiver.
+pub(super) const SUMMARY_FROM: &str = "submissions s
+    LEFT JOIN assignments a ON s.member IS NOT NULL AND a.course = s.course AND a.lab = s.lab
+    LEFT JOIN extensions e ON e.course = s.course AND e.lab = s.lab AND e.member = s.member
+    LEFT JOIN waivers w ON w.submission = s.id";
 
-fn summary(row: &Row) -> rusqlite::Result<SubmissionSummary> {
+/// The columns of a summary (from `SUMMARY_FROM`), `SUMMARY_WIDTH` of them.
+pub(super) const SUMMARY_COLUMNS: &str = "s.id, s.course, s.student, s.lab, s.status,
+    s.submitted_at, s.late_seconds, s.penalty, s.score,
+    a.due, a.cutoff, a.late_penalty, a.counts, e.due, e.cutoff,
+    w.reason, w.waived_by, w.waived_at";
+pub(super) const SUMMARY_WIDTH: usize = 18;
+
+pub(super) fn summary(row: &Row) -> rusqlite::Result<SubmissionSummary> {
     let score: Option<f64> = row.get(8)?;
-    let penalty: f64 = row.get(7)?;
+    let submitted_at: String = row.get(5)?;
+    let lateness = match (policy_in_force(row, 9)?, submitted_at.parse::<Timestamp>()) {
+        (Some(policy), Ok(at)) => policy.lateness(at),
+        // No assignment judges it (an open server's): as it was taken.
+        _ => Lateness {
+            seconds: row.get(6)?,
+            penalty: row.get(7)?,
+        },
+    };
+    let waiver = waiver_at(row, 15)?;
+    let penalty = if waiver.is_some() {
+        0.0
+    } else {
+        lateness.penalty
+    };
     Ok(SubmissionSummary {
         id: row.get(0)?,
         course: row.get(1)?,
         student: row.get(2)?,
         lab: row.get(3)?,
         status: Status::parse(&row.get::<_, String>(4)?),
-        submitted_at: row.get(5)?,
-        late_seconds: row.get(6)?,
+        submitted_at,
+        late_seconds: lateness.seconds,
         penalty,
         score,
         final_score: score.map(|s| s * (1.0 - penalty)),
+        waiver,
     })
 }
 
@@ -217,15 +262,32 @@ impl Store {
         )
     }
 
-    /// The submissions whose grading has not finished (queued, or cut off by a stop), oldest first.
-    pub fn unfinished(&self) -> Result<Vec<i64>, Error> {
+    /// A submission whose grading began but whose sandbox did not start: queued again.
+    pub fn back_to_queue(&self, id: i64) -> Result<(), Error> {
+        self.connection().execute(
+            "UPDATE submissions SET status = ?2 WHERE id = ?1 AND status = ?3",
+            params![id, Status::Queued.as_str(), Status::Grading.as_str()],
+        )?;
+        Ok(())
+    }
+
+    /// The submissions whose grading has not finished (queued, or cut off by a stop),
+    /// oldest first, with whose they are.
+    pub fn unfinished(&self) -> Result<Vec<Unfinished>, Error> {
         let connection = self.connection();
-        let mut statement = connection
-            .prepare("SELECT id FROM submissions WHERE status != 'graded' ORDER BY id")?;
-        let ids = statement
-            .query_map([], |row| row.get(0))?
+        let mut statement = connection.prepare(
+            "SELECT id, course, student FROM submissions WHERE status != 'graded' ORDER BY id",
+        )?;
+        let list = statement
+            .query_map([], |row| {
+                Ok(Unfinished {
+                    id: row.get(0)?,
+                    course: row.get(1)?,
+                    student: row.get(2)?,
+                })
+            })?
             .collect::<Result<_, _>>()?;
-        Ok(ids)
+        Ok(list)
     }
 
     /// One submission, if it exists, with its source when `with_source`. The result is
@@ -235,23 +297,23 @@ impl Store {
             .connection()
             .query_row(
                 &format!(
-                    "SELECT {SUMMARY_COLUMNS}, seed, graded_at, member, result,
-                     CASE WHEN ?2 THEN source END, grader FROM submissions WHERE id = ?1"
+                    "SELECT {SUMMARY_COLUMNS}, s.seed, s.graded_at, s.member, s.result,
+                     CASE WHEN ?2 THEN s.source END, s.grader FROM {SUMMARY_FROM} WHERE s.id = ?1"
                 ),
                 params![id, with_source],
                 |row| {
                     Ok((
                         Submission {
                             summary: summary(row)?,
-                            seed: row.get::<_, i64>(9)? as u64,
-                            graded_at: row.get(10)?,
-                            member: row.get(11)?,
+                            seed: row.get::<_, i64>(SUMMARY_WIDTH)? as u64,
+                            graded_at: row.get(SUMMARY_WIDTH + 1)?,
+                            member: row.get(SUMMARY_WIDTH + 2)?,
                             result: None,
-                            source: row.get(13)?,
-                            grader: row.get(14)?,
+                            source: row.get(SUMMARY_WIDTH + 4)?,
+                            grader: row.get(SUMMARY_WIDTH + 5)?,
                             earlier: Vec::new(),
                         },
-                        row.get::<_, Option<String>>(12)?,
+                        row.get::<_, Option<String>>(SUMMARY_WIDTH + 3)?,
                     ))
                 },
             )
@@ -266,6 +328,20 @@ impl Store {
             })
         })
         .transpose()
+    }
+
+    /// Whose a submission is, if it exists: its course and member. One small lookup, so
+    /// that refusing someone else's submission costs what refusing a missing one does.
+    pub fn owner(&self, id: i64) -> Result<Option<(String, Option<i64>)>, Error> {
+        let owner = self
+            .connection()
+            .query_row(
+                "SELECT course, member FROM submissions WHERE id = ?1",
+                [id],
+                |row| Ok((row.get(0)?, row.get(1)?)),
+            )
+            .optional()?;
+        Ok(owner)
     }
 
     /// How many submissions a student has made to an exercise since `since`.
@@ -287,7 +363,8 @@ impl Store {
     pub fn history(&self, member: i64, lab: &str) -> Result<Vec<SubmissionSummary>, Error> {
         let connection = self.connection();
         let mut statement = connection.prepare(&format!(
-            "SELECT {SUMMARY_COLUMNS} FROM submissions WHERE member = ?1 AND lab = ?2 ORDER BY id"
+            "SELECT {SUMMARY_COLUMNS} FROM {SUMMARY_FROM} WHERE s.member = ?1 AND s.lab = ?2
+             ORDER BY s.id"
         ))?;
         let list = statement
             .query_map(params![member, lab], summary)?
@@ -303,9 +380,9 @@ impl Store {
     ) -> Result<Vec<SubmissionSummary>, Error> {
         let connection = self.connection();
         let mut statement = connection.prepare(&format!(
-            "SELECT {SUMMARY_COLUMNS} FROM submissions
-             WHERE member IN (SELECT id FROM members WHERE course = ?1) AND lab = ?2
-             ORDER BY student, id"
+            "SELECT {SUMMARY_COLUMNS} FROM {SUMMARY_FROM}
+             WHERE s.member IN (SELECT id FROM members WHERE course = ?1) AND s.lab = ?2
+             ORDER BY s.student, s.id"
         ))?;
         let list = statement
             .query_map(params![course, lab], summary)?
@@ -344,7 +421,7 @@ impl Store {
     pub fn all_submissions(&self) -> Result<Vec<SubmissionSummary>, Error> {
         let connection = self.connection();
         let mut statement = connection.prepare(&format!(
-            "SELECT {SUMMARY_COLUMNS} FROM submissions ORDER BY id"
+            "SELECT {SUMMARY_COLUMNS} FROM {SUMMARY_FROM} ORDER BY s.id"
         ))?;
         let list = statement
             .query_map([], summary)?

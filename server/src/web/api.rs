@@ -76,7 +76,7 @@ pub async fn submit(
     } else {
         None
     };
-    let submit: Submit = body.json("the submission body")?;
+    let submit: Submit = body.json(&viewer, "the submission body").await?;
     let exercise = lab_field(&submit.lab)?;
     check_size(&submit.source)
         .map_err(|problem| Error::TooLarge(format!("field `source`: {problem}")))?;
@@ -218,32 +218,35 @@ pub async fn submission(
 ) -> Result<Response, Error> {
     let missing = || Error::NotFound(format!("there is no submission {id:?}"));
     let number: i64 = id.parse().map_err(|_| missing())?;
-    let (courses, submission) = blocking(&state, move |store| {
-        let submission = store
-            .get(number, true)?
+    let (courses, owner) = blocking(&state, move |store| {
+        Ok((store.any_course()?, store.owner(number)?))
+    })
+    .await?;
+    let (course, member) = owner.ok_or_else(missing)?;
+    // Someone else's answers as a missing one does, after the same lookups.
+    if courses {
+        let own = viewer
+            .member()
+            .is_some_and(|viewer| Some(viewer.id) == member);
+        let staff = member.is_some() && viewer.is_staff_of(&course);
+        if !(own || staff) {
+            return Err(missing());
+        }
+    }
+    // Without courses, open to anyone: the result, nobody's code.
+    let submission = blocking(&state, move |store| {
+        store
+            .get(number, courses)?
             .map(|submission| {
                 Ok::<_, crate::store::Error>(crate::store::Submission {
                     earlier: store.earlier_results(number)?,
                     ..submission
                 })
             })
-            .transpose()?;
-        Ok((store.any_course()?, submission))
+            .transpose()
     })
     .await?;
-    let mut submission = submission.ok_or_else(missing)?;
-    if courses {
-        let own = viewer
-            .member()
-            .is_some_and(|member| Some(member.id) == submission.member);
-        let staff = submission.member.is_some() && viewer.is_staff_of(&submission.summary.course);
-        if !(own || staff) {
-            return Err(missing());
-        }
-    } else {
-        // Open to anyone: results only, nobody's code.
-        submission.source = None;
-    }
+    let submission = submission.ok_or_else(missing)?;
     Ok(Json(submission).into_response())
 }
 

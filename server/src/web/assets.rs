@@ -7,7 +7,7 @@ use super::registry;
 use axum::extract::Request;
 use axum::http::{HeaderValue, StatusCode, header};
 use axum::middleware::Next;
-use axum::response::Response;
+use axum::response::{IntoResponse, Response};
 use serde::Deserialize;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -94,7 +94,14 @@ pub fn service(dir: &Path) -> axum::routing::MethodRouter {
     axum::routing::get_service(files).layer(axum::middleware::from_fn(headers))
 }
 
+/// The longest path below `/static/` looked for: the built files' are far shorter, and
+/// a long enough one fails in the file system (`ENAMETOOLONG`), which would answer 500.
+const LONGEST_PATH: usize = 255;
+
 async fn headers(request: Request, next: Next) -> Response {
+    if request.uri().path().len() > LONGEST_PATH {
+        return StatusCode::NOT_FOUND.into_response();
+    }
     let worker = request.uri().path().contains(WORKER_PREFIX);
     let mut response = next.run(request).await;
     if response.status() == StatusCode::OK {

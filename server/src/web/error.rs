@@ -19,6 +19,9 @@ pub enum Error {
     BadRequest(String),
     #[error("{0}")]
     TooLarge(String),
+    /// The request's body did not arrive within its deadline.
+    #[error("{0}")]
+    TimedOut(String),
     /// Not there, or not the asker's to see: the two answer alike.
     #[error("{0}")]
     NotFound(String),
@@ -47,6 +50,7 @@ impl IntoResponse for Error {
         let status = match &self {
             Error::BadRequest(_) => StatusCode::BAD_REQUEST,
             Error::TooLarge(_) => StatusCode::PAYLOAD_TOO_LARGE,
+            Error::TimedOut(_) => StatusCode::REQUEST_TIMEOUT,
             Error::NotFound(_) => StatusCode::NOT_FOUND,
             Error::Conflict(_) | Error::Store(store::Error::Busy(_)) => StatusCode::CONFLICT,
             Error::Unauthorized(_) => StatusCode::UNAUTHORIZED,

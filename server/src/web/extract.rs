@@ -3,40 +3,70 @@
 //! large or cut off, a query string that does not parse.
 
 use super::Error;
-use axum::body::Bytes;
+use super::connections::BodyTooSlow;
+use super::viewer::Viewer;
 use axum::extract::{FromRequest, FromRequestParts, Request};
-use axum::http::StatusCode;
 use axum::http::request::Parts;
 use serde::de::DeserializeOwned;
+use std::convert::Infallible;
+use std::sync::LazyLock;
+use tokio::sync::Semaphore;
 
-/// A request's body, read whole (within the router's limit); parsed by the handler once
-/// it has checked who asks.
-pub struct Body(Bytes);
+/// The largest request body: a submission of the largest source, JSON-escaped.
+pub const MAX_BODY: usize = 4 << 20;
+
+/// Bodies read at once for people nobody vouches for (a server without courses takes
+/// submissions from anyone), and for people signed in or holding a token: each takes up
+/// to `MAX_BODY` of memory while it arrives, so together they stay within a few hundred
+/// megabytes however many connections send one. A body waits its turn within its
+/// deadline.
+static ANONYMOUS_BODIES: LazyLock<Semaphore> = LazyLock::new(|| Semaphore::new(16));
+static SIGNED_IN_BODIES: LazyLock<Semaphore> = LazyLock::new(|| Semaphore::new(64));
+
+/// A request's body, not yet read: the handler reads it (`json`) once it has checked who
+/// asks, so nobody can make the server buffer a body they may not send.
+pub struct Body(axum::body::Body);
 
 impl<S: Send + Sync> FromRequest<S> for Body {
-    type Rejection = Error;
+    type Rejection = Infallible;
 
-    async fn from_request(request: Request, state: &S) -> Result<Body, Error> {
-        Bytes::from_request(request, state)
-            .await
-            .map(Body)
-            .map_err(|refused| {
-                let message = format!("the request body: {}", refused.body_text());
-                if refused.status() == StatusCode::PAYLOAD_TOO_LARGE {
-                    Error::TooLarge(message)
-                } else {
-                    Error::BadRequest(message)
-                }
-            })
+    async fn from_request(request: Request, _: &S) -> Result<Body, Infallible> {
+        Ok(Body(request.into_body()))
     }
 }
 
 impl Body {
-    /// The body as JSON of type `T`; an error names `what` the body is and where it is
-    /// wrong (serde names the field, the line and the column).
-    pub fn json<T: DeserializeOwned>(&self, what: &str) -> Result<T, Error> {
-        serde_json::from_slice(&self.0).map_err(|e| Error::BadRequest(format!("{what}: {e}")))
+    /// Reads the body, at most `MAX_BODY`, as JSON of type `T`; an error names `what` the
+    /// body is and where it is wrong (serde names the field, the line and the column).
+    pub async fn json<T: DeserializeOwned>(self, viewer: &Viewer, what: &str) -> Result<T, Error> {
+        let turns = match viewer {
+            Viewer::Anonymous => &ANONYMOUS_BODIES,
+            Viewer::Member(_) | Viewer::Token(_) => &SIGNED_IN_BODIES,
+        };
+        let _turn = turns
+            .acquire()
+            .await
+            .map_err(|e| Error::BadRequest(format!("{what}: {e}")))?;
+        let bytes = axum::body::to_bytes(self.0, MAX_BODY)
+            .await
+            .map_err(|e| refused(what, &e))?;
+        serde_json::from_slice(&bytes).map_err(|e| Error::BadRequest(format!("{what}: {e}")))
     }
+}
+
+/// Why a body could not be read: too large, too slow, or cut off.
+fn refused(what: &str, error: &axum::Error) -> Error {
+    let mut cause: Option<&(dyn std::error::Error + 'static)> = Some(error);
+    while let Some(e) = cause {
+        if e.is::<BodyTooSlow>() {
+            return Error::TimedOut(format!("{what}: {e}"));
+        }
+        if e.is::<http_body_util::LengthLimitError>() {
+            return Error::TooLarge(format!("{what}: larger than {} MiB", MAX_BODY >> 20));
+        }
+        cause = e.source();
+    }
+    Error::BadRequest(format!("{what}: {error}"))
 }
 
 /// A query string parsed into `T`.

@@ -5,8 +5,10 @@ use super::extract::Query;
 use super::pages::{Nav, html};
 use super::viewer::Viewer;
 use super::{AppState, Error, blocking, lab_field};
-use crate::courses::deadline::{Policy, Timing};
-use crate::store::{Assignment, Course, Member, Status, Store, Submission, SubmissionSummary};
+use crate::courses::deadline::{Policy, Timing, span};
+use crate::store::{
+    Assignment, Course, Extension, Member, Status, Store, Submission, SubmissionSummary,
+};
 use askama::Template;
 use axum::Json;
 use axum::extract::State;
@@ -70,18 +72,6 @@ impl Standing {
     }
 }
 
-/// A length of time in words: `3 days 4 h`, `5 h 12 min`, `40 min`.
-pub fn span(seconds: i64) -> String {
-    let minutes = seconds.max(0) / 60;
-    let (days, hours, minutes) = (minutes / 1440, minutes / 60 % 24, minutes % 60);
-    match (days, hours) {
-        (0, 0) => format!("{minutes} min"),
-        (0, _) => format!("{hours} h {minutes} min"),
-        (1, _) => format!("1 day {hours} h"),
-        _ => format!("{days} days {hours} h"),
-    }
-}
-
 /// A student's view of one assignment.
 #[derive(Serialize)]
 pub struct StudentAssignment {
@@ -94,7 +84,10 @@ pub struct StudentAssignment {
     /// their file, and opens a submission (`?submission=ID`).
     pub workbench: &'static str,
     pub standing: Standing,
-    /// Their submissions, oldest first.
+    /// Their own dates, when staff extended the assignment's (`assignment.policy` has
+    /// them): their submissions, those already made included, are judged by them.
+    pub extension: Option<Extension>,
+    /// Their submissions, oldest first, each judged by the dates in force.
     pub history: Vec<SubmissionSummary>,
     /// The score that counts (best or last, after late penalties).
     pub counting_score: Option<f64>,
@@ -180,6 +173,7 @@ fn gather(
                 assignment.policy = policy;
             }
             let standing = Standing::of(&assignment.policy, now);
+            let extension = store.extension_for(&member.course, &assignment.lab, member.id)?;
             let history = store.history(member.id, &assignment.lab)?;
             let counting_score = assignment
                 .policy
@@ -203,6 +197,7 @@ fn gather(
                 exercise,
                 workbench: super::workbench_path(exercise),
                 standing,
+                extension,
                 history,
                 counting_score,
                 latest,
@@ -280,8 +275,16 @@ impl MePage<'_> {
         at.strftime("%Y-%m-%d %H:%M UTC").to_string()
     }
 
-    fn late(&self, seconds: &i64) -> String {
-        span(*seconds)
+    /// A submission's lateness by the dates in force, with its penalty or its waiver.
+    fn lateness(&self, submission: &SubmissionSummary) -> String {
+        if submission.late_seconds == 0 {
+            return "on time".into();
+        }
+        let late = format!("{} late", span(submission.late_seconds));
+        match &submission.waiver {
+            Some(waiver) => format!("{late}, penalty waived: {}", waiver.reason),
+            None => format!("{late} (−{})", self.percent(&submission.penalty)),
+        }
     }
 
     fn status(&self, status: &Status) -> &'static str {

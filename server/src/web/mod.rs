@@ -4,6 +4,7 @@
 
 mod api;
 mod assets;
+pub mod connections;
 mod error;
 mod extract;
 mod limiter;
@@ -26,6 +27,7 @@ use crate::store::{self, Store};
 use crate::submissions::Grader;
 use axum::Router;
 use axum::extract::{DefaultBodyLimit, MatchedPath, Request};
+use axum::handler::Handler;
 use axum::http::{HeaderValue, header};
 use axum::routing::{MethodRouter, get, post};
 use labs::Exercise;
@@ -34,7 +36,6 @@ use std::sync::Arc;
 use std::time::Duration;
 use tower_http::compression::CompressionLayer;
 use tower_http::set_header::SetResponseHeaderLayer;
-use tower_http::timeout::RequestBodyTimeoutLayer;
 use tower_http::trace::TraceLayer;
 use tracing::Span;
 
@@ -54,12 +55,8 @@ pub struct AppState {
     pub behind_https: bool,
 }
 
-/// The largest request body: a submission of the largest source, JSON-escaped.
-const MAX_BODY: usize = 4 << 20;
-
-/// How long a request's body may take to arrive: a client that sends it a byte at a
-/// time holds a connection no longer than this.
-const BODY_TIMEOUT: Duration = Duration::from_secs(30);
+/// The largest sign-in form: a code is 24 characters.
+const MAX_SIGN_IN: usize = 1024;
 
 /// Scripts from this origin only (and the wasm module they compile); styles may be
 /// inline, as the plotting and formula libraries set them on elements.
@@ -78,7 +75,9 @@ fn page_route(page: &Page) -> MethodRouter<Arc<AppState>> {
         "car" => get(pages::car),
         "ekf" => get(pages::ekf),
         "odometry" => get(pages::odometry),
-        "signin" => get(signin::page).post(signin::sign_in),
+        "signin" => {
+            get(signin::page).post(signin::sign_in.layer(DefaultBodyLimit::max(MAX_SIGN_IN)))
+        }
         "me" => get(me::page),
         "dashboard" => get(staff::page),
         "dashboard-student" => get(staff::student_page),
@@ -118,6 +117,10 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/api/courses/{course}/regrades", post(staff::start_regrade))
         .route("/api/courses/{course}/regrades/{id}", get(staff::regrade))
         .route("/api/courses/{course}/extensions", post(staff::extend))
+        .route(
+            "/api/courses/{course}/submissions/{id}/waiver",
+            post(staff::waive),
+        )
         .route("/api/courses/{course}/audit", get(staff::audit))
         .route("/healthz", get(|| async { "ok" }))
         .route("/favicon.svg", get(pages::icon))
@@ -126,8 +129,7 @@ pub fn router(state: Arc<AppState>) -> Router {
         .fallback(pages::not_found)
         .layer(axum::middleware::from_fn(origin::same_origin_only))
         .layer(axum::middleware::from_fn(api_not_stored))
-        .layer(DefaultBodyLimit::max(MAX_BODY))
-        .layer(RequestBodyTimeoutLayer::new(BODY_TIMEOUT))
+        .layer(DefaultBodyLimit::max(extract::MAX_BODY))
         .layer(CompressionLayer::new())
         .layer(SetResponseHeaderLayer::if_not_present(
             header::CONTENT_SECURITY_POLICY,

@@ -2,7 +2,7 @@
 //! session lives in the database, so a restart signs nobody out; its key is in an
 //! HttpOnly, SameSite=Lax cookie, `Secure` behind HTTPS.
 
-use super::limiter::Refusal;
+use super::limiter::{Attempt, Refusal};
 use super::pages::{Nav, html};
 use super::viewer::{Viewer, session_key};
 use super::{AppState, Error, SESSION_COOKIE, blocking};
@@ -10,6 +10,7 @@ use crate::courses::codes;
 use crate::store::{CodeCheck, Member};
 use askama::Template;
 use axum::Form;
+use axum::extract::rejection::FormRejection;
 use axum::extract::{ConnectInfo, State};
 use axum::http::request::Parts;
 use axum::http::{StatusCode, header};
@@ -86,17 +87,19 @@ struct Refused(StatusCode, String);
 
 impl Refused {
     fn too_many(refusal: &Refusal) -> Refused {
-        let whose = if refusal.per_course {
-            "for this course"
-        } else {
-            "from your address"
-        };
         Refused(
             StatusCode::TOO_MANY_REQUESTS,
-            format!(
-                "Too many wrong codes {whose}: signing in is refused for {} more minute(s). Check the code you were given, then try again.",
-                refusal.minutes
-            ),
+            if refusal.guesses {
+                format!(
+                    "Too many codes that are nobody's from your address: such codes are refused for {} more minute(s). Check the code you were given, then try again.",
+                    refusal.minutes
+                )
+            } else {
+                format!(
+                    "Too many wrong tries of this code from your address: it is refused for {} more minute(s). Check the code you were given, then try again.",
+                    refusal.minutes
+                )
+            },
         )
     }
 
@@ -114,19 +117,27 @@ static CODE_CHECKS: LazyLock<Semaphore> =
 /// How long a sign-in waits for its turn at a code check before it is told to try again.
 const CHECK_WAIT: Duration = Duration::from_secs(10);
 
-/// Checks a typed code within the limits. The attempt counts against its address from the
-/// start (taken back if it succeeds), so simultaneous attempts are held to the limit too.
+/// Checks a typed code within the limits. The code's selector is looked up first (no
+/// hash is checked), so that the attempt counts as what it is: a try of someone's code
+/// or a guess (`limiter`). It counts from the start (taken back if it succeeds), so
+/// simultaneous attempts are held to the limit too.
 async fn check(
     state: &Arc<AppState>,
     address: IpAddr,
     code: String,
     now: Timestamp,
 ) -> Result<Result<Member, Refused>, Error> {
-    if let Err(refusal) = state.limiter.begin(address, now) {
-        return Ok(Err(Refused::too_many(&refusal)));
-    }
-    if codes::read_code(&code).is_none() {
+    let Some(typed) = codes::read_code(&code) else {
         return Ok(Err(Refused::wrong_code()));
+    };
+    let secret = typed.secret.clone();
+    let found = blocking(state, move |store| store.find_code(typed)).await?;
+    let attempt = match &found {
+        Some(found) => Attempt::Code(found.selector.clone()),
+        None => Attempt::Guess,
+    };
+    if let Err(refusal) = state.limiter.begin(address, &attempt, now) {
+        return Ok(Err(Refused::too_many(&refusal)));
     }
     let Ok(Ok(_turn)) = tokio::time::timeout(CHECK_WAIT, CODE_CHECKS.acquire()).await else {
         return Ok(Err(Refused(
@@ -134,30 +145,40 @@ async fn check(
             "Signing in is busy right now: try again in a minute.".into(),
         )));
     };
-    let Some(found) = blocking(state, move |store| store.find_code(&code)).await? else {
+    let Some(found) = found else {
+        // As slowly as a check of a secret takes: a selector of nobody's is not told apart.
+        blocking(state, move |_| {
+            codes::spend_like_a_check(&secret);
+            Ok(())
+        })
+        .await?;
         return Ok(Err(Refused::wrong_code()));
     };
-    let course = found.member.course.clone();
-    if let Err(refusal) = state.limiter.check_course(&course, address, now) {
-        return Ok(Err(Refused::too_many(&refusal)));
-    }
     match blocking(state, move |store| store.use_code(found, now)).await? {
         CodeCheck::Valid(member) => {
-            state.limiter.succeeded(address, now);
+            state.limiter.succeeded(address, &attempt, now);
             Ok(Ok(member))
         }
-        CodeCheck::Refused => {
-            state.limiter.failed_for_course(&course, now);
-            Ok(Err(Refused::wrong_code()))
-        }
+        CodeCheck::Refused => Ok(Err(Refused::wrong_code())),
     }
 }
 
 pub async fn sign_in(
     State(state): State<Arc<AppState>>,
     parts: Parts,
-    Form(form): Form<CodeForm>,
+    form: Result<Form<CodeForm>, FormRejection>,
 ) -> Result<Response, Error> {
+    // Not the page's form (JSON, say, or too long): the page again, saying so.
+    let form = match form {
+        Ok(Form(form)) => form,
+        Err(refused) => {
+            let problem = format!(
+                "Sign in with the form on this page: the request was not a sign-in form ({}).",
+                refused.body_text()
+            );
+            return render(&state, &Viewer::Anonymous, refused.status(), Some(problem)).await;
+        }
+    };
     let now = state.clock.now();
     let address = client_address(&parts, state.behind_https);
     let member = match check(&state, address, form.code, now).await? {

@@ -11,7 +11,7 @@ use crate::courses::class::{self, ClassView};
 use crate::courses::deadline::{Policy, parse_moment};
 use crate::courses::export::{self, Format};
 use crate::store::{
-    AuditEntry, Extension, Member, NewExtension, Regrade, Scope, SubmissionSummary,
+    AuditEntry, Extension, Member, NewExtension, NewWaiver, Regrade, Scope, SubmissionSummary,
 };
 use askama::Template;
 use axum::Json;
@@ -119,10 +119,7 @@ pub async fn student(
         let Some(policy) = store.policy_for(&course, &lab, member.id)? else {
             return Ok(None);
         };
-        let extension = store
-            .extensions(&course, &lab)?
-            .into_iter()
-            .find(|e| e.student == member.login);
+        let extension = store.extension_for(&course, &lab, member.id)?;
         Ok(Some(StudentAnswer {
             submissions: store.history(member.id, &lab)?,
             member,
@@ -160,7 +157,7 @@ pub async fn start_regrade(
     body: Body,
 ) -> Result<Response, Error> {
     viewer.staff_of(&course)?;
-    let request: RegradeRequest = body.json("the regrade request")?;
+    let request: RegradeRequest = body.json(&viewer, "the regrade request").await?;
     let exercise = lab_field(&request.lab)?;
     let who = actor(&viewer);
     let now = state.clock.now();
@@ -235,7 +232,8 @@ struct ExtensionRequest {
 }
 
 /// `POST /api/courses/{course}/extensions`: new dates for one student, recorded with who
-/// granted them.
+/// granted them; answers with the extension and the scores of the submissions already
+/// made that it changed (they are judged against the new dates).
 pub async fn extend(
     State(state): State<Arc<AppState>>,
     viewer: Viewer,
@@ -243,7 +241,7 @@ pub async fn extend(
     body: Body,
 ) -> Result<Response, Error> {
     viewer.staff_of(&course)?;
-    let request: ExtensionRequest = body.json("the extension request")?;
+    let request: ExtensionRequest = body.json(&viewer, "the extension request").await?;
     lab_field(&request.lab)?;
     let due =
         parse_moment(&request.due).map_err(|e| Error::BadRequest(format!("field `due`: {e}")))?;
@@ -280,6 +278,52 @@ pub async fn extend(
     Ok(Json(granted).into_response())
 }
 
+/// The body of `POST /api/courses/{course}/submissions/{id}/waiver`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct WaiverRequest {
+    reason: String,
+}
+
+/// The longest reason a waiver keeps: a sentence or two for the audit log and the student.
+const MAX_REASON: usize = 500;
+
+/// `POST /api/courses/{course}/submissions/{id}/waiver`: waives one submission's late
+/// penalty, with the reason (shown to the student and logged); answers with the
+/// submission as it counts now and the score that changed. A submission of another course
+/// (or none) is the same 404.
+pub async fn waive(
+    State(state): State<Arc<AppState>>,
+    viewer: Viewer,
+    Path((course, id)): Path<(String, String)>,
+    body: Body,
+) -> Result<Response, Error> {
+    viewer.staff_of(&course)?;
+    let missing = Error::NotFound(format!("{course} has no submission {id:?}"));
+    let Ok(submission) = id.parse::<i64>() else {
+        return Err(missing);
+    };
+    let request: WaiverRequest = body.json(&viewer, "the waiver request").await?;
+    let reason = request.reason.trim().to_string();
+    if reason.is_empty() || reason.chars().count() > MAX_REASON {
+        return Err(Error::BadRequest(format!(
+            "field `reason`: say why the penalty is waived, in at most {MAX_REASON} characters"
+        )));
+    }
+    let who = actor(&viewer);
+    let now = state.clock.now();
+    let waived = blocking(&state, move |store| {
+        let waiver = NewWaiver {
+            submission,
+            reason: &reason,
+        };
+        store.waive(&course, &waiver, &who, now)
+    })
+    .await?
+    .ok_or(missing)?;
+    Ok(Json(waived).into_response())
+}
+
 /// `GET /api/courses/{course}/audit`: every staff action, newest first.
 pub async fn audit(
     State(state): State<Arc<AppState>>,
@@ -297,7 +341,7 @@ pub struct ExportQuery {
     format: Format,
 }
 
-/// `GET /api/courses/{course}/labs/{lab}/export?format=csv|gradescope|prairielearn|sources`.
+/// `GET /api/courses/{course}/labs/{lab}/export?format=csv|xlsx|gradescope|prairielearn|sources`.
 pub async fn export(
     State(state): State<Arc<AppState>>,
     viewer: Viewer,

@@ -14,7 +14,8 @@ import { fmt } from '../format.js';
 import { pathRuns } from '../odometry/workbench.js';
 import { Runner } from '../student/runner.js';
 import {
-  element, getJson, link, notImplemented, percent, pollSubmission, renderSubmission, span, testItem, testKey,
+  element, getJson, lateness, link, notImplemented, percent, pollSubmission, renderSubmission, span, testItem,
+  testKey,
 } from '../student/results.js';
 import { loadEstlab } from '../wasm.js';
 
@@ -578,7 +579,7 @@ async function openSubmission(id) {
     window.location.replace(`${own}?submission=${encodeURIComponent(id)}`);
     return;
   }
-  const late = submission.late_seconds > 0 ? `${span(submission.late_seconds)} late (−${percent(submission.penalty)})` : 'on time';
+  const late = lateness(submission);
   const by = account.mode === 'student' ? '' : ` by ${submission.student}`;
   viewer.facts.textContent = `Submitted${by} ${localTime(submission.submitted_at)}, ${late}; variant seed ${submission.seed}.`;
   viewer.panes.hidden = false;

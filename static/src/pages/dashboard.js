@@ -11,7 +11,7 @@ import { BarChart } from 'echarts/charts';
 import * as echarts from 'echarts/core';
 import { byId } from '../controls.js';
 import { Plot, colours } from '../plots.js';
-import { ApiError, element, getJson, link, moment, percent, renderSubmission, span } from '../student/results.js';
+import { ApiError, element, getJson, lateness, link, moment, percent, renderSubmission } from '../student/results.js';
 
 // The plots module draws lines and points; the class's pictures are bars.
 echarts.use([BarChart]);
@@ -129,6 +129,20 @@ async function regrade(scope, status, box) {
   }
 }
 
+/** The scores an extension or a waiver changed, in `box`: a row per submission, before and after. */
+function showRejudged(box, changed) {
+  if (changed.length === 0) {
+    box.replaceChildren();
+    return;
+  }
+  const table = element('table', 'changed');
+  const counts = (final, penalty) => `${score(final)} (−${percent(penalty)})`;
+  fillTable(table, ['Submission', 'Before', 'After'], changed.map((c) => [
+    c.submission, counts(c.old_final, c.old_penalty), counts(c.new_final, c.new_penalty),
+  ]));
+  box.replaceChildren(table);
+}
+
 // ---------------------------------------------------------------------------------------
 // The class.
 
@@ -181,7 +195,7 @@ function drawTable() {
     r.student.submissions,
     score(r.counting),
     score(r.latest),
-    r.late ? `late, −${percent(r.student.counting.penalty)}` : (r.student.counting ? 'on time' : '–'),
+    r.student.counting ? lateness(r.student.counting) : '–',
     when(r.last),
   ]));
   tableElement.querySelectorAll('tbody tr').forEach((tr, i) => { tr.dataset.student = shown[i].student.id; });
@@ -511,12 +525,28 @@ async function studentPage() {
           });
           actions.append(' · ', again);
         }
+        if (s.penalty > 0) {
+          const waive = element('button', 'link', 'Waive penalty');
+          waive.type = 'button';
+          waive.setAttribute('aria-label', `Waive the late penalty of submission ${s.id}`);
+          waive.addEventListener('click', () => {
+            byId('waiver-submission').value = String(s.id);
+            byId('waiver-reason').focus();
+          });
+          actions.append(' · ', waive);
+        }
         return [
           s.id, when(s.submitted_at), s.status, score(s.score),
-          s.late_seconds > 0 ? `${span(s.late_seconds)} (−${percent(s.penalty)})` : 'on time', score(s.final_score), actions,
+          lateness(s), score(s.final_score), actions,
         ];
       }));
     byId('student-submissions').querySelectorAll('tbody tr').forEach((tr, i) => { tr.dataset.id = String(newest[i].id); });
+    const penalised = newest.filter((s) => s.penalty > 0);
+    const waiving = byId('waiver-submission');
+    const picked = waiving.value;
+    waiving.replaceChildren(...penalised.map((s) => new Option(`submission ${s.id} (${lateness(s)})`, s.id)));
+    if (penalised.some((s) => String(s.id) === picked)) waiving.value = picked;
+    byId('waiver-form').hidden = penalised.length === 0;
     const [shown, compared] = [choose.value, compare.value];
     choose.replaceChildren(...newest.map((s) => new Option(`submission ${s.id} (${score(s.score)})`, s.id)));
     compare.replaceChildren(new Option('(nothing: its source)', ''),
@@ -531,12 +561,33 @@ async function studentPage() {
     event.preventDefault();
     const form = new FormData(event.target);
     const cutoff = String(form.get('cutoff')).trim();
+    byId('extension-status').textContent = '';
     try {
-      await postJson(`${api}/extensions`, { lab, student, due: String(form.get('due')).trim(), ...(cutoff ? { cutoff } : {}) });
-      byId('extension-status').textContent = 'Extension granted.';
+      const granted = await postJson(`${api}/extensions`, { lab, student, due: String(form.get('due')).trim(), ...(cutoff ? { cutoff } : {}) });
+      read.clear();
       await refresh();
+      // Said once the page shows the new dates and scores.
+      byId('extension-status').textContent = `Extension granted: due ${when(granted.due)}, taken until ${when(granted.cutoff)}. ` +
+        (granted.changed.length ? `It changed ${granted.changed.length} score(s):` : 'No score of the submissions already made changed.');
+      showRejudged(byId('extension-changes'), granted.changed);
     } catch (error) {
       byId('extension-status').textContent = `Not granted: ${error.message}`;
+    }
+  });
+  byId('waiver-form').addEventListener('submit', async (event) => {
+    event.preventDefault();
+    const form = new FormData(event.target);
+    const id = String(form.get('submission'));
+    byId('waiver-status').textContent = '';
+    try {
+      const waived = await postJson(`${api}/submissions/${encodeURIComponent(id)}/waiver`, { reason: String(form.get('reason')).trim() });
+      event.target.reset();
+      read.delete(id);
+      await refresh();
+      byId('waiver-status').textContent = `The late penalty of submission ${id} is waived.`;
+      showRejudged(byId('waiver-changes'), waived.changed);
+    } catch (error) {
+      byId('waiver-status').textContent = `Not waived: ${error.message}`;
     }
   });
   byId('regrade-student').addEventListener('click', async () => {

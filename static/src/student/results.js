@@ -39,14 +39,31 @@ export function percent(share) {
   return `${Math.round(100 * share)} %`;
 }
 
-/** A length of time in words, as the server writes it: `3 days 4 h`, `5 h 12 min`, `40 min`. */
+/**
+ * A length of time in words, as the server writes it (`deadline::span`): `18 s` under a
+ * minute, then `40 min`, `5 h 12 min`, `3 days 4 h`.
+ */
 export function span(seconds) {
-  const minutes = Math.floor(Math.max(0, seconds) / 60);
+  const whole = Math.floor(Math.max(0, seconds));
+  const minutes = Math.floor(whole / 60);
   const days = Math.floor(minutes / 1440);
   const hours = Math.floor(minutes / 60) % 24;
-  if (days === 0 && hours === 0) return `${minutes % 60} min`;
+  if (minutes === 0) return `${whole} s`;
+  if (days === 0 && hours === 0) return `${minutes} min`;
   if (days === 0) return `${hours} h ${minutes % 60} min`;
   return days === 1 ? `1 day ${hours} h` : `${days} days ${hours} h`;
+}
+
+/**
+ * A submission's lateness by its student's dates in force, as /me writes it: `on time`,
+ * `18 s late (−10 %)`, or `18 s late, penalty waived: REASON`.
+ */
+export function lateness(submission) {
+  if (!(submission.late_seconds > 0)) return 'on time';
+  const late = `${span(submission.late_seconds)} late`;
+  return submission.waiver
+    ? `${late}, penalty waived: ${submission.waiver.reason}`
+    : `${late} (−${percent(submission.penalty)})`;
 }
 
 /**
@@ -211,7 +228,9 @@ export function renderSubmission(box, submission, { comparison = '', open = fals
   box.dataset.status = 'graded';
   let line = `The server's grade for submission ${submission.id}: ${fmt(result.points, 4)} of ${result.max_points} points (${Math.round(100 * result.score)}%).`;
   if (comparison) line += ` ${comparison}`;
-  if (submission.late_seconds > 0) {
+  if (submission.waiver) {
+    line += ` Submitted ${span(submission.late_seconds)} late; its late penalty was waived (${submission.waiver.reason}): it counts as ${percent(submission.final_score ?? 0)}.`;
+  } else if (submission.late_seconds > 0) {
     line += ` Submitted ${span(submission.late_seconds)} late, which costs ${percent(submission.penalty)} of the score: it counts as ${percent(submission.final_score ?? 0)}.`;
   }
   const parts = [element('p', 'verdict', line)];

@@ -1,0 +1,194 @@
+//! The gradebook: a row per student of the roster, as CSV (for any LMS) and as XLSX (for
+//! a spreadsheet, where a name is a string cell whatever it starts with).
+
+use crate::courses::class::ClassView;
+use rust_xlsxwriter::{Format, Workbook, XlsxError};
+
+const HEADER: [&str; 9] = [
+    "id",
+    "name",
+    "email",
+    "status",
+    "submissions",
+    "score",
+    "late_penalty",
+    "final_score",
+    "submitted_at",
+];
+
+/// One student's line of the gradebook; the last four are `None` for a student with no
+/// graded submission.
+struct Row<'a> {
+    id: &'a str,
+    name: &'a str,
+    email: &'a str,
+    status: &'static str,
+    submissions: usize,
+    score: Option<f64>,
+    late_penalty: Option<f64>,
+    final_score: Option<f64>,
+    submitted_at: Option<&'a str>,
+}
+
+fn rows(view: &ClassView) -> impl Iterator<Item = Row<'_>> {
+    view.students.iter().map(|s| {
+        let counting = s.counting.as_ref();
+        Row {
+            id: &s.id,
+            name: &s.name,
+            email: &s.email,
+            status: if s.dropped { "dropped" } else { "enrolled" },
+            submissions: s.submissions,
+            score: counting.and_then(|c| c.score),
+            late_penalty: counting.map(|c| c.penalty),
+            final_score: counting.and_then(|c| c.final_score),
+            submitted_at: counting.map(|c| c.submitted_at.as_str()),
+        }
+    })
+}
+
+/// The gradebook as CSV. Columns: `id, name, email, status (enrolled or dropped),
+/// submissions, score (of the submission that counts, in [0, 1]), late_penalty (its share
+/// lost), final_score (score × (1 − late_penalty)), submitted_at (UTC)`; empty for a
+/// student with no graded submission. Text cells are made inert (`inert`).
+pub fn csv(view: &ClassView) -> Vec<u8> {
+    let mut csv = csv::Writer::from_writer(Vec::new());
+    csv.write_record(HEADER).expect("writing to memory");
+    let number = |value: Option<f64>| value.map_or_else(String::new, |v| format!("{v:.4}"));
+    for row in rows(view) {
+        csv.write_record([
+            inert(row.id),
+            inert(row.name),
+            inert(row.email),
+            row.status.to_string(),
+            row.submissions.to_string(),
+            number(row.score),
+            number(row.late_penalty),
+            number(row.final_score),
+            row.submitted_at.unwrap_or_default().to_string(),
+        ])
+        .expect("writing to memory");
+    }
+    csv.into_inner().expect("writing to memory")
+}
+
+/// The gradebook as XLSX, one sheet `grades` with the CSV's columns: ids, names, emails
+/// and the dates as string cells (never formulas, so they need no `'`), the counts and
+/// scores as numbers.
+pub fn xlsx(view: &ClassView) -> Vec<u8> {
+    write_xlsx(view).expect("a gradebook within Excel's limits, written to memory")
+}
+
+fn write_xlsx(view: &ClassView) -> Result<Vec<u8>, XlsxError> {
+    let mut workbook = Workbook::new();
+    let sheet = workbook.add_worksheet();
+    sheet.set_name("grades")?;
+    let bold = Format::new().set_bold();
+    let share = Format::new().set_num_format("0.0000");
+    for (col, title) in (0..).zip(HEADER) {
+        sheet.write_string_with_format(0, col, title, &bold)?;
+    }
+    sheet.set_freeze_panes(1, 0)?;
+    for (row, line) in (1..).zip(rows(view)) {
+        sheet.write_string(row, 0, within_a_cell(line.id))?;
+        sheet.write_string(row, 1, within_a_cell(line.name))?;
+        sheet.write_string(row, 2, within_a_cell(line.email))?;
+        sheet.write_string(row, 3, line.status)?;
+        sheet.write_number(row, 4, line.submissions as f64)?;
+        for (col, value) in [
+            (5, line.score),
+            (6, line.late_penalty),
+            (7, line.final_score),
+        ] {
+            if let Some(value) = value {
+                sheet.write_number_with_format(row, col, value, &share)?;
+            }
+        }
+        if let Some(at) = line.submitted_at {
+            sheet.write_string(row, 8, at)?;
+        }
+    }
+    workbook.save_to_buffer()
+}
+
+/// Text cut to what an Excel cell holds (32,767 UTF-16 units); no roster's name comes
+/// near it, but a stored one is not refused for it.
+fn within_a_cell(text: &str) -> &str {
+    const LIMIT: usize = 32_767;
+    let mut units = 0;
+    for (at, c) in text.char_indices() {
+        units += c.len_utf16();
+        if units > LIMIT {
+            return &text[..at];
+        }
+    }
+    text
+}
+
+/// Where a spreadsheet may start a new cell inside a CSV cell: the separators of every
+/// locale's CSV (`,`; `;` where the decimal mark is a comma, as in Swedish; tab) and line
+/// breaks (which start a row when a reader splits the quoting otherwise).
+fn separates(c: char) -> bool {
+    matches!(c, ',' | ';' | '\t' | '\r' | '\n')
+}
+
+/// What makes a spreadsheet read a cell as a formula.
+fn starts_formula(c: char) -> bool {
+    matches!(c, '=' | '+' | '-' | '@' | '\t' | '\r')
+}
+
+/// A text cell no spreadsheet will run, in any locale: every piece of it that a reader
+/// may take for a cell of its own (the start, and whatever follows a separator, after
+/// spaces and quotes) and that starts like a formula gets a `'` before it, which
+/// spreadsheets show as text. So `nils;=2*21;x` becomes `nils;'=2*21;x`: a Swedish Excel,
+/// splitting it at the `;`, shows `'=2*21` as text.
+pub fn inert(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    let mut at_cell_start = true;
+    for c in text.chars() {
+        if at_cell_start && starts_formula(c) {
+            out.push('\'');
+        }
+        out.push(c);
+        at_cell_start = separates(c) || (at_cell_start && matches!(c, ' ' | '"'));
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_cell_that_looks_like_a_formula_is_kept_as_text() {
+        assert_eq!(
+            inert("=HYPERLINK(\"http://x\")"),
+            "'=HYPERLINK(\"http://x\")"
+        );
+        assert_eq!(inert("+46 8 790 60 00"), "'+46 8 790 60 00");
+        assert_eq!(inert("@SUM(A1)"), "'@SUM(A1)");
+        assert_eq!(inert("-1"), "'-1");
+        assert_eq!(inert("Ada Lovelace"), "Ada Lovelace");
+        assert_eq!(inert("Anne-Marie"), "Anne-Marie");
+        assert_eq!(inert("u1"), "u1");
+    }
+
+    #[test]
+    fn a_formula_after_any_separator_is_kept_as_text_too() {
+        assert_eq!(inert("nils;=2*21;x"), "nils;'=2*21;x");
+        assert_eq!(inert("x;=2+3;"), "x;'=2+3;");
+        assert_eq!(inert("a,+1"), "a,'+1");
+        assert_eq!(inert("a\t@x"), "a\t'@x");
+        assert_eq!(inert("a\n-1"), "a\n'-1");
+        assert_eq!(inert("a; \"=1+2"), "a; \"'=1+2");
+        assert_eq!(inert("\t\t=1"), "'\t'\t'=1");
+        assert_eq!(inert("a;b=1"), "a;b=1");
+    }
+
+    #[test]
+    fn a_cell_is_cut_to_what_excel_holds() {
+        let long = "é".repeat(40_000);
+        assert_eq!(within_a_cell(&long).chars().count(), 32_767);
+        assert_eq!(within_a_cell("Ada"), "Ada");
+    }
+}

@@ -1,0 +1,556 @@
+//! The order of grading: students take turns, and a student whose gradings run long gets
+//! a smaller share. This is the bookkeeping only (no clock, no threads: every call is
+//! given the moment), so that the order is tested as an order.
+//!
+//! Each student of a course (and the regrades, as one more) is a *tenant*, charged the
+//! time its gradings took, decayed by half every `HALF_LIFE`. The next grading is the
+//! waiting one whose tenant has the fewest gradings running, then the smallest charge,
+//! then the earliest arrival: a student who was just graded goes behind one who was not,
+//! however many they keep waiting. A tenant whose long gradings (those that ran at least
+//! `Policy::demote_after`) are charged `Policy::heavy`, or who has a grading running in
+//! the background, is graded in the background lane (outside the `parallel` slots, at a
+//! low CPU priority), and so is a grading that is still running after
+//! `Policy::demote_after`: a file that runs
+//! every phase to its limit holds a slot for a few seconds at most, never a minute.
+
+use std::collections::HashMap;
+use std::time::{Duration, Instant};
+
+/// A charge halves in this time: a student whose file ran every phase to its limit (about
+/// 18 s of grading) is back under the usual threshold after about five minutes.
+const HALF_LIFE: Duration = Duration::from_secs(120);
+/// A grading whose start failed waits at least this before its next try, at most
+/// `MAX_RETRY` (the wait doubles at each failure).
+const MAX_RETRY: Duration = Duration::from_secs(60);
+
+/// Whose grading it is: the gradings are shared out between these.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub enum Tenant {
+    Student {
+        course: String,
+        student: String,
+    },
+    /// Every regrade, together: a class's regrade is one more turn-taker.
+    Regrades,
+}
+
+/// What is to be graded.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Work {
+    Submission(i64),
+    RegradeItem { regrade: i64, submission: i64 },
+}
+
+/// Where a grading runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Lane {
+    /// One of the `parallel` slots, at normal CPU priority.
+    Foreground,
+    /// Outside the slots, at a low CPU priority (nice 10): it gets mostly the CPU others leave.
+    Background,
+}
+
+/// The numbers of the rule.
+#[derive(Clone, Copy, Debug)]
+pub struct Policy {
+    /// Gradings at once in the foreground.
+    pub parallel: usize,
+    /// Gradings started at once in the background (a demoted one may go over).
+    pub background: usize,
+    /// A foreground grading still running after this moves to the background.
+    pub demote_after: Duration,
+    /// A tenant charged this much (decayed) for long gradings is graded in the background.
+    pub heavy: Duration,
+    /// The wait after a grading's first failed start.
+    pub first_retry: Duration,
+}
+
+impl Policy {
+    /// The server's rule for `parallel` gradings at once. A correct file grades in 0.6 s
+    /// (0.08 s for odometry), so three seconds is five of them.
+    pub fn new(parallel: usize) -> Policy {
+        let parallel = parallel.max(1);
+        Policy {
+            parallel,
+            // Each background grading takes only CPU the foreground leaves; this bounds
+            // their memory (two engines of 64 MB each at most).
+            background: 2 * parallel,
+            demote_after: Duration::from_secs(3),
+            heavy: Duration::from_secs(3),
+            first_retry: Duration::from_millis(500),
+        }
+    }
+
+    /// The wait before the next try of a grading whose start failed `failures` times.
+    fn retry_after(&self, failures: u32) -> Duration {
+        let doublings = failures.saturating_sub(1).min(16);
+        self.first_retry
+            .saturating_mul(1 << doublings)
+            .min(MAX_RETRY)
+    }
+}
+
+/// A grading waiting its turn.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Waiting {
+    pub work: Work,
+    pub tenant: Tenant,
+    /// How many times its sandbox did not start.
+    pub failed_starts: u32,
+    /// Not before this (after a failed start).
+    pub not_before: Option<Instant>,
+    /// Its place among arrivals (kept when a failed start puts it back).
+    arrival: u64,
+}
+
+/// A grading taken from the queue and running.
+#[derive(Debug)]
+pub struct Ticket {
+    pub work: Work,
+    pub tenant: Tenant,
+    pub lane: Lane,
+    pub failed_starts: u32,
+    arrival: u64,
+    /// Charged already (at a demotion), not to be charged twice.
+    charged: Duration,
+}
+
+/// A tenant's decayed charge, as of a moment.
+#[derive(Clone, Copy, Debug)]
+struct Charge {
+    seconds: f64,
+    at: Instant,
+}
+
+impl Charge {
+    fn at(self, now: Instant) -> f64 {
+        let age = now.saturating_duration_since(self.at).as_secs_f64();
+        self.seconds * 0.5f64.powf(age / HALF_LIFE.as_secs_f64())
+    }
+}
+
+/// The waiting gradings, the running ones per lane and tenant, and every tenant's charge.
+#[derive(Debug)]
+pub struct FairQueue {
+    policy: Policy,
+    waiting: Vec<Waiting>,
+    running: HashMap<Tenant, usize>,
+    foreground: usize,
+    background: usize,
+    charges: HashMap<Tenant, Charge>,
+    /// The same for long gradings only: many quick ones never make a student heavy.
+    long: HashMap<Tenant, Charge>,
+    /// Per tenant, the gradings running that were moved to the background: while one
+    /// runs, the tenant is heavy whatever its charge (so that each of a student's files
+    /// does not get a foreground turn of its own before the first one ends).
+    overrunning: HashMap<Tenant, usize>,
+    arrivals: u64,
+}
+
+impl FairQueue {
+    pub fn new(policy: Policy) -> FairQueue {
+        FairQueue {
+            policy,
+            waiting: Vec::new(),
+            running: HashMap::new(),
+            foreground: 0,
+            background: 0,
+            charges: HashMap::new(),
+            long: HashMap::new(),
+            overrunning: HashMap::new(),
+            arrivals: 0,
+        }
+    }
+
+    pub fn policy(&self) -> &Policy {
+        &self.policy
+    }
+
+    /// Adds a grading at the end of the arrivals.
+    pub fn push(&mut self, work: Work, tenant: Tenant) {
+        self.arrivals += 1;
+        self.waiting.push(Waiting {
+            work,
+            tenant,
+            failed_starts: 0,
+            not_before: None,
+            arrival: self.arrivals,
+        });
+    }
+
+    /// The waiting gradings, in arrival order.
+    pub fn waiting(&self) -> &[Waiting] {
+        &self.waiting
+    }
+
+    /// Whether a tenant has a grading waiting or running.
+    pub fn has(&self, tenant: &Tenant) -> bool {
+        self.running.get(tenant).is_some_and(|&n| n > 0)
+            || self.waiting.iter().any(|w| w.tenant == *tenant)
+    }
+
+    /// A tenant's charge at `now`, in seconds of grading.
+    pub fn charge(&self, tenant: &Tenant, now: Instant) -> f64 {
+        self.charges.get(tenant).map_or(0.0, |c| c.at(now))
+    }
+
+    /// The lane a tenant's next grading starts in.
+    pub fn lane(&self, tenant: &Tenant, now: Instant) -> Lane {
+        let long = self.long.get(tenant).map_or(0.0, |c| c.at(now));
+        if long >= self.policy.heavy.as_secs_f64() || self.overrunning.contains_key(tenant) {
+            Lane::Background
+        } else {
+            Lane::Foreground
+        }
+    }
+
+    /// The next grading that may start now, if any, marked as running: the ready one whose
+    /// tenant has the fewest running, then the smallest charge, then arrived first, among
+    /// those whose lane has a free place.
+    pub fn take(&mut self, now: Instant) -> Option<Ticket> {
+        let free = |lane| match lane {
+            Lane::Foreground => self.foreground < self.policy.parallel,
+            Lane::Background => self.background < self.policy.background,
+        };
+        let (index, lane) = self
+            .waiting
+            .iter()
+            .enumerate()
+            .filter(|(_, w)| w.not_before.is_none_or(|at| at <= now))
+            .map(|(i, w)| (i, self.lane(&w.tenant, now)))
+            .filter(|&(_, lane)| free(lane))
+            .min_by(|&(a, _), &(b, _)| {
+                let key = |w: &Waiting| {
+                    (
+                        self.running.get(&w.tenant).copied().unwrap_or(0),
+                        self.charge(&w.tenant, now),
+                        w.arrival,
+                    )
+                };
+                let (a, b) = (key(&self.waiting[a]), key(&self.waiting[b]));
+                a.partial_cmp(&b).expect("charges are finite")
+            })?;
+        let waiting = self.waiting.remove(index);
+        *self.running.entry(waiting.tenant.clone()).or_default() += 1;
+        match lane {
+            Lane::Foreground => self.foreground += 1,
+            Lane::Background => self.background += 1,
+        }
+        Some(Ticket {
+            work: waiting.work,
+            tenant: waiting.tenant,
+            lane,
+            failed_starts: waiting.failed_starts,
+            arrival: waiting.arrival,
+            charged: Duration::ZERO,
+        })
+    }
+
+    /// The earliest moment after `now` at which a grading waiting after a failed start
+    /// may be tried again (one ready already waits for a free place instead).
+    pub fn next_retry(&self, now: Instant) -> Option<Instant> {
+        self.waiting
+            .iter()
+            .filter_map(|w| w.not_before)
+            .filter(|&at| at > now)
+            .min()
+    }
+
+    /// Moves a foreground grading that has run `demote_after` to the background, freeing
+    /// its slot, and charges its tenant that time now (so that their next file starts in
+    /// the background). Returns whether it moved.
+    pub fn demote(&mut self, ticket: &mut Ticket, now: Instant) -> bool {
+        if ticket.lane != Lane::Foreground {
+            return false;
+        }
+        self.foreground -= 1;
+        self.background += 1;
+        ticket.lane = Lane::Background;
+        let ran = self.policy.demote_after;
+        add_charge(&mut self.charges, &ticket.tenant, ran, now);
+        add_charge(&mut self.long, &ticket.tenant, ran, now);
+        ticket.charged = ran;
+        *self.overrunning.entry(ticket.tenant.clone()).or_default() += 1;
+        true
+    }
+
+    /// A grading ended after `took`: its place is free and its tenant charged.
+    pub fn finish(&mut self, ticket: Ticket, took: Duration, now: Instant) {
+        self.release(&ticket);
+        let rest = took.saturating_sub(ticket.charged);
+        add_charge(&mut self.charges, &ticket.tenant, rest, now);
+        if took >= self.policy.demote_after {
+            add_charge(&mut self.long, &ticket.tenant, rest, now);
+        }
+    }
+
+    /// A grading whose sandbox did not start waits again, in its place among arrivals,
+    /// until its backoff has passed; its tenant is charged nothing. Returns the wait.
+    pub fn retry(&mut self, ticket: Ticket, now: Instant) -> Duration {
+        self.release(&ticket);
+        let failed_starts = ticket.failed_starts + 1;
+        let wait = self.policy.retry_after(failed_starts);
+        self.waiting.push(Waiting {
+            work: ticket.work,
+            tenant: ticket.tenant,
+            failed_starts,
+            not_before: Some(now + wait),
+            arrival: ticket.arrival,
+        });
+        wait
+    }
+
+    fn release(&mut self, ticket: &Ticket) {
+        match ticket.lane {
+            Lane::Foreground => self.foreground -= 1,
+            Lane::Background => self.background -= 1,
+        }
+        if !ticket.charged.is_zero() {
+            forget_one(&mut self.overrunning, &ticket.tenant);
+        }
+        forget_one(&mut self.running, &ticket.tenant);
+    }
+}
+
+/// One less of a tenant's count in `counts` (none is kept at zero).
+fn forget_one(counts: &mut HashMap<Tenant, usize>, tenant: &Tenant) {
+    if let Some(count) = counts.get_mut(tenant) {
+        *count -= 1;
+        if *count == 0 {
+            counts.remove(tenant);
+        }
+    }
+}
+
+/// Adds `took` to a tenant's decayed charge in `charges`.
+fn add_charge(
+    charges: &mut HashMap<Tenant, Charge>,
+    tenant: &Tenant,
+    took: Duration,
+    now: Instant,
+) {
+    let before = charges.get(tenant).map_or(0.0, |c| c.at(now));
+    charges.insert(
+        tenant.clone(),
+        Charge {
+            seconds: before + took.as_secs_f64(),
+            at: now,
+        },
+    );
+    // Forget tenants whose charge has all but gone, so the map stays small.
+    charges.retain(|_, c| c.at(now) >= 1e-3);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn student(name: &str) -> Tenant {
+        Tenant::Student {
+            course: "el2320".into(),
+            student: name.into(),
+        }
+    }
+
+    fn policy(parallel: usize) -> Policy {
+        Policy::new(parallel)
+    }
+
+    /// Takes the next grading and ends it after `took`, as the grader would.
+    fn grade(queue: &mut FairQueue, now: Instant, took: Duration) -> Work {
+        let ticket = queue.take(now).expect("a grading to take");
+        let work = ticket.work;
+        queue.finish(ticket, took, now + took);
+        work
+    }
+
+    const QUICK: Duration = Duration::from_millis(600);
+    const TO_THE_LIMITS: Duration = Duration::from_secs(18);
+
+    #[test]
+    fn another_students_submission_goes_before_a_flooders_second() {
+        let start = Instant::now();
+        let mut queue = FairQueue::new(policy(1));
+        // The flooder's two files (one per exercise) arrived first.
+        queue.push(Work::Submission(1), student("mallory"));
+        queue.push(Work::Submission(2), student("mallory"));
+        let first = queue.take(start).unwrap();
+        assert_eq!(first.work, Work::Submission(1));
+        // Only one slot: nothing else starts while it runs.
+        queue.push(Work::Submission(3), student("ada"));
+        assert!(queue.take(start).is_none());
+        queue.finish(first, QUICK, start + QUICK);
+        // Ada arrived after mallory's second, and goes first.
+        assert_eq!(grade(&mut queue, start + QUICK, QUICK), Work::Submission(3));
+        assert_eq!(
+            grade(&mut queue, start + 2 * QUICK, QUICK),
+            Work::Submission(2)
+        );
+    }
+
+    #[test]
+    fn students_take_turns_whoever_has_more_waiting() {
+        let start = Instant::now();
+        let mut queue = FairQueue::new(policy(1));
+        let mut id = 0;
+        for name in ["mallory", "mallory", "eve", "eve", "ada", "grace"] {
+            id += 1;
+            queue.push(Work::Submission(id), student(name));
+        }
+        let order: Vec<Work> = (0..6)
+            .map(|i| grade(&mut queue, start + QUICK * i, QUICK))
+            .collect();
+        // Everybody's first before anybody's second.
+        assert_eq!(order, [1, 3, 5, 6, 2, 4].map(Work::Submission));
+    }
+
+    #[test]
+    fn a_student_whose_gradings_hit_their_limits_is_ranked_behind_and_in_the_background() {
+        let start = Instant::now();
+        let mut queue = FairQueue::new(policy(1));
+        // Mallory's file ran every phase to its limit; Ada's last four were quick ones.
+        queue.push(Work::Submission(1), student("mallory"));
+        grade(&mut queue, start, TO_THE_LIMITS);
+        let mut now = start + TO_THE_LIMITS;
+        for id in 2..6 {
+            queue.push(Work::Submission(id), student("ada"));
+            grade(&mut queue, now, QUICK);
+            now += QUICK;
+        }
+        queue.push(Work::Submission(10), student("mallory"));
+        queue.push(Work::Submission(11), student("ada"));
+        assert_eq!(queue.lane(&student("mallory"), now), Lane::Background);
+        assert_eq!(queue.lane(&student("ada"), now), Lane::Foreground);
+        assert!(queue.charge(&student("mallory"), now) > queue.charge(&student("ada"), now));
+        // Ada first, although Mallory arrived first; and Mallory's file does not take
+        // the one foreground slot: it starts in the background beside Ada's.
+        let ada = queue.take(now).unwrap();
+        assert_eq!(
+            (ada.work, ada.lane),
+            (Work::Submission(11), Lane::Foreground)
+        );
+        let mallory = queue.take(now).unwrap();
+        assert_eq!(
+            (mallory.work, mallory.lane),
+            (Work::Submission(10), Lane::Background)
+        );
+    }
+
+    #[test]
+    fn many_quick_gradings_leave_a_student_in_the_foreground() {
+        let start = Instant::now();
+        let mut queue = FairQueue::new(policy(1));
+        let mut now = start;
+        for id in 0..50 {
+            queue.push(Work::Submission(id), student("ada"));
+            grade(&mut queue, now, QUICK);
+            now += QUICK * 2;
+        }
+        assert!(queue.charge(&student("ada"), now) > 10.0);
+        assert_eq!(queue.lane(&student("ada"), now), Lane::Foreground);
+    }
+
+    #[test]
+    fn among_heavy_students_the_least_charged_goes_first() {
+        let start = Instant::now();
+        let mut queue = FairQueue::new(Policy {
+            background: 1,
+            ..policy(1)
+        });
+        queue.push(Work::Submission(1), student("mallory"));
+        grade(&mut queue, start, TO_THE_LIMITS * 3);
+        queue.push(Work::Submission(2), student("eve"));
+        let now = start + TO_THE_LIMITS * 3;
+        grade(&mut queue, now, TO_THE_LIMITS);
+        let now = now + TO_THE_LIMITS;
+        queue.push(Work::Submission(3), student("mallory"));
+        queue.push(Work::Submission(4), student("eve"));
+        assert_eq!(grade(&mut queue, now, QUICK), Work::Submission(4));
+    }
+
+    #[test]
+    fn a_grading_that_runs_long_frees_its_slot_and_its_student_goes_to_the_background() {
+        let start = Instant::now();
+        let mut queue = FairQueue::new(policy(1));
+        queue.push(Work::Submission(1), student("mallory"));
+        let mut long = queue.take(start).unwrap();
+        queue.push(Work::Submission(2), student("ada"));
+        queue.push(Work::Submission(3), student("mallory"));
+        assert!(queue.take(start).is_none(), "the one slot is taken");
+        let later = start + queue.policy().demote_after;
+        assert!(queue.demote(&mut long, later));
+        assert_eq!(long.lane, Lane::Background);
+        // The slot is Ada's; Mallory's next file is charged the time so far and waits
+        // behind, for the background.
+        let ada = queue.take(later).unwrap();
+        assert_eq!(
+            (ada.work, ada.lane),
+            (Work::Submission(2), Lane::Foreground)
+        );
+        assert_eq!(queue.lane(&student("mallory"), later), Lane::Background);
+        // And stays in the background while the long one runs, however its charge fades.
+        let meanwhile = later + Duration::from_secs(1);
+        assert_eq!(queue.lane(&student("mallory"), meanwhile), Lane::Background);
+        // The charge is not counted twice: at the end, the time it took in all.
+        queue.finish(long, TO_THE_LIMITS, start + TO_THE_LIMITS);
+        let charge = queue.charge(&student("mallory"), start + TO_THE_LIMITS);
+        assert!((charge - 18.0).abs() < 0.5, "{charge}");
+    }
+
+    #[test]
+    fn a_charge_fades_so_a_student_comes_back_to_the_foreground() {
+        let start = Instant::now();
+        let mut queue = FairQueue::new(policy(1));
+        queue.push(Work::Submission(1), student("mallory"));
+        grade(&mut queue, start, TO_THE_LIMITS);
+        assert_eq!(queue.lane(&student("mallory"), start), Lane::Background);
+        let much_later = start + HALF_LIFE * 4;
+        assert_eq!(
+            queue.lane(&student("mallory"), much_later),
+            Lane::Foreground
+        );
+    }
+
+    #[test]
+    fn a_grading_that_did_not_start_waits_in_its_place_with_a_growing_bounded_backoff() {
+        let start = Instant::now();
+        let mut queue = FairQueue::new(policy(1));
+        queue.push(Work::Submission(1), student("ada"));
+        queue.push(Work::Submission(2), student("grace"));
+        let ticket = queue.take(start).unwrap();
+        let wait = queue.retry(ticket, start);
+        assert_eq!(wait, queue.policy().first_retry);
+        // Not charged, and not ready before its backoff: Grace goes meanwhile.
+        assert_eq!(queue.charge(&student("ada"), start), 0.0);
+        assert_eq!(grade(&mut queue, start, QUICK), Work::Submission(2));
+        let meanwhile = start + wait / 2;
+        assert!(queue.take(meanwhile).is_none());
+        assert_eq!(queue.next_retry(meanwhile), Some(start + wait));
+        let mut now = start + wait;
+        let mut waits = Vec::new();
+        for _ in 0..10 {
+            let ticket = queue.take(now).expect("ready after its backoff");
+            assert_eq!(ticket.work, Work::Submission(1));
+            let wait = queue.retry(ticket, now);
+            waits.push(wait);
+            now += wait;
+        }
+        assert!(waits.windows(2).all(|w| w[0] <= w[1]), "{waits:?}");
+        assert_eq!(*waits.last().unwrap(), MAX_RETRY);
+        assert_eq!(queue.waiting()[0].failed_starts, 11);
+        assert_eq!(grade(&mut queue, now, QUICK), Work::Submission(1));
+    }
+
+    #[test]
+    fn a_lone_grading_starts_at_once() {
+        let start = Instant::now();
+        let mut queue = FairQueue::new(policy(1));
+        queue.push(Work::Submission(1), student("ada"));
+        let ticket = queue.take(start).unwrap();
+        assert_eq!(ticket.lane, Lane::Foreground);
+        assert!(!queue.has(&Tenant::Regrades));
+        assert!(queue.has(&student("ada")));
+        queue.finish(ticket, QUICK, start + QUICK);
+        assert!(!queue.has(&student("ada")));
+    }
+}

@@ -1,0 +1,188 @@
+//! The grading queue as the server runs it, over a real database and real sandbox
+//! workers: students take turns (checked as the order of grading, never as times), and a
+//! sandbox that cannot start leaves its submission waiting until it can, never "not
+//! gradable". The rule itself, charges and lanes included, is tested in
+//! `submissions::fair`.
+
+use estlab::clock::{Clock, FixedClock};
+use estlab::sandbox::Sandbox;
+use estlab::store::{Error, NewSubmission, Status, Store};
+use estlab::submissions::{Grader, Policy, Secret, Work};
+use jiff::Timestamp;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+/// How long a test waits for what it expects before it gives up (a hang, not a time
+/// measured: nothing here asserts how long anything took).
+const BOUND: Duration = Duration::from_secs(180);
+
+/// The real worker executable.
+fn estlab() -> PathBuf {
+    PathBuf::from(env!("CARGO_BIN_EXE_estlab"))
+}
+
+/// A file that grades at once (every function throws), for either exercise.
+fn quick(marker: &str) -> String {
+    format!("function init(){{ throw new Error(\"not implemented\") }} // {marker}\n")
+}
+
+fn submission<'a>(student: &'a str, lab: &'a str, source: &'a str) -> NewSubmission<'a> {
+    NewSubmission {
+        course: "el2320",
+        student,
+        member: None,
+        lab,
+        seed: 7,
+        source,
+        submitted_at: Timestamp::UNIX_EPOCH,
+        late_seconds: 0,
+        penalty: 0.0,
+    }
+}
+
+/// One grading at a time, in the foreground only: the order is the queue's alone, however
+/// long each grading takes on a busy machine.
+fn one_at_a_time() -> Policy {
+    Policy {
+        parallel: 1,
+        demote_after: Duration::MAX,
+        heavy: Duration::MAX,
+        ..Policy::new(1)
+    }
+}
+
+fn grader(dir: &Path, sandbox: Sandbox, policy: Policy) -> Arc<Grader> {
+    let clock: Arc<dyn Clock> = Arc::new(FixedClock::new(Timestamp::UNIX_EPOCH));
+    Grader::with_policy(
+        Store::open(dir).unwrap(),
+        sandbox,
+        Secret::load_or_create(dir).unwrap(),
+        policy,
+        clock,
+    )
+}
+
+/// Waits until `done` holds; panics after `BOUND`.
+async fn until(what: &str, mut done: impl FnMut() -> bool) {
+    let give_up = Instant::now() + BOUND;
+    while !done() {
+        assert!(Instant::now() < give_up, "{what} did not happen");
+        tokio::time::sleep(Duration::from_millis(20)).await;
+    }
+}
+
+#[tokio::test]
+async fn another_students_submission_is_graded_before_a_flooders_second() {
+    let dir = tempfile::tempdir().unwrap();
+    // The submissions a stop left waiting: a flooder's two (one per exercise) first, then
+    // two other students' one each.
+    let ids: Vec<i64> = {
+        let store = Store::open(dir.path()).unwrap();
+        [
+            ("mallory", "ekf-localization"),
+            ("mallory", "odometry"),
+            ("ada", "ekf-localization"),
+            ("grace", "odometry"),
+        ]
+        .iter()
+        .map(|(student, lab)| {
+            let source = quick(student);
+            store.insert(&submission(student, lab, &source)).unwrap()
+        })
+        .collect()
+    };
+    let grader = grader(dir.path(), Sandbox::new(estlab(), 1), one_at_a_time());
+    assert_eq!(grader.resume().unwrap(), 4);
+    let store = grader.store();
+    until("every submission graded", || {
+        store
+            .all_submissions()
+            .unwrap()
+            .iter()
+            .all(|s| s.status == Status::Graded)
+    })
+    .await;
+
+    let mut graded: Vec<(String, i64)> = ids
+        .iter()
+        .map(|&id| {
+            let s = store.get(id, false).unwrap().unwrap();
+            assert!(s.result.unwrap().gradable, "submission {id}");
+            (s.graded_at.unwrap(), id)
+        })
+        .collect();
+    graded.sort();
+    let order: Vec<i64> = graded.into_iter().map(|(_, id)| id).collect();
+    // Mallory's first, then everybody else's first, then Mallory's second; first come
+    // first served would have graded Mallory's two one after the other.
+    assert_eq!(order, [ids[0], ids[2], ids[3], ids[1]]);
+}
+
+#[tokio::test]
+async fn a_sandbox_that_cannot_start_leaves_the_submission_waiting_until_it_can() {
+    let dir = tempfile::tempdir().unwrap();
+    let bin = tempfile::tempdir().unwrap();
+    // The worker's executable is missing, as a spawn fails when no descriptor, memory or
+    // process is left: the server's fault, not the student's.
+    let worker = bin.path().join("estlab");
+    let grader = grader(
+        dir.path(),
+        Sandbox::new(worker.clone(), 1),
+        Policy {
+            first_retry: Duration::from_millis(20),
+            ..one_at_a_time()
+        },
+    );
+    grader.resume().unwrap();
+    let source = quick("waiting");
+    let id = grader
+        .submit(&submission("ada", "ekf-localization", &source))
+        .unwrap();
+
+    // Tried, failed, tried again: still waiting, not "not gradable".
+    until("two failed starts (or an end)", || {
+        grader
+            .waiting()
+            .iter()
+            .any(|w| w.work == Work::Submission(id) && w.failed_starts >= 2)
+            || grader
+                .store()
+                .get(id, false)
+                .unwrap()
+                .unwrap()
+                .summary
+                .status
+                == Status::Graded
+    })
+    .await;
+    let waiting = grader.store().get(id, false).unwrap().unwrap();
+    assert_eq!(waiting.summary.status, Status::Queued);
+    assert!(waiting.result.is_none(), "{:?}", waiting.result);
+    // It still counts as the student's one waiting submission.
+    assert!(matches!(
+        grader
+            .store()
+            .insert(&submission("ada", "ekf-localization", "// again")),
+        Err(Error::Busy(busy)) if busy == id
+    ));
+
+    // The fault is gone: the next try grades it.
+    std::os::unix::fs::symlink(estlab(), &worker).unwrap();
+    until("the submission graded", || {
+        grader
+            .store()
+            .get(id, false)
+            .unwrap()
+            .unwrap()
+            .summary
+            .status
+            == Status::Graded
+    })
+    .await;
+    let graded = grader.store().get(id, false).unwrap().unwrap();
+    let result = graded.result.unwrap();
+    assert!(result.gradable, "{:?}", result.reason);
+    assert_eq!(result.score, 0.0);
+    assert!(grader.waiting().is_empty());
+}
