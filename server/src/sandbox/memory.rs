@@ -4,17 +4,30 @@
 //! a phase ran out of memory is decided here, by an allocation refused, not by what was
 //! thrown.
 
+use super::cpu::CpuClock;
 use super::watchdog::Pulse;
 use rquickjs::allocator::{Allocator, RustAllocator};
 use std::cell::RefCell;
 use std::rc::Rc;
 use std::sync::Arc;
 
+/// Blocks from this size up are shown to the watchdog as a look at the clock.
+///
+/// One bytecode step can take long inside the allocator: a typed array of megabytes is a
+/// block glibc zeroes (once it has raised its mmap threshold, it takes such blocks from
+/// the heap), and QuickJS looks at its clock only every 10,000 steps or so. A loop that
+/// makes and drops such arrays spends seconds of CPU between two looks, making progress
+/// all along, so the allocator tells the watchdog, as the engine does, that its thread is
+/// not stalled in one call.
+const LOOKS_FROM: usize = 64 << 10;
+
 /// Rust's allocator with a limit on the bytes in use, which remembers being refused and
 /// what the engine was running then (as its `Pulse` says).
 pub struct Metered {
     limit: usize,
     used: usize,
+    /// The engine's thread's clock, for the pulse.
+    clock: CpuClock,
     pulse: Arc<Pulse>,
     refused: Rc<RefCell<Option<String>>>,
 }
@@ -22,11 +35,12 @@ pub struct Metered {
 impl Metered {
     /// An allocator of at most `limit` bytes that, when it first refuses one, puts in
     /// `refused` what `pulse` says the engine runs (the label is made with Rust's own
-    /// allocator, not this one).
+    /// allocator, not this one). Made on the engine's thread, which it then serves alone.
     pub fn new(limit: usize, pulse: Arc<Pulse>, refused: Rc<RefCell<Option<String>>>) -> Metered {
         Metered {
             limit,
             used: 0,
+            clock: CpuClock::of_this_thread(),
             pulse,
             refused,
         }
@@ -45,6 +59,15 @@ impl Metered {
             }
         }
         fits
+    }
+
+    /// After a block of `size` was made: a large one is a look at the clock (`LOOKS_FROM`).
+    fn looked_after(&self, size: usize) {
+        if size >= LOOKS_FROM
+            && let Some(now) = self.clock.read()
+        {
+            self.pulse.looked(now);
+        }
     }
 
     /// Counts a new block (a null pointer is none).
@@ -66,6 +89,7 @@ unsafe impl Allocator for Metered {
             return std::ptr::null_mut();
         }
         let ptr = RustAllocator.alloc(size);
+        self.looked_after(size);
         self.counted(ptr)
     }
 
@@ -73,6 +97,7 @@ unsafe impl Allocator for Metered {
         match count.checked_mul(size) {
             Some(total) if self.fits(total, 0) => {
                 let ptr = RustAllocator.calloc(count, size);
+                self.looked_after(total);
                 self.counted(ptr)
             }
             _ => std::ptr::null_mut(),
@@ -104,6 +129,7 @@ unsafe impl Allocator for Metered {
                 return std::ptr::null_mut();
             }
             let moved = RustAllocator.realloc(ptr, new_size);
+            self.looked_after(new_size);
             if !moved.is_null() {
                 self.used = self.used - old + RustAllocator::usable_size(moved);
             }

@@ -9,7 +9,8 @@
 //!
 //! A stalled call is so ended within a second of CPU time, whatever the phase's limit,
 //! plus at most one [`PATROL`] (20 ms): no legitimate call of a student's code runs that
-//! long without the engine looking (it looks every 10,000 bytecode steps or so).
+//! long without the engine looking (it looks every 10,000 bytecode steps or so, and the
+//! allocator counts a large block as a look: see `memory::LOOKS_FROM`).
 
 use super::cpu::CpuClock;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
