@@ -18,6 +18,7 @@
 //! - when accepting fails for want of descriptors or memory, the loop pauses and tries
 //!   again instead of spinning.
 
+use super::address::block;
 use axum::Router;
 use axum::body::{Body, Bytes};
 use axum::extract::ConnectInfo;
@@ -208,18 +209,6 @@ struct Open {
 struct Counts {
     total: usize,
     per_address: HashMap<IpAddr, usize>,
-}
-
-/// What an address is counted as: itself (IPv4), or its /64 (IPv6), which one client
-/// usually holds whole.
-fn block(address: IpAddr) -> IpAddr {
-    match address {
-        IpAddr::V4(_) => address,
-        IpAddr::V6(v6) => match v6.to_ipv4_mapped() {
-            Some(v4) => IpAddr::V4(v4),
-            None => IpAddr::V6((u128::from(v6) & !((1u128 << 64) - 1)).into()),
-        },
-    }
 }
 
 impl Open {

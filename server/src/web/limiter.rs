@@ -13,6 +13,7 @@
 //! before any hash is checked. An IPv6 client is counted by its /64, which it usually
 //! holds whole. Held in memory: a restart forgets them.
 
+use super::address::block;
 use jiff::{SignedDuration, Timestamp};
 use std::collections::{HashMap, VecDeque};
 use std::net::IpAddr;
@@ -53,19 +54,6 @@ pub struct Refusal {
     pub minutes: i64,
     /// Whether guesses were refused (else one code).
     pub guesses: bool,
-}
-
-/// What an address is counted as: itself (IPv4), or its /64 (IPv6).
-fn block(address: IpAddr) -> IpAddr {
-    match address {
-        IpAddr::V6(v6) if v6.to_ipv4_mapped().is_none() => {
-            let mut octets = v6.octets();
-            octets[8..].fill(0);
-            IpAddr::from(octets)
-        }
-        IpAddr::V6(v6) => IpAddr::V4(v6.to_ipv4_mapped().expect("mapped")),
-        v4 => v4,
-    }
 }
 
 type Key = (IpAddr, Attempt);
@@ -240,7 +228,5 @@ mod tests {
         let other_block: IpAddr = "2001:db8:1:3::1".parse().unwrap();
         assert!(limiter.begin(same_block, &Attempt::Guess, now).is_err());
         assert!(limiter.begin(other_block, &Attempt::Guess, now).is_ok());
-        let mapped: IpAddr = "::ffff:192.0.2.7".parse().unwrap();
-        assert_eq!(block(mapped), IpAddr::from([192, 0, 2, 7]));
     }
 }

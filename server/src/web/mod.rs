@@ -2,6 +2,7 @@
 //! the built browser assets. Every route checks on the server who may see or change what
 //! it serves (see `viewer`); changes are taken from estlab's own pages only (`origin`).
 
+mod address;
 mod api;
 mod assets;
 pub mod connections;
