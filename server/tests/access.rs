@@ -100,6 +100,17 @@ const MATRIX: &[(&str, &str, [u16; 9])] = &[
     // Sent without a reason: staff get the 400 of a body checked after who asks.
     ("POST", "/api/courses/el2320/submissions/{A}/waiver", [404, 404, 404, 400, 400, 404, 400, 401, 401]),
     ("GET",  "/api/courses/el2320/audit",      [404, 404, 404, 200, 200, 404, 200, 401, 401]),
+    // The course's set-up: its page for its staff, its changes for its instructors (and
+    // an instructor's token); sent without a body, they get the 400 of a body checked
+    // after who asks. `{T}` is a revoked token of el2320's.
+    ("GET",  "/courses/el2320",                          [303, 404, 404, 200, 200, 404, 200, 401, 401]),
+    ("POST", "/api/courses/el2320/staff",                [404, 404, 404, 403, 400, 404, 400, 401, 401]),
+    ("POST", "/api/courses/el2320/roster/preview",       [404, 404, 404, 403, 400, 404, 400, 401, 401]),
+    ("POST", "/api/courses/el2320/roster",               [404, 404, 404, 403, 400, 404, 400, 401, 401]),
+    ("POST", "/api/courses/el2320/codes",                [404, 404, 404, 403, 400, 404, 400, 401, 401]),
+    ("POST", "/api/courses/el2320/assignments",          [404, 404, 404, 403, 400, 404, 400, 401, 401]),
+    ("POST", "/api/courses/el2320/tokens",               [404, 404, 404, 403, 400, 404, 400, 401, 401]),
+    ("POST", "/api/courses/el2320/tokens/{T}/revoke",    [404, 404, 404, 403, 200, 404, 200, 401, 401]),
     // Students submit for themselves; staff and tokens do not; nobody anonymously.
     ("POST", "/api/submissions",               [401, 202, 202, 403, 403, 403, 403, 401, 401]),
     // Last: it ends the sessions.
@@ -223,7 +234,8 @@ async fn access_matrix() {
         let path = pattern
             .replace("{A}", &a_id)
             .replace("{B}", &b_id)
-            .replace("{A_ID}", A_ID);
+            .replace("{A_ID}", A_ID)
+            .replace("{T}", &revoked_id.to_string());
         for (i, who) in principals.iter().enumerate() {
             let mut request = if *method == "GET" {
                 Req::get(&path)

@@ -356,7 +356,9 @@ fn a_course_is_set_up_from_scratch_and_re_imports_change_only_what_changed() {
         .collect();
     let expected = [
         ("course", "title \"Applied Estimation\""),
+        ("staff", "instructor is instructor; sign-in link"),
         ("course", "title \"Applied Estimation HT26\""),
+        ("staff", "instructor is instructor; sign-in link"),
         ("staff", "ta@kth.se is assistant"),
         ("roster", "roster.csv: 3 new, 0 updated, 0 dropped"),
         ("roster", "roster.csv: 1 new, 1 updated, 1 dropped (u3)"),
@@ -436,7 +438,7 @@ fn bad_input_is_refused_naming_the_line_the_flag_or_the_course() {
                 "2026-12-14T23:59Z",
             ]),
             None,
-            "is before --due",
+            "--cutoff: the cutoff 2026-12-14T23:59:00Z is before the due date",
         ),
         (
             assign(&["--due", "2026-12-15T23:59Z", "--late-penalty", "lots"]),

@@ -45,6 +45,8 @@ struct Row {
     other: Option<u16>,
     /// A number the answer with the asker's own ids holds: (JSON pointer, value).
     holds: Option<(&'static str, i64)>,
+    /// A change of the course's set-up: its assistant is refused (403) whatever it names.
+    instructors: bool,
 }
 
 const fn row(method: &'static str, route: &'static str, path: &'static str) -> Row {
@@ -56,6 +58,7 @@ const fn row(method: &'static str, route: &'static str, path: &'static str) -> R
         own: 200,
         other: None,
         holds: None,
+        instructors: false,
     }
 }
 
@@ -85,9 +88,25 @@ impl Row {
         }
     }
 
+    const fn instructors(self) -> Row {
+        Row {
+            instructors: true,
+            ..self
+        }
+    }
+
+    /// What `asker` gets with the asker's own ids, and with another course's.
+    fn expected(&self, asker: &str) -> (u16, Option<u16>) {
+        if self.instructors && asker.ends_with("assistant") {
+            (403, self.other.map(|_| 403))
+        } else {
+            (self.own, self.other)
+        }
+    }
+
     /// The object placeholder the row names, if any.
     fn names(&self) -> Option<&'static str> {
-        ["{submission}", "{student}", "{regrade}"]
+        ["{submission}", "{student}", "{regrade}", "{token}"]
             .into_iter()
             .find(|p| self.path.contains(p) || self.body.is_some_and(|b| b.contains(p)))
     }
@@ -140,8 +159,28 @@ const OBJECTS: &[Row] = &[
         .body(r#"{"reason": "a doctor's note"}"#).other(404),
     // The audit log: this course's actions only.
     row("GET", "/api/courses/{course}/audit", "/api/courses/{course}/audit"),
+    // The course's set-up, for its instructors: a token to revoke, by id, the other
+    // course's is a 404 like one that does not exist; a student to give a new code, by
+    // id, the other course's is nobody of this one; the rest name no object. `{roster}`
+    // is the course's own roster as it is, so importing it changes nobody.
+    row("POST", "/api/courses/{course}/staff", "/api/courses/{course}/staff")
+        .body(r#"{"email": "new.ta@staff.example", "role": "assistant"}"#).instructors(),
+    row("POST", "/api/courses/{course}/roster/preview", "/api/courses/{course}/roster/preview")
+        .body(r#"{"file_name": "roster.csv", "csv": {roster}}"#).instructors().holds("/unchanged", 2),
+    row("POST", "/api/courses/{course}/roster", "/api/courses/{course}/roster")
+        .body(r#"{"file_name": "roster.csv", "csv": {roster}}"#).instructors().holds("/unchanged", 2),
+    row("POST", "/api/courses/{course}/codes", "/api/courses/{course}/codes")
+        .body(r#"{"students": ["{student}"]}"#).instructors().other(400).holds("/count", 1),
+    row("POST", "/api/courses/{course}/assignments", "/api/courses/{course}/assignments")
+        .body(r#"{"lab": "{lab}", "due": "2031-01-01T00:00Z", "cutoff": "2032-06-01T00:00Z", "late_penalty": "10%/day"}"#)
+        .instructors(),
+    row("POST", "/api/courses/{course}/tokens", "/api/courses/{course}/tokens")
+        .body(r#"{"role": "assistant"}"#).instructors().own(201),
+    row("POST", "/api/courses/{course}/tokens/{id}/revoke", "/api/courses/{course}/tokens/{token}/revoke")
+        .instructors().other(404),
     // The pages (their data comes from the API above); a student's page names whoever
     // was typed in its URL, and nothing else.
+    row("GET", "/courses/{course}", "/courses/{course}"),
     row("GET", "/courses/{course}/{lab}", "/courses/{course}/{lab}"),
     row("GET", "/courses/{course}/{lab}/students/{student}", "/courses/{course}/{lab}/students/{student}")
         .other(200),
@@ -152,6 +191,10 @@ struct Ids {
     submission: i64,
     student: String,
     regrade: i64,
+    /// A spare API token's id (revoking it again changes nothing).
+    token: i64,
+    /// The course's roster as a CSV, as a JSON string.
+    roster: String,
 }
 
 impl Ids {
@@ -160,6 +203,8 @@ impl Ids {
             submission: 999_999,
             student: "u-nobody-0000".into(),
             regrade: 999_999,
+            token: 999_999,
+            roster: json!("id,name,email\n").to_string(),
         }
     }
 
@@ -169,6 +214,8 @@ impl Ids {
             .replace("{submission}", &self.submission.to_string())
             .replace("{student}", &self.student)
             .replace("{regrade}", &self.regrade.to_string())
+            .replace("{token}", &self.token.to_string())
+            .replace("{roster}", &self.roster)
     }
 
     /// What is typed for a placeholder.
@@ -176,6 +223,7 @@ impl Ids {
         match placeholder {
             "{submission}" => self.submission.to_string(),
             "{student}" => self.student.clone(),
+            "{token}" => self.token.to_string(),
             _ => self.regrade.to_string(),
         }
     }
@@ -224,6 +272,11 @@ async fn course(app: &App, name: &'static str, tag: &str, student: &str, extende
     let instructor = app.staff(name, &instructor_email, Role::Instructor);
     let assistant = app.staff(name, &assistant_email, Role::Assistant);
     let (_, token) = store.create_token(name, Role::Instructor, now).unwrap();
+    let (spare_token, _) = store.create_token(name, Role::Assistant, now).unwrap();
+    let roster = json!(format!(
+        "id,name,email\n{student},{student_name},{student_email}\n{BOTH},{both_name},{both_email}\n"
+    ))
+    .to_string();
     let instructor = app.signed_in(&instructor).await;
     let assistant = app.signed_in(&assistant).await;
 
@@ -261,6 +314,8 @@ async fn course(app: &App, name: &'static str, tag: &str, student: &str, extende
             submission,
             student: student.into(),
             regrade,
+            token: spare_token,
+            roster,
         },
         both_submission,
         both,
@@ -403,22 +458,24 @@ async fn staff_of_one_course_reach_nothing_of_another() {
         let before = state_of(app.store(), owner.name);
         for (name, who) in &asker.askers {
             for row in OBJECTS {
+                let (own, other) = row.expected(name);
                 let (asked, answer) = ask(&app, row, who, asker.name, &asker.ids).await;
                 let mut problem =
                     |what: String| problems.push(format!("{asked} as {name}: {what}"));
-                if answer.status.as_u16() != row.own {
+                if answer.status.as_u16() != own {
                     problem(format!(
-                        "expected {}, got {}: {}",
-                        row.own, answer.status, answer.body
+                        "expected {own}, got {}: {}",
+                        answer.status, answer.body
                     ));
-                } else if let Some((pointer, value)) = row.holds
+                } else if own == row.own
+                    && let Some((pointer, value)) = row.holds
                     && answer.json().pointer(pointer).and_then(Value::as_i64) != Some(value)
                 {
                     problem(format!("expected {pointer} = {value}: {}", answer.body));
                 }
                 let mut answers = vec![(asked.clone(), answer)];
 
-                if let (Some(expected), Some(placeholder)) = (row.other, row.names()) {
+                if let (Some(expected), Some(placeholder)) = (other, row.names()) {
                     let (asked, answer) = ask(&app, row, who, asker.name, &owner.ids).await;
                     let (_, nowhere) = ask(&app, row, who, asker.name, &Ids::nowhere()).await;
                     let mut problem =

@@ -2,14 +2,13 @@
 //! command works on the database in the data directory, also while the server runs.
 
 use super::{file_name, print, read};
-use crate::commands::serve::PUBLIC_URL;
-use crate::courses::codes::{self, NewCode};
+use crate::courses::check_course_name;
 use crate::courses::deadline::{Counts, Policy, parse_moment, parse_penalty};
-use crate::courses::export::{Format, inert};
-use crate::courses::{check_course_name, ids, roster};
+use crate::courses::export::Format;
+use crate::courses::setup::{self, Setup};
 use crate::error::Error;
-use crate::store::{Member, NewMember, Role, Store};
-use jiff::{SignedDuration, Timestamp};
+use crate::store::{Member, Role, Store};
+use jiff::Timestamp;
 use labs::Exercise;
 use std::io::Write;
 use std::os::unix::fs::OpenOptionsExt;
@@ -142,19 +141,29 @@ fn actor() -> String {
     format!("command line ({user})")
 }
 
-/// How long a one-time staff link stays valid.
-const STAFF_LINK: SignedDuration = SignedDuration::from_hours(7 * 24);
+impl From<setup::Error> for Error {
+    fn from(error: setup::Error) -> Error {
+        match error {
+            setup::Error::Invalid(message) => Error::Invalid(message),
+            setup::Error::Store(error) => Error::Store(error),
+        }
+    }
+}
 
 pub fn run(args: &Args) -> Result<(), Error> {
     let store = Store::open(&args.data_dir)?;
-    let now = Timestamp::now();
+    let actor = actor();
     let url = || -> Result<String, Error> {
         Ok(match &args.url {
             Some(url) => url.trim_end_matches('/').to_string(),
-            None => store
-                .setting(PUBLIC_URL)?
-                .unwrap_or_else(|| "http://127.0.0.1:8080".into()),
+            None => setup::public_url(&store)?,
         })
+    };
+    let setup = |course| Setup {
+        store: &store,
+        course,
+        actor: &actor,
+        now: Timestamp::now(),
     };
     match &args.command {
         Command::Create {
@@ -163,24 +172,16 @@ pub fn run(args: &Args) -> Result<(), Error> {
             instructor,
         } => {
             check_course_name(course).map_err(Error::Invalid)?;
-            let created = store.create_course(course, title, now)?;
+            let setup = setup(course);
+            let created = store.create_course(course, title, setup.now)?;
             store.audit(
                 course,
-                &actor(),
+                &actor,
                 "course",
-                &format!("title {title:?}; sign-in link for {instructor}"),
-                now,
+                &format!("title {title:?}"),
+                setup.now,
             )?;
-            let member = store.add_member(
-                course,
-                &NewMember {
-                    login: instructor,
-                    name: "",
-                    email: instructor,
-                    role: Role::Instructor,
-                },
-            )?;
-            let link = staff_link(&store, &member, now, &url()?)?;
+            let link = setup.staff(instructor, "", Role::Instructor, &url()?)?;
             print(&format!(
                 "{} course {course} ({title}).\nSign-in link for {instructor} (instructor; once, within 7 days):\n{link}",
                 if created { "Created" } else { "Updated" }
@@ -194,23 +195,7 @@ pub fn run(args: &Args) -> Result<(), Error> {
         } => {
             store.course(course)?;
             let role = Role::from(*role);
-            let member = store.add_member(
-                course,
-                &NewMember {
-                    login: email,
-                    name,
-                    email,
-                    role,
-                },
-            )?;
-            let link = staff_link(&store, &member, now, &url()?)?;
-            store.audit(
-                course,
-                &actor(),
-                "staff",
-                &format!("{email} is {}; sign-in link", role.as_str()),
-                now,
-            )?;
+            let link = setup(course).staff(email, name, role, &url()?)?;
             print(&format!(
                 "{email} is {} of {course}.\nSign-in link (once, within 7 days):\n{link}",
                 role.as_str()
@@ -221,15 +206,16 @@ pub fn run(args: &Args) -> Result<(), Error> {
             file,
             reissue,
             out,
-        } => roster_command(
-            &store,
-            course,
-            file.as_deref(),
-            reissue,
-            out.as_deref(),
-            now,
-            &url()?,
-        ),
+        } => {
+            store.course(course)?;
+            roster_command(
+                &setup(course),
+                file.as_deref(),
+                reissue,
+                out.as_deref(),
+                &url()?,
+            )
+        }
         Command::Assign {
             course,
             lab,
@@ -239,32 +225,24 @@ pub fn run(args: &Args) -> Result<(), Error> {
             counts,
         } => {
             store.course(course)?;
-            let cutoff = cutoff.unwrap_or(*due);
-            if cutoff < *due {
-                return Err(Error::Invalid(format!(
-                    "--cutoff {cutoff} is before --due {due}: the cutoff is the last moment a late submission is taken"
-                )));
-            }
             let policy = Policy {
                 due: *due,
-                cutoff,
+                cutoff: cutoff.unwrap_or(*due),
                 penalty_per_day: *late_penalty,
                 counts: *counts,
             };
-            store.assign(course, lab.name(), &policy)?;
-            store.audit(
-                course,
-                &actor(),
-                "assign",
-                &format!(
-                    "{lab}: due {due}, cutoff {cutoff}, {:.0} %/day late, counts {}",
-                    late_penalty * 100.0,
-                    counts.as_str()
-                ),
-                now,
-            )?;
+            // The one rule assign checks: the cutoff comes after the due date.
+            setup(course)
+                .assign(*lab, &policy)
+                .map_err(|error| match error {
+                    setup::Error::Invalid(problem) => {
+                        Error::Invalid(format!("--cutoff: {problem}"))
+                    }
+                    other => other.into(),
+                })?;
             print(&format!(
-                "{lab} is open in {course}: due {due}, taken until {cutoff}, {:.0} % off per day late, the {} submission counts.",
+                "{lab} is open in {course}: due {due}, taken until {}, {:.0} % off per day late, the {} submission counts.",
+                policy.cutoff,
                 late_penalty * 100.0,
                 counts.as_str()
             ))
@@ -276,14 +254,7 @@ pub fn run(args: &Args) -> Result<(), Error> {
         } => {
             store.course(course)?;
             if let Some(id) = revoke {
-                return if store.revoke_token(course, *id, now)? {
-                    store.audit(
-                        course,
-                        &actor(),
-                        "token",
-                        &format!("token {id} revoked"),
-                        now,
-                    )?;
+                return if setup(course).revoke(*id)? {
                     print(&format!("Token {id} of {course} is revoked."))
                 } else {
                     Err(Error::Invalid(format!(
@@ -292,14 +263,7 @@ pub fn run(args: &Args) -> Result<(), Error> {
                 };
             }
             let role = Role::from(role.expect("clap requires --role without --revoke"));
-            let (id, token) = store.create_token(course, role, now)?;
-            store.audit(
-                course,
-                &actor(),
-                "token",
-                &format!("token {id} made ({})", role.as_str()),
-                now,
-            )?;
+            let (id, token) = setup(course).token(role)?;
             print(&format!(
                 "API token {id} ({} of {course}); shown once, send it as `Authorization: Bearer TOKEN`:\n{token}",
                 role.as_str()
@@ -345,27 +309,13 @@ pub fn run(args: &Args) -> Result<(), Error> {
     }
 }
 
-fn staff_link(store: &Store, member: &Member, now: Timestamp, url: &str) -> Result<String, Error> {
-    let code = codes::new_code();
-    store.add_code(member.id, &code, true, Some(now + STAFF_LINK), now)?;
-    Ok(link(url, &code))
-}
-
-/// A sign-in link: the code after '#', which the browser keeps to itself.
-fn link(url: &str, code: &NewCode) -> String {
-    format!("{url}/signin#{}", code.text)
-}
-
 fn roster_command(
-    store: &Store,
-    course: &str,
+    setup: &Setup,
     file: Option<&Path>,
     reissue: &[String],
     out: Option<&Path>,
-    now: Timestamp,
     url: &str,
 ) -> Result<(), Error> {
-    store.course(course)?;
     let Some(out) = out
         .map(Path::to_path_buf)
         .or_else(|| file.map(codes_file_beside))
@@ -388,85 +338,16 @@ fn roster_command(
     let mut summary = Vec::new();
     let mut needing: Vec<Member> = Vec::new();
     if let Some(file) = file {
-        let text = read(file)?;
-        let on_roster: Vec<String> = store
-            .members(course)?
-            .into_iter()
-            .filter(|m| !m.role.is_staff())
-            .map(|m| m.login)
-            .collect();
-        let students = roster::read(&text, &on_roster)
-            .map_err(|problem| Error::Invalid(format!("{}: {problem}", file.display())))?;
-        let change = store.import_roster(course, &students)?;
-        // Ids stored before the roster checked them may hold characters that reorder
-        // or hide what is printed around them.
-        let dropped = if change.dropped.is_empty() {
-            String::new()
-        } else {
-            let shown: Vec<String> = change.dropped.iter().map(|id| ids::shown(id)).collect();
-            format!(" ({})", shown.join(", "))
-        };
-        store.audit(
-            course,
-            &actor(),
-            "roster",
-            &format!(
-                "{}: {} new, {} updated, {} dropped{dropped}",
-                file_name(file),
-                change.added.len(),
-                change.updated,
-                change.dropped.len(),
-            ),
-            now,
-        )?;
-        summary.push(format!(
-            "{}: {} students; {} new, {} updated, {} unchanged, {} marked dropped{dropped}",
-            file.display(),
-            students.len(),
-            change.added.len(),
-            change.updated,
-            change.unchanged,
-            change.dropped.len(),
-        ));
-        needing.extend(change.added);
+        let plan = setup.import_roster(&file_name(file), &read(file)?)?;
+        summary.push(format!("{}: {}", file.display(), plan.summary()));
+        needing.extend(plan.change.added);
     }
-    for id in reissue {
-        let member = store.member(course, id)?;
-        if member.role.is_staff() {
-            return Err(Error::Invalid(format!(
-                "{id} is {} of {course}: estlab course staff gives staff a new link",
-                member.role.as_str()
-            )));
-        }
+    for member in setup.students(reissue)? {
         if !needing.iter().any(|m| m.id == member.id) {
             needing.push(member);
         }
     }
-    let mut csv = csv::Writer::from_writer(Vec::new());
-    csv.write_record(["id", "name", "email", "code", "link"])
-        .expect("writing to memory");
-    for member in &needing {
-        let code = codes::new_code();
-        store.add_code(member.id, &code, false, None, now)?;
-        if reissue.contains(&member.login) {
-            store.audit(
-                course,
-                &actor(),
-                "roster",
-                &format!("new code for {}", ids::shown(&member.login)),
-                now,
-            )?;
-        }
-        csv.write_record([
-            inert(&member.login),
-            inert(&member.name),
-            inert(&member.email),
-            code.text.clone(),
-            link(url, &code),
-        ])
-        .expect("writing to memory");
-    }
-    let bytes = csv.into_inner().expect("writing to memory");
+    let bytes = setup.codes(&needing, reissue, url)?;
     write_private(&out, &bytes)?;
     summary.push(format!(
         "{} sign-in code(s) written to {} (shown once: send them, then delete the file)",

@@ -40,9 +40,6 @@ pub struct Args {
     public_url: Option<String>,
 }
 
-/// The setting under which the server records its public address for `estlab course`.
-pub const PUBLIC_URL: &str = "public_url";
-
 /// Gradings at once: one per two cores, each with two engines side by side, which keeps
 /// a lone grading quick.
 pub fn default_parallel() -> usize {
@@ -77,7 +74,10 @@ async fn serve(args: &Args) -> Result<(), Error> {
         .public_url
         .clone()
         .unwrap_or_else(|| format!("{scheme}://{addr}"));
-    store.set_setting(PUBLIC_URL, public_url.trim_end_matches('/'))?;
+    store.set_setting(
+        crate::courses::setup::PUBLIC_URL,
+        public_url.trim_end_matches('/'),
+    )?;
     let clock: Arc<dyn Clock> = Arc::new(SystemClock);
     let grader = Grader::new(store, sandbox, secret, parallel, Arc::clone(&clock));
     let resumed = grader.resume()?;

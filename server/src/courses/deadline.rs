@@ -2,10 +2,10 @@
 //! at a given time: on time, late (with its penalty), or refused after the cutoff.
 
 use jiff::{SignedDuration, Timestamp};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Which of a student's graded submissions gives their score.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
 #[serde(rename_all = "snake_case")]
 pub enum Counts {
     /// The best score, after each submission's late penalty.

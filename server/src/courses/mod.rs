@@ -8,6 +8,7 @@ pub mod deadline;
 pub mod export;
 pub mod ids;
 pub mod roster;
+pub mod setup;
 
 /// A course's short name (`el2320`): what `estlab course` and the database call it.
 /// Letters, digits, `-`, `_` and `.`, at most 40.

@@ -6,7 +6,7 @@ use crate::courses::deadline::{Counts, Policy};
 use crate::courses::roster;
 use jiff::Timestamp;
 use rusqlite::{Connection, OptionalExtension, Row, params};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// A course as set up with `estlab course create`.
 #[derive(Clone, Debug, Serialize)]
@@ -16,7 +16,9 @@ pub struct Course {
 }
 
 /// What someone is in a course.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize, clap::ValueEnum)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize, clap::ValueEnum,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum Role {
     Student,
@@ -74,8 +76,8 @@ pub struct NewMember<'a> {
 pub struct RosterChange {
     /// Students new to the course (they need a code).
     pub added: Vec<Member>,
-    /// Students whose name or email changed, or who were dropped and are back.
-    pub updated: usize,
+    /// The ids of students whose name or email changed, or who were dropped and are back.
+    pub updated: Vec<String>,
     pub unchanged: usize,
     /// Students on the course's roster but not in the file: marked dropped.
     pub dropped: Vec<String>,
@@ -244,6 +246,25 @@ impl Store {
         course: &str,
         students: &[roster::Student],
     ) -> Result<RosterChange, Error> {
+        self.roster_change(course, students, true)
+    }
+
+    /// What `import_roster` would change, changing nothing.
+    pub fn preview_roster(
+        &self,
+        course: &str,
+        students: &[roster::Student],
+    ) -> Result<RosterChange, Error> {
+        self.roster_change(course, students, false)
+    }
+
+    /// Imports a roster in a transaction, committed when `apply`, rolled back otherwise.
+    fn roster_change(
+        &self,
+        course: &str,
+        students: &[roster::Student],
+        apply: bool,
+    ) -> Result<RosterChange, Error> {
         let mut connection = self.connection();
         let transaction = connection.transaction()?;
         let mut change = RosterChange::default();
@@ -267,7 +288,7 @@ impl Store {
                             "UPDATE members SET name = ?2, email = ?3, dropped = 0 WHERE id = ?1",
                             params![existing.id, student.name, student.email],
                         )?;
-                        change.updated += 1;
+                        change.updated.push(existing.login);
                     }
                 }
                 None => {
@@ -298,7 +319,9 @@ impl Store {
                 change.dropped.push(login);
             }
         }
-        transaction.commit()?;
+        if apply {
+            transaction.commit()?;
+        }
         Ok(change)
     }
 

@@ -12,7 +12,7 @@ use super::viewer::Viewer;
 use super::{AppState, Error, blocking, lab_field};
 use crate::courses::deadline::Timing;
 use crate::sandbox::check_size;
-use crate::store::{Assignment, Course, Member, NewSubmission};
+use crate::store::{Member, NewSubmission};
 use axum::Json;
 use axum::extract::{Path, State};
 use axum::http::StatusCode;
@@ -248,31 +248,6 @@ pub async fn submission(
     .await?;
     let submission = submission.ok_or_else(missing)?;
     Ok(Json(submission).into_response())
-}
-
-/// `GET /api/courses/{course}`: for its staff, the course, its people and assignments.
-#[derive(Serialize)]
-struct CourseView {
-    course: Course,
-    assignments: Vec<Assignment>,
-    members: Vec<Member>,
-}
-
-pub async fn course(
-    State(state): State<Arc<AppState>>,
-    viewer: Viewer,
-    Path(name): Path<String>,
-) -> Result<Response, Error> {
-    viewer.staff_of(&name)?;
-    let view = blocking(&state, move |store| {
-        Ok(CourseView {
-            course: store.course(&name)?,
-            assignments: store.assignments(&name)?,
-            members: store.members(&name)?,
-        })
-    })
-    .await?;
-    Ok(Json(view).into_response())
 }
 
 #[derive(Deserialize)]

@@ -13,6 +13,7 @@ mod me;
 mod origin;
 mod pages;
 mod registry;
+mod setup;
 mod signin;
 mod staff;
 mod viewer;
@@ -80,6 +81,7 @@ fn page_route(page: &Page) -> MethodRouter<Arc<AppState>> {
             get(signin::page).post(signin::sign_in.layer(DefaultBodyLimit::max(MAX_SIGN_IN)))
         }
         "me" => get(me::page),
+        "course" => get(setup::page),
         "dashboard" => get(staff::page),
         "dashboard-student" => get(staff::student_page),
         name => panic!("static/pages.json: no handler serves the page {name:?}"),
@@ -101,7 +103,20 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/api/me/submissions", get(me::history))
         .route("/api/submissions", post(api::submit))
         .route("/api/submissions/{id}", get(api::submission))
-        .route("/api/courses/{course}", get(api::course))
+        .route("/api/courses/{course}", get(setup::course))
+        .route("/api/courses/{course}/staff", post(setup::add_staff))
+        .route(
+            "/api/courses/{course}/roster/preview",
+            post(setup::preview_roster),
+        )
+        .route("/api/courses/{course}/roster", post(setup::import_roster))
+        .route("/api/courses/{course}/codes", post(setup::reissue))
+        .route("/api/courses/{course}/assignments", post(setup::assign))
+        .route("/api/courses/{course}/tokens", post(setup::make_token))
+        .route(
+            "/api/courses/{course}/tokens/{id}/revoke",
+            post(setup::revoke_token),
+        )
         .route(
             "/api/courses/{course}/submissions",
             get(api::course_submissions),

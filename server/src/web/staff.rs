@@ -22,15 +22,6 @@ use labs::Exercise;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
-/// Who acts, as the audit log names them.
-fn actor(viewer: &Viewer) -> String {
-    match viewer {
-        Viewer::Member(member) => member.login.clone(),
-        Viewer::Token(token) => format!("API token {}", token.id),
-        Viewer::Anonymous => "nobody".into(),
-    }
-}
-
 /// The exercise named in a path, which must be one graded here.
 fn known_lab(lab: &str) -> Result<Exercise, Error> {
     lab.parse()
@@ -159,7 +150,7 @@ pub async fn start_regrade(
     viewer.staff_of(&course)?;
     let request: RegradeRequest = body.json(&viewer, "the regrade request").await?;
     let exercise = lab_field(&request.lab)?;
-    let who = actor(&viewer);
+    let who = viewer.actor();
     let now = state.clock.now();
     let grader = state.grader.version(exercise).to_string();
     let url_course = course.clone();
@@ -256,7 +247,7 @@ pub async fn extend(
             "field `cutoff`: before `due`; the cutoff is the last moment a late submission is taken".into(),
         ));
     }
-    let who = actor(&viewer);
+    let who = viewer.actor();
     let now = state.clock.now();
     let granted = blocking(&state, move |store| {
         let grant = NewExtension {
@@ -310,7 +301,7 @@ pub async fn waive(
             "field `reason`: say why the penalty is waived, in at most {MAX_REASON} characters"
         )));
     }
-    let who = actor(&viewer);
+    let who = viewer.actor();
     let now = state.clock.now();
     let waived = blocking(&state, move |store| {
         let waiver = NewWaiver {

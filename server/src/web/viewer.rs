@@ -3,7 +3,7 @@
 //! reads or changes anything a course owns takes a `Viewer` and asks it.
 
 use super::{AppState, Error, blocking};
-use crate::store::{Member, TokenInfo};
+use crate::store::{Member, Role, TokenInfo};
 use axum::extract::FromRequestParts;
 use axum::http::header;
 use axum::http::request::Parts;
@@ -43,6 +43,34 @@ impl Viewer {
             Ok(())
         } else {
             Err(Error::NotFound(format!("there is no course {course:?}")))
+        }
+    }
+
+    /// Nothing, for the instructors of `course` (signed in, or with an instructor's API
+    /// token): they set the course up. Its assistants are told so; anyone else gets the
+    /// answer a course that does not exist gets.
+    pub fn instructor_of(&self, course: &str) -> Result<(), Error> {
+        self.staff_of(course)?;
+        let role = match self {
+            Viewer::Member(member) => member.role,
+            Viewer::Token(token) => token.role,
+            Viewer::Anonymous => Role::Student,
+        };
+        if role == Role::Instructor {
+            Ok(())
+        } else {
+            Err(Error::Forbidden(format!(
+                "only the instructors of {course} change its set-up"
+            )))
+        }
+    }
+
+    /// Who acts, as the audit log names them.
+    pub fn actor(&self) -> String {
+        match self {
+            Viewer::Member(member) => member.login.clone(),
+            Viewer::Token(token) => format!("API token {}", token.id),
+            Viewer::Anonymous => "nobody".into(),
         }
     }
 }

@@ -11,7 +11,7 @@ import { BarChart } from 'echarts/charts';
 import * as echarts from 'echarts/core';
 import { byId } from '../controls.js';
 import { Plot, colours } from '../plots.js';
-import { ApiError, element, getJson, lateness, link, moment, percent, renderSubmission } from '../student/results.js';
+import { element, fillTable, getJson, lateness, link, moment, percent, postJson, renderSubmission } from '../student/results.js';
 
 // The plots module draws lines and points; the class's pictures are bars.
 echarts.use([BarChart]);
@@ -20,47 +20,12 @@ const root = byId('dashboard');
 const { course, lab, student } = root.dataset;
 const api = `/api/courses/${encodeURIComponent(course)}`;
 
-/** POSTs `body` as JSON; an answer other than 2xx throws an ApiError with the server's text. */
-async function postJson(url, body) {
-  const response = await fetch(url, {
-    method: 'POST',
-    headers: { 'content-type': 'application/json' },
-    body: JSON.stringify(body),
-  });
-  const answer = await response.json().catch(() => ({}));
-  if (!response.ok) throw new ApiError(answer.error ?? `${response.status} ${response.statusText}`, response.status);
-  return answer;
-}
-
 const sleep = (ms) => new Promise((resolve) => setTimeout(resolve, ms));
 
 /** A score or nothing, for a cell. */
 const score = (value) => (value === null || value === undefined ? '–' : percent(value));
 /** A moment in the reader's time zone. */
 const when = moment;
-
-/** A table's head and rows, from column titles and rows of cells (text or nodes). */
-function fillTable(table, titles, rows) {
-  const head = element('thead');
-  const tr = element('tr');
-  for (const title of titles) {
-    const th = element('th', null, title);
-    th.scope = 'col';
-    tr.append(th);
-  }
-  head.append(tr);
-  const body = element('tbody');
-  for (const cells of rows) {
-    const row = element('tr');
-    for (const cell of cells) {
-      const td = element('td');
-      td.append(cell instanceof Node ? cell : document.createTextNode(String(cell)));
-      row.append(td);
-    }
-    body.append(row);
-  }
-  table.replaceChildren(head, body);
-}
 
 // ---------------------------------------------------------------------------------------
 // Regrades: started here, followed until done, with the scores they changed.

@@ -191,6 +191,38 @@ export async function getJson(url, options) {
   return body;
 }
 
+/** POSTs `body` as JSON; an answer other than 2xx throws an ApiError with the server's `error`. */
+export function postJson(url, body) {
+  return getJson(url, {
+    method: 'POST',
+    headers: { 'content-type': 'application/json' },
+    body: JSON.stringify(body),
+  });
+}
+
+/** A table's head and rows, from column titles and rows of cells (text or nodes). */
+export function fillTable(table, titles, rows) {
+  const head = element('thead');
+  const tr = element('tr');
+  for (const title of titles) {
+    const th = element('th', null, title);
+    th.scope = 'col';
+    tr.append(th);
+  }
+  head.append(tr);
+  const body = element('tbody');
+  for (const cells of rows) {
+    const row = element('tr');
+    for (const cell of cells) {
+      const td = element('td');
+      td.append(cell instanceof Node ? cell : document.createTextNode(String(cell)));
+      row.append(td);
+    }
+    body.append(row);
+  }
+  table.replaceChildren(head, body);
+}
+
 /**
  * The submission at `url` (its API path) once graded; `onUpdate` gets it each time it is
  * read, graded or not.
