@@ -122,7 +122,25 @@ async fn the_class_at_a_glance() {
         .find(|m| m["kind"] == "wheels_swapped")
         .unwrap_or_else(|| panic!("the wheels mistake among {}", view["mistakes"]));
     assert_eq!(wheels["students"], json!(["s2"]));
+    assert_eq!(wheels["functions"], json!(["calculate_odometry"]));
     assert!(wheels["text"].as_str().unwrap().contains("wheel"));
+    // Each student's tests of the submission that counts, by what each tests.
+    let marks = |id: &str| {
+        view["students"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|s| s["id"] == id)
+            .unwrap()["tests"]
+            .clone()
+    };
+    assert_eq!(marks("s1")["calculate_odometry"], true);
+    assert_eq!(marks("s2")["calculate_odometry"], false);
+    assert_eq!(marks("s3")["calculate_odometry"], false);
+    assert_eq!(
+        marks("s1").as_object().unwrap().len(),
+        view["tests"].as_array().unwrap().len()
+    );
     drop(students);
 }
 

@@ -221,6 +221,12 @@ test('the instructor signs in from the link and watches the class table fill as 
   await staff.locator('#filter').selectOption('below');
   assert.deepEqual(Object.keys(await classTable(staff)).sort(), ['s2', 's4']);
   await staff.locator('#filter').selectOption('all');
+  // Found by name without its accents or case, by id, and by email.
+  for (const [typed, found] of [['ADA ONE', ['s1']], ['jr.', ['s2']], ['s3', ['s3']], ['di@example', ['s4']]]) {
+    await staff.locator('#find').fill(typed);
+    assert.deepEqual(Object.keys(await classTable(staff)), found, typed);
+  }
+  await staff.locator('#find').fill('');
 
   // The distribution of the scores that count, as bars and in words.
   const scores = answer.students.map((s) => s.counting?.final_score).filter((v) => v !== null && v !== undefined).sort((a, b) => a - b);
@@ -245,11 +251,22 @@ test('the instructor signs in from the link and watches the class table fill as 
   const summary = await staff.locator('#tests-figure .plot-summary').textContent();
   for (const t of answer.tests) assert.ok(summary.includes(`${t.name}: ${t.passed} of ${t.of}`), `${t.name} in the summary`);
 
-  // Every classic mistake links to its students' pages.
+  // A column per test: each student's mark for the submission that counts.
+  for (const s of answer.students) {
+    for (const t of answer.tests) {
+      const passed = s.tests[t.name];
+      assert.equal(rows[s.id][t.name], passed === undefined ? '–' : passed ? '✓' : '✗', `${s.id}, ${t.name}`);
+    }
+  }
+
+  // Every classic mistake names its tests and links to its students' pages by name.
+  const names = Object.fromEntries(answer.students.map((s) => [s.id, s.name]));
   for (const mistake of answer.mistakes) {
     const item = staff.locator(`#mistakes li[data-kind="${mistake.kind}"]`);
-    assert.deepEqual(await item.locator('a').evaluateAll((links) => links.map((a) => a.getAttribute('href'))),
-      mistake.students.map((id) => `${CLASS_PAGE}/students/${id}`));
+    const count = mistake.students.length === 1 ? '1 student' : `${mistake.students.length} students`;
+    assert.equal(await item.locator('strong').textContent(), `${count}, in ${mistake.functions.join(', ')}: `);
+    assert.deepEqual(await item.locator('a').evaluateAll((links) => links.map((a) => [a.getAttribute('href'), a.textContent])),
+      mistake.students.map((id) => [`${CLASS_PAGE}/students/${id}`, `${names[id]} (${id})`]));
   }
   assert.deepEqual(unexpected(staff), []);
 });
@@ -258,6 +275,8 @@ test('a student\'s page: a submission beside its result, two compared line by li
   await staff.locator('#class-table tr[data-student=s3] a').click();
   await staff.waitForURL(`${server.url}${CLASS_PAGE}/students/s3`);
   await staff.waitForSelector('body[data-ready=true]');
+  // Headed by the student's name, not the id.
+  await staff.waitForFunction(() => document.querySelector('#student-name').textContent === 'Cy Three');
   const ids = await staff.locator('#student-submissions tbody tr').evaluateAll((rows) => rows.map((row) => Number(row.dataset.id)));
   assert.deepEqual(ids, [sent.mistake.id, sent.first.id], 'newest first');
 
@@ -317,7 +336,9 @@ test('a student\'s page: a submission beside its result, two compared line by li
   assert.equal(student.extension.granted_by, 'instructor');
   assert.equal(Date.parse(student.policy.due), Date.parse(due));
   assert.equal(Date.parse(student.policy.cutoff), Date.parse(cutoff));
-  const local = (at) => staff.evaluate((moment) => new Date(moment).toLocaleString(undefined, { dateStyle: 'medium', timeStyle: 'short' }), at);
+  const local = (at) => staff.evaluate((moment) => new Date(moment).toLocaleString(undefined, {
+    year: 'numeric', month: 'short', day: 'numeric', hour: '2-digit', minute: '2-digit', timeZoneName: 'short',
+  }), at);
   assert.ok((await staff.locator('#student-facts').textContent()).includes(`Due ${await local(due)}, taken until ${await local(cutoff)}, by an extension`));
 
   // ... and the audit log on the class page.

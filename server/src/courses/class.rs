@@ -47,6 +47,9 @@ pub struct StudentRow {
     pub counting: Option<Shown>,
     pub latest: Option<Shown>,
     pub extension: Option<Extension>,
+    /// The tests of the submission that counts, by what each tests, and whether it passed
+    /// (empty until one is graded).
+    pub tests: BTreeMap<String, bool>,
 }
 
 /// How many students pass a test (named by what it tests: the function, or the data-set
@@ -63,6 +66,8 @@ pub struct TestShare {
 pub struct MistakeShare {
     pub kind: HintKind,
     pub text: String,
+    /// What the tests that gave the hint test (a function, or a data-set run).
+    pub functions: Vec<String>,
     pub students: Vec<String>,
 }
 
@@ -92,7 +97,7 @@ pub fn class_view<E>(
         .into_iter()
         .map(|e| (e.student.clone(), e))
         .collect();
-    let students: Vec<StudentRow> = members
+    let mut students: Vec<StudentRow> = members
         .iter()
         .filter(|m| !m.role.is_staff())
         .map(|m| {
@@ -110,13 +115,14 @@ pub fn class_view<E>(
                     .map(Shown::of),
                 latest: own.last().map(|s| Shown::of(s)),
                 extension: extensions.remove(&m.login),
+                tests: BTreeMap::new(),
             }
         })
         .collect();
-    let counted: Vec<(&str, i64)> = students
+    let counted: Vec<(String, i64)> = students
         .iter()
         .filter(|s| !s.dropped)
-        .filter_map(|s| s.counting.as_ref().map(|c| (s.id.as_str(), c.id)))
+        .filter_map(|s| s.counting.as_ref().map(|c| (s.id.clone(), c.id)))
         .collect();
     let ids: Vec<i64> = counted.iter().map(|(_, id)| *id).collect();
     let results = results(&ids)?;
@@ -127,7 +133,7 @@ pub fn class_view<E>(
         }
     }
     let mut tests: Vec<TestShare> = Vec::new();
-    let mut mistakes: BTreeMap<String, (HintKind, Vec<String>)> = BTreeMap::new();
+    let mut mistakes: BTreeMap<String, (HintKind, Vec<String>, Vec<String>)> = BTreeMap::new();
     for (student, id) in &counted {
         let Some(result) = results.get(id) else {
             continue;
@@ -148,21 +154,32 @@ pub fn class_view<E>(
                 }
             };
             share.of += 1;
-            share.passed += usize::from(test.status == TestStatus::Passed);
+            let passed = test.status == TestStatus::Passed;
+            share.passed += usize::from(passed);
+            if let Some(row) = students.iter_mut().find(|s| &s.id == student) {
+                row.tests.insert(name.to_string(), passed);
+            }
             for kind in &test.hints {
                 let key = serde_json::to_string(kind).expect("hint kinds serialise");
-                let entry = mistakes.entry(key).or_insert((*kind, Vec::new()));
-                if !entry.1.iter().any(|s| s == student) {
-                    entry.1.push(student.to_string());
+                let (_, functions, showing) =
+                    mistakes
+                        .entry(key)
+                        .or_insert((*kind, Vec::new(), Vec::new()));
+                if !functions.iter().any(|f| f == name) {
+                    functions.push(name.to_string());
+                }
+                if !showing.contains(student) {
+                    showing.push(student.clone());
                 }
             }
         }
     }
     let mut mistakes: Vec<MistakeShare> = mistakes
         .into_values()
-        .map(|(kind, students)| MistakeShare {
+        .map(|(kind, functions, students)| MistakeShare {
             text: kind.hint().text,
             kind,
+            functions,
             students,
         })
         .collect();

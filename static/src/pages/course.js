@@ -5,7 +5,7 @@
 // course's API, which checks that the asker is an instructor of the course; what is
 // shown once (codes, links, tokens) lives in this page only.
 import { byId } from '../controls.js';
-import { element, fillTable, getJson, link, moment, percent, postJson } from '../student/results.js';
+import { element, fillTable, getJson, link, moment as when, percent, postJson } from '../student/results.js';
 
 const root = byId('course-setup');
 const { course } = root.dataset;
@@ -48,16 +48,6 @@ function localValue(text) {
   const at = new Date(text);
   const pad = (n) => String(n).padStart(2, '0');
   return `${at.getFullYear()}-${pad(at.getMonth() + 1)}-${pad(at.getDate())}T${pad(at.getHours())}:${pad(at.getMinutes())}`;
-}
-
-/** A moment with the zone it is shown in: `15 Dec 2026, 23:59 CET`. */
-function when(text) {
-  if (!text) return '–';
-  const at = new Date(text);
-  const zoned = at.toLocaleString(undefined, {
-    year: 'numeric', month: 'short', day: 'numeric', hour: '2-digit', minute: '2-digit', timeZoneName: 'short',
-  });
-  return Number.isNaN(at.getTime()) ? moment(text) : zoned;
 }
 
 // ---------------------------------------------------------------------------------------

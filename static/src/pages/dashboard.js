@@ -111,11 +111,15 @@ function showRejudged(box, changed) {
 // ---------------------------------------------------------------------------------------
 // The class.
 
+/** A text as search compares it: without accents, in lower case ("Björn" is "bjorn"). */
+const folded = (text) => text.normalize('NFD').replace(/\p{M}/gu, '').toLowerCase();
+
 /** The class's rows with what the table sorts and filters on. */
 function classRows(answer) {
   return answer.students.map((s) => ({
     student: s,
     name: s.name || s.id,
+    found: folded([s.name, s.id, s.email].join('\n')),
     counting: s.counting?.final_score ?? null,
     latest: s.latest?.final_score ?? null,
     late: Boolean(s.counting && s.counting.late_seconds > 0),
@@ -133,28 +137,47 @@ const COLUMNS = [
   ['Last submitted', (r) => r.last],
 ];
 
-/** The class table's rows and order; the filters are read from the page at each drawing. */
-const table = { rows: [], sortBy: 0, descending: false };
+/**
+ * The class table's rows, order and test columns (one per test of the class, its cell a
+ * mark for the submission that counts); the filters are read from the page at each
+ * drawing.
+ */
+const table = { rows: [], tests: [], sortBy: 0, descending: false };
+
+/** A test's cell: passed, failed, or not run (no graded submission counts). */
+function testMark(passed) {
+  if (passed === undefined) return '–';
+  const mark = element('span', passed ? 'pass' : 'fail', passed ? '✓' : '✗');
+  mark.title = passed ? 'passed' : 'failed';
+  mark.setAttribute('aria-label', mark.title);
+  return mark;
+}
+
+/** The columns: the student's own, then one per test (sorted by failed first). */
+function columns() {
+  return [...COLUMNS, ...table.tests.map((name) => [name, (r) => (r.student.tests[name] === undefined ? -1 : Number(r.student.tests[name]))])];
+}
 
 function drawTable() {
   const tableElement = byId('class-table');
   const filter = byId('filter').value;
   const below = Number(byId('below').value) / 100;
-  const find = byId('find').value.trim().toLowerCase();
+  const find = folded(byId('find').value.trim());
   const shown = table.rows.filter((r) => {
     if ((filter === 'dropped') !== r.student.dropped) return false;
     if (filter === 'not-submitted' && r.student.submissions > 0) return false;
     if (filter === 'below' && !(r.counting === null || r.counting < below)) return false;
     if (filter === 'late' && !r.late) return false;
-    return !find || r.name.toLowerCase().includes(find) || r.student.id.toLowerCase().includes(find);
+    return !find || r.found.includes(find);
   });
-  const key = COLUMNS[table.sortBy][1];
+  const all = columns();
+  const key = all[Math.min(table.sortBy, all.length - 1)][1];
   shown.sort((a, b) => {
     const [x, y] = [key(a), key(b)];
     const order = typeof x === 'number' ? x - y : String(x).localeCompare(String(y));
     return table.descending ? -order : order;
   });
-  fillTable(tableElement, COLUMNS.map(([title]) => title), shown.map((r) => [
+  fillTable(tableElement, all.map(([title]) => title), shown.map((r) => [
     link(`/courses/${course}/${lab}/students/${encodeURIComponent(r.student.id)}`, r.name),
     r.student.id,
     r.student.submissions,
@@ -162,6 +185,7 @@ function drawTable() {
     score(r.latest),
     r.student.counting ? lateness(r.student.counting) : '–',
     when(r.last),
+    ...table.tests.map((name) => testMark(r.student.tests[name])),
   ]));
   tableElement.querySelectorAll('tbody tr').forEach((tr, i) => { tr.dataset.student = shown[i].student.id; });
   // Each column's title sorts by it; again, the other way round.
@@ -176,7 +200,7 @@ function drawTable() {
     });
     th.replaceChildren(button);
   });
-  byId('count').textContent = `${shown.length} of ${table.rows.length} student(s)`;
+  byId('count').textContent = `${shown.length} of ${table.rows.length} ${table.rows.length === 1 ? 'student' : 'students'}`;
 }
 
 function showClass(answer) {
@@ -186,16 +210,19 @@ function showClass(answer) {
     `the ${policy.counts} graded submission counts. Graded with ${answer.grader}.`;
   byId('grader').textContent = answer.grader;
   table.rows = classRows(answer);
+  table.tests = answer.tests.map((t) => t.name);
   drawTable();
 
+  const names = new Map(answer.students.map((s) => [s.id, s.name || s.id]));
   const mistakes = byId('mistakes');
   mistakes.replaceChildren(...answer.mistakes.map((m) => {
     const item = element('li', 'mistake');
     item.dataset.kind = m.kind;
-    item.append(element('strong', null, `${m.students.length} student(s): `), document.createTextNode(m.text), element('br'));
+    const count = m.students.length === 1 ? '1 student' : `${m.students.length} students`;
+    item.append(element('strong', null, `${count}, in ${m.functions.join(', ')}: `), document.createTextNode(m.text), element('br'));
     m.students.forEach((id, i) => {
       if (i > 0) item.append(', ');
-      item.append(link(`/courses/${course}/${lab}/students/${encodeURIComponent(id)}`, id));
+      item.append(link(`/courses/${course}/${lab}/students/${encodeURIComponent(id)}`, `${names.get(id) ?? id} (${id})`));
     });
     return item;
   }));
@@ -247,7 +274,7 @@ function drawDistribution(plot, answer) {
   plot.set({
     animation: false,
     grid: { left: 56, right: 16, top: 28, bottom: 52 },
-    tooltip: { trigger: 'axis', axisPointer: { type: 'shadow' }, formatter: ([item]) => `${BINS[item.dataIndex]}: ${item.value} student(s)` },
+    tooltip: { trigger: 'axis', axisPointer: { type: 'shadow' }, formatter: ([item]) => `${BINS[item.dataIndex]}: ${item.value} ${item.value === 1 ? 'student' : 'students'}` },
     xAxis: { type: 'category', data: BIN_LABELS, name: 'score that counts (%)', nameLocation: 'middle', nameGap: 32, axisLabel: { fontSize: 10 } },
     yAxis: { type: 'value', name: 'students', nameLocation: 'middle', nameGap: 36, minInterval: 1 },
     series: [{
@@ -340,10 +367,15 @@ async function classPage() {
   showAll(await getJson(url));
   await showAudit();
   byId('refresh-class').addEventListener('click', refresh);
-  // The class as it fills, while the page is in view.
-  setInterval(() => {
-    if (document.visibilityState === 'visible') refresh();
-  }, 60_000);
+  // The class as it fills, while the page is in view: every few seconds while a latest
+  // submission waits for its grade (the table follows the gradings as they finish), else
+  // every half minute.
+  const pending = () => shown.students.some((s) => s.latest && s.latest.score === null);
+  const poll = async () => {
+    if (document.visibilityState === 'visible') await refresh();
+    setTimeout(poll, pending() ? 3_000 : 30_000);
+  };
+  setTimeout(poll, pending() ? 3_000 : 30_000);
   byId('regrade-all').addEventListener('click', async () => {
     if (!window.confirm('Regrade every submission of the assignment with the grader as it is now?')) return;
     const box = element('div', 'regrade-box');
@@ -441,7 +473,7 @@ async function studentPage() {
     const id = choose.value;
     if (!id) return;
     const submission = await fetchSubmission(id);
-    renderSubmission(byId('result'), submission, { open: true });
+    renderSubmission(byId('result'), submission, { open: true, reader: 'staff' });
     const other = compare.value;
     const diff = byId('diff');
     if (other && other !== id) {
@@ -462,6 +494,9 @@ async function studentPage() {
   const refresh = async () => {
     const answer = await getJson(url);
     const { member, policy, extension } = answer;
+    // Headed by the student's name; the id stays beside it in the facts.
+    byId('student-name').textContent = member.name || member.login;
+    document.title = `${member.name || member.login} · ${course} · ${lab} · estlab`;
     byId('student-facts').textContent =
       `${member.name || member.login} (${member.login}, ${member.email || 'no email'})${member.dropped ? ', dropped from the roster' : ''}. ` +
       `Due ${when(policy.due)}, taken until ${when(policy.cutoff)}` +

@@ -171,8 +171,8 @@ const sleep = (ms) => new Promise((resolve) => setTimeout(resolve, ms));
 
 /** What the server ran the student's code on beyond what the browser knows, by exercise. */
 const hiddenRuns = {
-  'ekf-localization': 'ran your filter on data sets you have not seen',
-  odometry: 'drove your functions along paths you have not seen',
+  'ekf-localization': (whose, who) => `ran ${whose} filter on data sets ${who} not seen`,
+  odometry: (whose, who) => `drove ${whose} functions along paths ${who} not seen`,
 };
 
 /** A refusal or failure of the API: the server's `error` text and the HTTP status. */
@@ -240,9 +240,10 @@ export async function pollSubmission(url, onUpdate = () => {}, interval = 500) {
  * Fills `box` with the server's account of `submission`: while it waits, that it waits;
  * once graded, its score (and `comparison`, a sentence comparing it with the browser's),
  * its late penalty, its hidden cases, and every test of the server's result, folded
- * unless `open`. Sets `box.dataset.status` to queued, graded, not-gradable.
+ * unless `open`; `reader` is the student, or their course's staff (it speaks of
+ * "the student's" browser). Sets `box.dataset.status` to queued, graded, not-gradable.
  */
-export function renderSubmission(box, submission, { comparison = '', open = false } = {}) {
+export function renderSubmission(box, submission, { comparison = '', open = false, reader = 'student' } = {}) {
   const result = submission.result;
   if (submission.status !== 'graded' || !result) {
     box.dataset.status = 'queued';
@@ -270,7 +271,10 @@ export function renderSubmission(box, submission, { comparison = '', open = fals
   if (result.hidden_cases) {
     // The browser knows only the shown cases; the server's differ at every submission.
     const hidden = result.tests.flatMap((test) => (test.failures ?? []).filter((f) => f.hidden));
-    let note = `The server also graded hidden cases of every function and ${hiddenRuns[result.lab] ?? 'ran your code on data you have not seen'}, which your browser cannot: ` +
+    // Said to the student, or about them to their course's staff.
+    const [whose, who] = reader === 'staff' ? ["the student's", 'they have'] : ['your', 'you have'];
+    const runs = hiddenRuns[result.lab]?.(whose, who) ?? `ran ${whose} code on data ${who} not seen`;
+    let note = `The server also graded hidden cases of every function and ${runs}, which ${whose} browser cannot: ` +
       'a function earns the smaller of its pass rates on the shown and the hidden cases.';
     for (const failure of hidden) {
       note += `\nHidden case ${failure.case} (${failure.note}) fails` +
@@ -292,10 +296,13 @@ export function renderSubmission(box, submission, { comparison = '', open = fals
 // ---------------------------------------------------------------------------------------
 // A submission graded again: each regrade, when and with which grader, and what it changed.
 
-/** A moment in the reader's time zone, or a dash. */
+/** How a moment is shown: to the minute, with the zone it is shown in (`15 Dec 2026, 23:59 CET`). */
+const MOMENT = { year: 'numeric', month: 'short', day: 'numeric', hour: '2-digit', minute: '2-digit', timeZoneName: 'short' };
+
+/** A moment in the reader's time zone, named, or a dash. */
 export function moment(text) {
   const at = text ? new Date(text) : null;
-  return at && !Number.isNaN(at.getTime()) ? at.toLocaleString(undefined, { dateStyle: 'medium', timeStyle: 'short' }) : '–';
+  return at && !Number.isNaN(at.getTime()) ? at.toLocaleString(undefined, MOMENT) : '–';
 }
 
 /** A result's score in words: `85 % (93.5 of 110 points)`, or that it was not gradable. */
