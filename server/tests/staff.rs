@@ -394,3 +394,35 @@ async fn the_exports_hold_each_students_submission_that_counts() {
     let unknown = app.send(export("ods")).await;
     assert_eq!(unknown.status, StatusCode::BAD_REQUEST);
 }
+
+/// Proves that a regrade of a selection of the class covers exactly the selected
+/// students' graded submissions (an id of nobody adds none), and that a selection with
+/// none to regrade is refused.
+#[tokio::test(flavor = "multi_thread")]
+async fn a_regrade_of_a_selection_covers_its_students_only() {
+    let Class {
+        app,
+        instructor,
+        students,
+    } = class().await;
+    let start = |of: serde_json::Value| {
+        Req::post("/api/courses/el2320/regrades")
+            .who(&instructor)
+            .json(json!({ "scope": { "kind": "students", "of": of } }))
+    };
+    let answer = app.send(start(json!(["s1", "s3", "u-nobody"]))).await;
+    assert_eq!(answer.status, StatusCode::ACCEPTED, "{}", answer.body);
+    let started = answer.json();
+    assert_eq!(started["total"], 2);
+    let regrade = finished(&app, &instructor, started["url"].as_str().unwrap()).await;
+    assert_eq!(regrade["scope"], "students s1, s3, u-nobody");
+    let s2 = students[1].2;
+    let s2_earlier = app.store().earlier_results(s2).unwrap();
+    assert!(s2_earlier.is_empty(), "s2 was not selected");
+    for (_, _, submission) in [&students[0], &students[2]] {
+        assert_eq!(app.store().earlier_results(*submission).unwrap().len(), 1);
+    }
+    let none = app.send(start(json!(["u-nobody"]))).await;
+    assert_eq!(none.status, StatusCode::CONFLICT, "{}", none.body);
+    assert!(none.body.contains("nothing to regrade"), "{}", none.body);
+}

@@ -23,6 +23,8 @@ pub enum Scope {
     Submission(i64),
     /// Every graded submission of one student, by their id.
     Student(String),
+    /// Every graded submission of these students (a selection of the class), by id.
+    Students(Vec<String>),
     /// Every graded submission of the course's people to the exercise.
     Assignment,
 }
@@ -32,6 +34,7 @@ impl Scope {
         match self {
             Scope::Submission(id) => format!("submission {id}"),
             Scope::Student(login) => format!("student {login}"),
+            Scope::Students(logins) => format!("students {}", logins.join(", ")),
             Scope::Assignment => "assignment".into(),
         }
     }
@@ -110,6 +113,10 @@ impl Store {
         let (filter, value): (&str, rusqlite::types::Value) = match scope {
             Scope::Submission(id) => ("AND s.id = ?3", (*id).into()),
             Scope::Student(login) => ("AND m.login = ?3", login.clone().into()),
+            Scope::Students(logins) => (
+                "AND m.login IN (SELECT value FROM json_each(?3))",
+                serde_json::to_string(logins).expect("ids serialise").into(),
+            ),
             Scope::Assignment => ("AND ?3 IS NULL", rusqlite::types::Value::Null),
         };
         let ids: Vec<i64> = {

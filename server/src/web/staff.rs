@@ -190,6 +190,7 @@ fn describe(scope: &Scope) -> String {
     match scope {
         Scope::Submission(id) => format!("submission {id}"),
         Scope::Student(login) => format!("every submission of {login}"),
+        Scope::Students(logins) => format!("every submission of {}", logins.join(", ")),
         Scope::Assignment => "every submission".into(),
     }
 }

@@ -5,7 +5,9 @@
 // course's API, which checks that the asker is an instructor of the course; what is
 // shown once (codes, links, tokens) lives in this page only.
 import { byId } from '../controls.js';
-import { element, fillTable, getJson, link, moment as when, percent, postJson } from '../student/results.js';
+import {
+  element, fillTable, getJson, instant, link, moment as when, percent, postJson, zone,
+} from '../student/results.js';
 
 const root = byId('course-setup');
 const { course } = root.dataset;
@@ -34,14 +36,6 @@ async function acting(status, button, work) {
 // ---------------------------------------------------------------------------------------
 // Moments: the browser's datetime-local fields hold a wall time without a zone; the
 // server takes a moment with its zone, so the reader's zone is added and named.
-
-const zone = Intl.DateTimeFormat().resolvedOptions().timeZone;
-
-/** `2026-12-15T23:59` in the reader's zone as an instant the server reads (UTC, `Z`). */
-function instant(local) {
-  const at = new Date(local);
-  return Number.isNaN(at.getTime()) ? null : at.toISOString();
-}
 
 /** An instant as a datetime-local field's value, in the reader's zone. */
 function localValue(text) {

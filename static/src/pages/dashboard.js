@@ -11,7 +11,9 @@ import { BarChart } from 'echarts/charts';
 import * as echarts from 'echarts/core';
 import { byId } from '../controls.js';
 import { Plot, colours } from '../plots.js';
-import { element, fillTable, getJson, lateness, link, moment, percent, postJson, renderSubmission } from '../student/results.js';
+import {
+  element, fillTable, getJson, instant, lateness, link, moment, percent, postJson, renderSubmission, zone,
+} from '../student/results.js';
 
 // The plots module draws lines and points; the class's pictures are bars.
 echarts.use([BarChart]);
@@ -142,7 +144,7 @@ const COLUMNS = [
  * mark for the submission that counts); the filters are read from the page at each
  * drawing.
  */
-const table = { rows: [], tests: [], sortBy: 0, descending: false };
+const table = { rows: [], tests: [], sortBy: 0, descending: false, selected: new Set(), shown: [] };
 
 /** A test's cell: passed, failed, or not run (no graded submission counts). */
 function testMark(passed) {
@@ -177,7 +179,9 @@ function drawTable() {
     const order = typeof x === 'number' ? x - y : String(x).localeCompare(String(y));
     return table.descending ? -order : order;
   });
-  fillTable(tableElement, all.map(([title]) => title), shown.map((r) => [
+  table.shown = shown;
+  fillTable(tableElement, ['Select', ...all.map(([title]) => title)], shown.map((r) => [
+    pick(r),
     link(`/courses/${course}/${lab}/students/${encodeURIComponent(r.student.id)}`, r.name),
     r.student.id,
     r.student.submissions,
@@ -188,8 +192,10 @@ function drawTable() {
     ...table.tests.map((name) => testMark(r.student.tests[name])),
   ]));
   tableElement.querySelectorAll('tbody tr').forEach((tr, i) => { tr.dataset.student = shown[i].student.id; });
-  // Each column's title sorts by it; again, the other way round.
-  tableElement.querySelectorAll('th').forEach((th, i) => {
+  // Each column's title sorts by it; again, the other way round (the first column selects).
+  tableElement.querySelectorAll('th').forEach((th, column) => {
+    if (column === 0) return;
+    const i = column - 1;
     th.setAttribute('aria-sort', i === table.sortBy ? (table.descending ? 'descending' : 'ascending') : 'none');
     const button = element('button', 'link', th.textContent);
     button.type = 'button';
@@ -201,6 +207,59 @@ function drawTable() {
     th.replaceChildren(button);
   });
   byId('count').textContent = `${shown.length} of ${table.rows.length} ${table.rows.length === 1 ? 'student' : 'students'}`;
+}
+
+/** A row's box that selects its student, kept across redrawings. */
+function pick(r) {
+  const box = element('input');
+  box.type = 'checkbox';
+  box.className = 'pick';
+  box.checked = table.selected.has(r.student.id);
+  box.setAttribute('aria-label', `select ${r.name}`);
+  box.addEventListener('change', () => {
+    if (box.checked) table.selected.add(r.student.id);
+    else table.selected.delete(r.student.id);
+    showSelection();
+  });
+  return box;
+}
+
+/** Says how many students are selected, and offers what can be done to them. */
+function showSelection() {
+  const count = table.selected.size;
+  byId('bulk-count').textContent = count === 0
+    ? 'Select students in the table to act on several at once.'
+    : `${count} ${count === 1 ? 'student' : 'students'} selected: ${[...table.selected].join(', ')}.`;
+  byId('bulk-actions').hidden = count === 0;
+  byId('select-none').disabled = count === 0;
+}
+
+/** Grants each selected student the extension the bulk form says, one after another. */
+async function extendSelected() {
+  const due = instant(byId('bulk-due').value);
+  const cutoffField = byId('bulk-cutoff').value;
+  const cutoff = cutoffField ? instant(cutoffField) : null;
+  const status = byId('bulk-status');
+  if (!due) {
+    status.textContent = 'New due date: give the date and time.';
+    return;
+  }
+  const students = [...table.selected];
+  let changed = 0;
+  const refused = [];
+  for (const [i, student] of students.entries()) {
+    status.textContent = `Granting extensions: ${i} of ${students.length}…`;
+    try {
+      const granted = await postJson(`${api}/extensions`, { lab, student, due, cutoff });
+      changed += granted.changed.length;
+    } catch (error) {
+      refused.push(`${student}: ${error.message}`);
+    }
+  }
+  const done = students.length - refused.length;
+  status.textContent = `Extended ${done} of ${students.length}: due ${when(due)}` +
+    `${cutoff ? `, taken until ${when(cutoff)}` : ''}; ${changed} score(s) of submissions already made changed.` +
+    (refused.length ? ` Not extended: ${refused.join('; ')}` : '');
 }
 
 function showClass(answer) {
@@ -364,6 +423,34 @@ async function classPage() {
     }
   };
   for (const id of ['filter', 'below', 'find']) byId(id).addEventListener('input', drawTable);
+  byId('bulk-zone').textContent = `Dates are in your time zone, ${zone}.`;
+  byId('select-shown').addEventListener('click', () => {
+    for (const r of table.shown) table.selected.add(r.student.id);
+    drawTable();
+    showSelection();
+  });
+  byId('select-none').addEventListener('click', () => {
+    table.selected.clear();
+    drawTable();
+    showSelection();
+  });
+  byId('bulk-extension').addEventListener('submit', async (event) => {
+    event.preventDefault();
+    const button = event.submitter;
+    button.disabled = true;
+    await extendSelected();
+    button.disabled = false;
+    await refresh();
+  });
+  byId('bulk-regrade').addEventListener('click', async () => {
+    const students = [...table.selected];
+    const box = element('div', 'regrade-box');
+    byId('bulk-regrade-box').replaceChildren(box);
+    byId('bulk-regrade').disabled = true;
+    await regrade({ kind: 'students', of: students }, byId('bulk-status'), box);
+    byId('bulk-regrade').disabled = false;
+    await refresh();
+  });
   showAll(await getJson(url));
   await showAudit();
   byId('refresh-class').addEventListener('click', refresh);

@@ -299,6 +299,19 @@ export function renderSubmission(box, submission, { comparison = '', open = fals
 /** How a moment is shown: to the minute, with the zone it is shown in (`15 Dec 2026, 23:59 CET`). */
 const MOMENT = { year: 'numeric', month: 'short', day: 'numeric', hour: '2-digit', minute: '2-digit', timeZoneName: 'short' };
 
+/**
+ * A datetime-local field's value (a wall time, `2026-12-15T23:59`) as the instant it
+ * means in the reader's time zone, as the server reads it (UTC, `...Z`); null when it is
+ * no time.
+ */
+export function instant(local) {
+  const at = new Date(local);
+  return local && !Number.isNaN(at.getTime()) ? at.toISOString() : null;
+}
+
+/** The reader's time zone, as the pages name it beside the fields that take a time. */
+export const zone = Intl.DateTimeFormat().resolvedOptions().timeZone;
+
 /** A moment in the reader's time zone, named, or a dash. */
 export function moment(text) {
   const at = text ? new Date(text) : null;
