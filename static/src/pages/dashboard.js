@@ -539,7 +539,11 @@ async function studentPage() {
   const url = `${api}/labs/${encodeURIComponent(lab)}/students/${encodeURIComponent(student)}`;
   const source = new EditorView({
     doc: '',
-    extensions: [basicSetup, javascript(), EditorView.editable.of(false), EditorView.lineWrapping],
+    extensions: [
+      basicSetup, javascript(), EditorView.editable.of(false), EditorView.lineWrapping,
+      // Named, and reachable by keyboard (read only, it is not editable content).
+      EditorView.contentAttributes.of({ 'aria-label': "the submission's source, read only", tabindex: '0' }),
+    ],
     parent: byId('source'),
   });
   // Reachable from the page (and its tests) through the element it shows in.
