@@ -182,6 +182,7 @@ export class RunView {
     this.view = v;
     if (newData) {
       this.map.showData(v.landmarks, v.truth, v.odometry);
+      byId('map-turned').hidden = !this.map.turned;
       this.time.max = String(v.t.length - 1);
       this.time.value = this.time.max;
     }
