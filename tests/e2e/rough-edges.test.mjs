@@ -399,9 +399,9 @@ for (const [size, viewport] of sizes) {
         badge: getComputedStyle(figure, '::after').content,
       };
     });
+    assert.deepEqual(await lowContrast(page, '#ekf-plots'), []);
     assert.ok(stale.chart < 1, `the drawing is dimmed: ${stale.chart}`);
     assert.match(stale.badge, /stale/);
-    assert.deepEqual(await lowContrast(page, '#ekf-plots'), []);
     const odometry = await openPage(browser, `${server.url}/odometry`, viewport);
     await odometry.locator('#size').fill('0');
     await odometry.waitForFunction(() => document.getElementById('belief-view').classList.contains('stale'));
