@@ -310,6 +310,11 @@ test('on a phone the /ekf map uses the screen\'s height, not a thin strip', boun
     if (size === 'phone') {
       assert.ok(map.filled >= 0.6, `${size}: the data fill ${Math.round(100 * map.filled)} % of the map's height`);
       assert.equal(await page.locator('#map-turned').isVisible(), true);
+      // The phone turned on its side: the map is wider than tall again, and not turned.
+      await page.setViewportSize({ width: phone.height, height: phone.width });
+      await page.locator('#map-turned').waitFor({ state: 'hidden' });
+      const axis = await page.evaluate(() => document.querySelector('figure[data-name="map"] .chart').plot.chart.getOption().xAxis[0].name);
+      assert.equal(axis, 'x (m)');
     } else {
       assert.equal(await page.locator('#map-turned').isVisible(), false);
     }

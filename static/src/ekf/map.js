@@ -110,11 +110,24 @@ export class MapView {
     };
   }
 
-  /** The plot area's width and height in pixels. */
+  /**
+   * Whether the data set shown fits its box clearly better turned: drawn larger by
+   * TURN_GAIN at least (the steps are a twentieth of the extents).
+   */
+  fitsTurned() {
+    const [width, height] = this.area();
+    const scale = (across, up) => Math.min(width / across, height / up);
+    return scale(this.step[1], this.step[0]) > TURN_GAIN * scale(this.step[0], this.step[1]);
+  }
+
+  /**
+   * The plot area's width and height in pixels, as laid out now (the chart learns a new
+   * size a moment after a window's resize event, which redraws the map).
+   */
   area() {
     // Before the first data the plot has no grid yet: the margins without the legend's rows.
-    const { chart, grid = margins } = this.plot;
-    return [chart.getWidth() - grid.left - grid.right, chart.getHeight() - grid.top - grid.bottom];
+    const { element, grid = margins } = this.plot;
+    return [element.clientWidth - grid.left - grid.right, element.clientHeight - grid.top - grid.bottom];
   }
 
   /** A point [x, y] of the plane where the chart draws it: [y, x] on a turned map. */
@@ -154,11 +167,7 @@ export class MapView {
     this.ellipseFactor = 1;
     const size = (arrays) => { const [low, high] = extent(arrays); return (high - low) / 20 || 1; };
     this.step = [size([landmarks[0], truth[0], odometry[0]]), size([landmarks[1], truth[1], odometry[1]])];
-    // Turned when that draws the map clearly larger in the box it has (steps are a
-    // twentieth of the extents).
-    const [width, height] = this.area();
-    const scale = (across, up) => Math.min(width / across, height / up);
-    this.turned = scale(this.step[1], this.step[0]) > TURN_GAIN * scale(this.step[0], this.step[1]);
+    this.turned = this.fitsTurned();
     this.plot.set({
       animation: false,
       grid: margins,
