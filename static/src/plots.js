@@ -345,7 +345,7 @@ export function styled(series, style, width = 1.5) {
 // area moved down below the last row. A line's entry is drawn in its line style, so that
 // a solid and a dashed line of one colour have different icons.
 
-/** How every legend is laid out (ECharts' own sizes, written out: `legendRows` uses them). */
+/** How every legend is laid out: every size written out, as `legendRows` measures with them. */
 const LEGEND = { type: 'plain', top: 4, left: 8, right: 8, padding: 5, itemGap: 10, itemWidth: 25, itemHeight: 14, textStyle: { fontSize: 12, fontFamily: 'sans-serif' } };
 /** The gap between the legend's last row and the plot area (room for the top axis label). */
 const BELOW_LEGEND = 12;
@@ -373,7 +373,7 @@ function lineKind(series) {
  * The legend's entries: `names` (each once, in order; by default every series') with
  * the icon of the first series of each name in `series`.
  */
-export function legendEntries(series, names = series.map((s) => s.name)) {
+function legendEntries(series, names = series.map((s) => s.name)) {
   return [...new Set(names.filter((name) => name !== undefined))].map((name) => {
     const first = series.find((s) => s.name === name);
     const kind = first && lineKind(first);
@@ -401,8 +401,9 @@ function legendRows(width, entries) {
 }
 
 /** `grid` with its top just below a legend of `entries` at `plot`'s width. */
-export function legendGrid(plot, grid, entries) {
-  const rows = legendRows(plot.chart.getWidth(), entries);
+function legendGrid(plot, grid, entries) {
+  // The width as laid out now (the chart learns a new one a moment after a resize).
+  const rows = legendRows(plot.element.clientWidth, entries);
   const height = 2 * LEGEND.padding + rows * LEGEND.itemHeight + (rows - 1) * LEGEND.itemGap;
   return { ...grid, top: LEGEND.top + height + BELOW_LEGEND };
 }
@@ -411,7 +412,7 @@ export function legendGrid(plot, grid, entries) {
  * `option` with its legend laid out as every legend is (see LEGEND), listing
  * `option.legend.data` (names) or else every series, and its grid's top below it.
  */
-export function withLegend(plot, option) {
+function withLegend(plot, option) {
   const names = option.legend.data?.map((entry) => entry.name ?? entry);
   const entries = legendEntries(option.series ?? [], names);
   return { ...option, legend: { ...LEGEND, data: entries }, grid: legendGrid(plot, option.grid, entries) };
