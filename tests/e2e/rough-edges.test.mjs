@@ -137,6 +137,7 @@ for (const [size, viewport] of sizes) {
       assert.equal(await flags(page), null, `${input} = ${value} runs nothing`);
       assert.equal(await page.locator('#summary').isVisible(), false);
       assert.match(await page.locator('#stale').textContent(), /No run: a setting is out of range/);
+      if (input === '#delta-m') assert.equal(await page.locator('#lambda-m').textContent(), '', 'no Λ_M of a δ_M out of range');
       // Back to a good value: the message goes, the run comes back.
       await page.locator(input).fill(input === '#delta-m' ? '0.999' : '0.01');
       assert.equal((await messageOf(page, input)).invalid, null);

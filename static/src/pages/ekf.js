@@ -292,6 +292,8 @@ function update() {
   showAddress();
   if (!checkSettings()) {
     showError(ui.error, null);
+    // Λ_M of a δ_M out of range means nothing: it comes back with a run.
+    if (controls.get('delta-m').problem()) setText(ui.lambda, '');
     markStale('No run: a setting is out of range (the message is beside it).');
     return;
   }
