@@ -60,3 +60,35 @@ export function showError(box, message) {
 export function setText(element, text) {
   if (element.textContent !== text) element.textContent = text;
 }
+
+/**
+ * Shows `message` beside `input` (null: takes it away): in a note right after the
+ * input's label, where the eye looks (a message at the page's top may lie a screen away
+ * on a phone), with the input marked invalid and described by the note, so that a screen
+ * reader reads the message with the field. `live`: the note is announced as it changes
+ * (leave it off where an alert elsewhere says the same).
+ */
+export function fieldMessage(input, message, { live = true } = {}) {
+  const id = `${input.id}-problem`;
+  let note = document.getElementById(id);
+  if (!note) {
+    if (!message) return;
+    note = document.createElement('span');
+    note.id = id;
+    note.className = 'field-problem';
+    if (live) note.setAttribute('aria-live', 'polite');
+    (input.closest('label') ?? input).after(note);
+  }
+  setText(note, message ?? '');
+  note.hidden = !message;
+  const described = new Set((input.getAttribute('aria-describedby') ?? '').split(' ').filter(Boolean));
+  if (message) {
+    input.setAttribute('aria-invalid', 'true');
+    described.add(id);
+  } else {
+    input.removeAttribute('aria-invalid');
+    described.delete(id);
+  }
+  if (described.size) input.setAttribute('aria-describedby', [...described].join(' '));
+  else input.removeAttribute('aria-describedby');
+}

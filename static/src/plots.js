@@ -58,7 +58,10 @@ export class Plot {
     this.chart = echarts.init(this.element, null, { renderer: 'canvas' });
     // Reachable from the page (and its tests) through the element it draws in.
     this.element.plot = this;
-    new ResizeObserver(() => this.chart.resize()).observe(this.element);
+    new ResizeObserver(() => {
+      this.chart.resize();
+      this.refitLegend();
+    }).observe(this.element);
     const buttons = document.createElement('div');
     buttons.className = 'save';
     // The caption's own text, before the buttons join it: what a screen reader names.
@@ -91,9 +94,27 @@ export class Plot {
    * as the axes, are merged), which costs far less than building the chart anew.
    */
   set(option) {
-    if (option.grid) this.grid = option.grid;
-    this.pending = [[option, { replaceMerge: ['series'] }]];
+    const shown = option.legend && option.legend.show !== false ? withLegend(this, option) : option;
+    // What the legend needs to be laid out again: the margins it was added to, its entries,
+    // and the series' names (by id) they list.
+    this.legend = shown === option ? null
+      : { base: option.grid, entries: shown.legend.data, names: new Map(shown.series.map((s) => [s.id, s.name])) };
+    if (shown.grid) this.grid = shown.grid;
+    this.pending = [[shown, { replaceMerge: ['series'] }]];
     if (this.visible) this.flush();
+  }
+
+  /**
+   * At a new width the legend may wrap onto more rows or fewer: the plot area (and the
+   * overlays', which share its axes) moves to stay clear of it.
+   */
+  refitLegend() {
+    if (!this.legend || !this.grid) return;
+    const grid = legendGrid(this, this.legend.base, this.legend.entries);
+    if (grid.top === this.grid.top) return;
+    this.grid = grid;
+    this.update({ grid });
+    for (const overlay of this.overlays ?? []) overlay.setOption({ grid });
   }
 
   /** Says in words what the plot shows (a summary line; not shown, read by screen readers). */
@@ -167,6 +188,19 @@ export class Plot {
       this.pending.push([{ series }, { notMerge: false }, true]);
     }
     if (this.visible) this.flush();
+  }
+
+  /**
+   * Renames the series `id`, in the legend too (its entries are listed: see withLegend),
+   * and keeps the plot area below the legend.
+   */
+  rename(id, name) {
+    const old = this.legend.names.get(id);
+    this.legend.names.set(id, name);
+    const entries = this.legend.entries.map((entry) => (entry.name === old ? { ...entry, name } : entry));
+    this.legend.entries = entries;
+    this.update({ series: [{ id, name }], legend: { data: entries } });
+    this.refitLegend();
   }
 
   /** Merges `option` into the current one (series matched by id). */
@@ -305,6 +339,85 @@ export function styled(series, style, width = 1.5) {
   return { ...series, lineStyle: { ...series.lineStyle, type: style, width } };
 }
 
+// ---------------------------------------------------------------------------------------
+// Legends: every entry shown, wrapped onto as many rows as the chart's width needs (a
+// paged legend hides entries behind "1/4", and cuts long names on a phone), with the plot
+// area moved down below the last row. A line's entry is drawn in its line style, so that
+// a solid and a dashed line of one colour have different icons.
+
+/** How every legend is laid out: every size written out, as `legendRows` measures with them. */
+const LEGEND = { type: 'plain', top: 4, left: 8, right: 8, padding: 5, itemGap: 10, itemWidth: 25, itemHeight: 14, textStyle: { fontSize: 12, fontFamily: 'sans-serif' } };
+/** The gap between the legend's last row and the plot area (room for the top axis label). */
+const BELOW_LEGEND = 12;
+
+/**
+ * Icons of line styles, drawn as filled bars 2 units high (kept in their aspect, they fill
+ * the icon's width as a thin line): solid, dashed, dotted.
+ */
+const lineIcons = {
+  solid: 'path://M0,0h24v2h-24z',
+  dashed: 'path://M0,0h6v2h-6zm9,0h6v2h-6zm9,0h6v2h-6z',
+  dotted: 'path://M0,0h2v2h-2zm5,0h2v2h-2zm5,0h2v2h-2zm5,0h2v2h-2zm5,0h2v2h-2z',
+};
+
+/** The line style of a series drawn as a line: solid, dashed or dotted; null for others (points). */
+function lineKind(series) {
+  const drawsLine = series.type === 'lines' || (series.type === 'line' && !series.showSymbol);
+  if (!drawsLine) return null;
+  const type = series.lineStyle?.type ?? 'solid';
+  if (Array.isArray(type)) return type[0] >= 3 ? 'dashed' : 'dotted';
+  return lineIcons[type] ? type : 'solid';
+}
+
+/**
+ * The legend's entries: `names` (each once, in order; by default every series') with
+ * the icon of the first series of each name in `series`.
+ */
+function legendEntries(series, names = series.map((s) => s.name)) {
+  return [...new Set(names.filter((name) => name !== undefined))].map((name) => {
+    const first = series.find((s) => s.name === name);
+    const kind = first && lineKind(first);
+    return kind ? { name, icon: lineIcons[kind] } : { name };
+  });
+}
+
+let measurer = null;
+
+/** The rows a legend of `entries` takes in a chart `width` pixels wide, wrapped as ECharts wraps them. */
+function legendRows(width, entries) {
+  measurer ??= document.createElement('canvas').getContext('2d');
+  measurer.font = `${LEGEND.textStyle.fontSize}px ${LEGEND.textStyle.fontFamily}`;
+  const room = width - LEGEND.left - LEGEND.right - 2 * LEGEND.padding;
+  // A chart not laid out yet has no width: one row until it has (see refitLegend).
+  if (!(room > 0)) return 1;
+  let [rows, x] = [1, 0];
+  for (const { name } of entries) {
+    // The icon, a gap of 5 px, the text (rounded up: the chart's text measures alike).
+    const item = LEGEND.itemWidth + 5 + Math.ceil(measurer.measureText(name).width);
+    if (x > 0 && x + item > room) [rows, x] = [rows + 1, 0];
+    x += item + LEGEND.itemGap;
+  }
+  return rows;
+}
+
+/** `grid` with its top just below a legend of `entries` at `plot`'s width. */
+function legendGrid(plot, grid, entries) {
+  // The width as laid out now (the chart learns a new one a moment after a resize).
+  const rows = legendRows(plot.element.clientWidth, entries);
+  const height = 2 * LEGEND.padding + rows * LEGEND.itemHeight + (rows - 1) * LEGEND.itemGap;
+  return { ...grid, top: LEGEND.top + height + BELOW_LEGEND };
+}
+
+/**
+ * `option` with its legend laid out as every legend is (see LEGEND), listing
+ * `option.legend.data` (names) or else every series, and its grid's top below it.
+ */
+function withLegend(plot, option) {
+  const names = option.legend.data?.map((entry) => entry.name ?? entry);
+  const entries = legendEntries(option.series ?? [], names);
+  return { ...option, legend: { ...LEGEND, data: entries }, grid: legendGrid(plot, option.grid, entries) };
+}
+
 /** The bounds `lower` and `upper` of a band, as two faint lines under one legend entry. */
 export function band(name, t, lower, upper, colour) {
   const bound = { lineStyle: { width: 1, color: colour, opacity: 0.5 } };
@@ -322,7 +435,7 @@ export function overTime(yName, series, yAxis = {}, xAxis = {}) {
     // y axis's title runs up its side, clear of the legend above the plot and of the
     // labels (short: fmt's few digits).
     grid: { left: 76, right: 20, top: 40, bottom: 44, outerBoundsMode: 'none' },
-    legend: { top: 4, type: 'scroll' },
+    legend: {},
     tooltip: {
       trigger: 'axis',
       formatter: (items) => {
@@ -400,9 +513,8 @@ export function extent(arrays) {
  * step, so that a small change of the data keeps the axes still (and a chart beneath an
  * upper layer need not be drawn again).
  */
-function equalAxes(plot, xs, ys) {
+function equalAxes(plot, grid, xs, ys) {
   const chart = plot.chart;
-  const grid = planeGrid;
   const width = Math.max(1, chart.getWidth() - grid.left - grid.right);
   const height = Math.max(1, chart.getHeight() - grid.top - grid.bottom);
   let [x0, x1] = extent(xs);
@@ -420,9 +532,13 @@ function equalAxes(plot, xs, ys) {
   };
 }
 
-/** The option of a plot in the plane showing every point of `xs` and `ys` (lists of arrays). */
-export function plane(plot, series, xs, ys) {
-  return { animation: false, grid: planeGrid, legend: { top: 4, type: 'scroll' }, ...equalAxes(plot, xs, ys), series };
+/**
+ * The option of a plot in the plane showing every point of `xs` and `ys` (lists of
+ * arrays), its legend listing `listed` (names; by default every series').
+ */
+export function plane(plot, series, xs, ys, listed = undefined) {
+  const option = withLegend(plot, { animation: false, grid: planeGrid, legend: { data: listed }, series });
+  return { ...option, ...equalAxes(plot, option.grid, xs, ys) };
 }
 
 /** The x and the y values of outlines (for the axes). */

@@ -212,7 +212,7 @@ test('the EKF: a file that does not load leaves no summary or command of another
   await page.close();
 });
 
-test('the EKF: another data set keeps the reader\'s R, Q and δ_M, says so, and "the lab\'s settings" sets the lab\'s', bounded, async () => {
+test('the EKF: another data set keeps the settings the reader changed, says so, and "the lab\'s settings" sets the lab\'s', bounded, async () => {
   const page = await open('/ekf');
   const note = page.locator('#settings-note');
   const labO3 = ['--R', '0.0001,0.0001,0.000304617419787', '--Q', '0.0001,0.000304617419787', '--delta-m', '0.999'];
@@ -224,14 +224,14 @@ test('the EKF: another data set keeps the reader\'s R, Q and δ_M, says so, and 
   assert.equal(await note.textContent(), "These are the lab's settings for no-odometry.");
   await page.locator('#dataset-kind').selectOption('o3');
   assert.deepEqual(await flags(page), labO3);
-  // The reader's own R stays when the data set changes.
+  // The reader's own R stays when the data set changes; Q, untouched, becomes the new data's.
   await page.locator('#r-x').fill('0.05');
   assert.equal(await note.textContent(), "Your own settings: R differs from the lab's settings for o3; the button “the lab's settings” sets those.");
   await page.locator('#dataset-kind').selectOption('outliers');
   assert.equal(await page.locator('#r-x').inputValue(), '0.05');
-  assert.deepEqual(await flags(page), ['--R', '0.0025,0.0001,0.000304617419787', '--Q', '0.0001,0.000304617419787', '--delta-m', '0.999']);
+  assert.deepEqual(await flags(page), ['--R', '0.0025,0.0001,0.000304617419787', '--Q', '0.04,0.04', '--delta-m', '0.999']);
   assert.equal(await note.textContent(),
-    "Your settings, kept when the data set changed: R, Q differ from the lab's settings for outliers; the button “the lab's settings” sets those.");
+    "Your settings, kept when the data set changed: R differs from the lab's settings for outliers; the button “the lab's settings” sets those.");
   await page.locator('#dataset-seed').fill('7');
   await page.locator('#dataset-seed').dispatchEvent('change');
   assert.match(await page.locator('#command').textContent(), /--seed 7 .* --R 0\.0025,/);

@@ -4,11 +4,18 @@
 // 3-sigma ellipses, rejected readings) with every setting; the time step (the poses now
 // and each reading's association) with the time slider. The paths differ in line style as
 // well as colour: the truth solid, the estimate dashed, odometry dotted.
+//
+// On a box taller than wide (a phone held upright), a map much wider than tall (o3's
+// long room) would be a thin strip across it: it is drawn turned a quarter
+// counter-clockwise instead, x running up and y to the left (a rotation, not a mirror:
+// the paths turn the way they do), and `turned` says so. The layers' data are in the
+// screen's order then ([y, x]); `place` puts a point of the plane there.
 import { fmt } from '../format.js';
 import { colours, dashes, extent, line, outlines, pairs, styled } from '../plots.js';
 
 const star = 'path://M0,-10L2.9,-4 9.5,-3.1 4.7,1.5 5.9,8.1 0,5 -5.9,8.1 -4.7,1.5 -9.5,-3.1 -2.9,-4Z';
-const grid = { left: 56, right: 20, top: 40, bottom: 44, outerBoundsMode: 'none' };
+/** The margins of the map; the top grows with the legend's rows (see plots.js's legends). */
+const margins = { left: 56, right: 20, top: 40, bottom: 44, outerBoundsMode: 'none' };
 const zoom = [
   { type: 'inside', xAxisIndex: 0, filterMode: 'none' },
   { type: 'inside', yAxisIndex: 0, filterMode: 'none' },
@@ -61,9 +68,14 @@ function median(values) {
   return sorted.length ? sorted[Math.floor(sorted.length / 2)] : 0;
 }
 
+/** How much better a turned map must fit to be turned: not for a map about square. */
+const TURN_GAIN = 1.5;
+
 export class MapView {
   constructor(plot) {
     this.plot = plot;
+    /** Whether the map is drawn turned a quarter (see the top of this file). */
+    this.turned = false;
     this.runLayer = plot.addOverlay();
     this.nowLayer = plot.addOverlay();
     /** 'auto' (enlarged until the typical ellipse is some pixels across) or a factor. */
@@ -81,20 +93,51 @@ export class MapView {
    * keeps the axes (and the charts beneath need no redraw).
    */
   axesFor(xs, ys) {
-    const chart = this.plot.chart;
-    const width = chart.getWidth() - grid.left - grid.right;
-    const height = chart.getHeight() - grid.top - grid.bottom;
+    const [width, height] = this.area();
     const rounded = ([low, high], step) => [Math.floor(low / step) * step, Math.ceil(high / step) * step];
-    const [x0, x1] = rounded(extent(xs), this.step[0]);
-    const [y0, y1] = rounded(extent(ys), this.step[1]);
+    // The screen's horizontal and vertical: y and x on a turned map.
+    const [hs, vs, steps] = this.turned ? [ys, xs, [this.step[1], this.step[0]]] : [xs, ys, this.step];
+    const [x0, x1] = rounded(extent(hs), steps[0]);
+    const [y0, y1] = rounded(extent(vs), steps[1]);
     const perPixel = Math.max((x1 - x0) / width, (y1 - y0) / height) * 1.04 || 1;
     this.perPixel = perPixel;
     const [cx, cy] = [(x0 + x1) / 2, (y0 + y1) / 2];
     const labels = { showMinLabel: false, showMaxLabel: false };
+    const [across, up] = this.turned ? ['y (m), to the left', 'x (m)'] : ['x (m)', 'y (m)'];
     return {
-      xAxis: { type: 'value', name: 'x (m)', nameLocation: 'middle', nameGap: 26, min: cx - (perPixel * width) / 2, max: cx + (perPixel * width) / 2, axisLabel: labels },
-      yAxis: { type: 'value', name: 'y (m)', nameLocation: 'middle', nameGap: 36, min: cy - (perPixel * height) / 2, max: cy + (perPixel * height) / 2, axisLabel: labels },
+      xAxis: { type: 'value', name: across, inverse: this.turned, nameLocation: 'middle', nameGap: 26, min: cx - (perPixel * width) / 2, max: cx + (perPixel * width) / 2, axisLabel: labels },
+      yAxis: { type: 'value', name: up, nameLocation: 'middle', nameGap: 36, min: cy - (perPixel * height) / 2, max: cy + (perPixel * height) / 2, axisLabel: labels },
     };
+  }
+
+  /**
+   * Whether the data set shown fits its box clearly better turned: drawn larger by
+   * TURN_GAIN at least (the steps are a twentieth of the extents).
+   */
+  fitsTurned() {
+    const [width, height] = this.area();
+    const scale = (across, up) => Math.min(width / across, height / up);
+    return scale(this.step[1], this.step[0]) > TURN_GAIN * scale(this.step[0], this.step[1]);
+  }
+
+  /**
+   * The plot area's width and height in pixels, as laid out now (the chart learns a new
+   * size a moment after a window's resize event, which redraws the map).
+   */
+  area() {
+    // Before the first data the plot has no grid yet: the margins without the legend's rows.
+    const { element, grid = margins } = this.plot;
+    return [element.clientWidth - grid.left - grid.right, element.clientHeight - grid.top - grid.bottom];
+  }
+
+  /** A point [x, y] of the plane where the chart draws it: [y, x] on a turned map. */
+  place(point) {
+    return this.turned ? [point[1], point[0]] : point;
+  }
+
+  /** The points of a path ([xs, ys]) as the chart draws them. */
+  path([xs, ys]) {
+    return this.turned ? pairs(ys, xs) : pairs(xs, ys);
   }
 
   /** Puts every layer on `axes`, unless they already are; `unzoom` shows them whole again. */
@@ -105,7 +148,7 @@ export class MapView {
     this.axes = axes;
     const dataZoom = unzoom ? zoom.map((z) => ({ ...z, start: 0, end: 100 })) : zoom;
     this.plot.update(unzoom ? { ...axes, dataZoom } : axes);
-    const hidden = { grid, xAxis: { ...axes.xAxis, show: false }, yAxis: { ...axes.yAxis, show: false }, dataZoom };
+    const hidden = { grid: this.plot.grid, xAxis: { ...axes.xAxis, show: false }, yAxis: { ...axes.yAxis, show: false }, dataZoom };
     // A legend that is not shown, so that the base chart's legend toggles these series too.
     for (const layer of [this.runLayer, this.nowLayer]) layer.setOption({ animation: false, legend: { show: false }, ...hidden });
     if (unzoom) this.onZoom(false);
@@ -124,18 +167,26 @@ export class MapView {
     this.ellipseFactor = 1;
     const size = (arrays) => { const [low, high] = extent(arrays); return (high - low) / 20 || 1; };
     this.step = [size([landmarks[0], truth[0], odometry[0]]), size([landmarks[1], truth[1], odometry[1]])];
+    this.turned = this.fitsTurned();
     this.plot.set({
       animation: false,
-      grid,
-      legend: { top: 4, type: 'scroll' },
-      tooltip: { trigger: 'item', formatter: (p) => `${p.seriesName}${Array.isArray(p.value) ? `: (${fmt(p.value[0])}, ${fmt(p.value[1])})` : ''}` },
+      grid: margins,
+      legend: {},
+      tooltip: {
+        trigger: 'item',
+        formatter: (p) => {
+          if (!Array.isArray(p.value)) return p.seriesName;
+          const [x, y] = this.place(p.value);
+          return `${p.seriesName}: (${fmt(x)}, ${fmt(y)})`;
+        },
+      },
       dataZoom: zoom,
       xAxis: { type: 'value' },
       yAxis: { type: 'value' },
       series: [
-        styled(line('odometry only', odometry[0], odometry[1], colours.odometry, { name: 'odometry only (dotted)' }), dashes.odometry),
-        styled(line('true', truth[0], truth[1], colours.truth, { name: 'true (solid)' }), dashes.truth),
-        { id: 'landmarks', name: 'landmarks', type: 'scatter', data: pairs(landmarks[0], landmarks[1]), symbol: star, symbolSize: 14, itemStyle: { color: colours.landmark } },
+        { ...styled(line('odometry only', [], [], colours.odometry, { name: 'odometry only (dotted)' }), dashes.odometry), data: this.path(odometry) },
+        { ...styled(line('true', [], [], colours.truth, { name: 'true (solid)' }), dashes.truth), data: this.path(truth) },
+        { id: 'landmarks', name: 'landmarks', type: 'scatter', data: this.path(landmarks), symbol: star, symbolSize: 14, itemStyle: { color: colours.landmark } },
         // The legend's entries for the run, drawn on the run's layer.
         ...runSeries([], [], []),
       ],
@@ -153,7 +204,8 @@ export class MapView {
       [landmarks[1], truth[1], odometry[1], estimate[1]],
     ), this.unzoom);
     this.unzoom = false;
-    this.run = { estimate: pairs(estimate[0], estimate[1]), ellipses: measured(outlines(ellipses)), rejected };
+    const placed = outlines(ellipses).map(({ coords }) => ({ coords: coords.map((point) => this.place(point)) }));
+    this.run = { estimate: this.path(estimate), ellipses: measured(placed), rejected: rejected.map((point) => this.place(point)) };
     this.drawRun();
   }
 
@@ -174,7 +226,7 @@ export class MapView {
     if (factor !== this.ellipseFactor) {
       this.ellipseFactor = factor;
       // The base chart's legend names the ellipses too.
-      this.plot.update({ series: [{ id: 'ellipses', name: ellipsesName(factor) }] });
+      this.plot.rename('ellipses', ellipsesName(factor));
     }
     this.runLayer.setOption({ series: runSeries(estimate, enlarged(ellipses, factor), rejected, factor) });
   }
@@ -187,9 +239,12 @@ export class MapView {
 
   /** The time step on the overlay: `lines` from the estimate `at`, and the true pose. */
   showNow(at, truth, lines) {
+    at = this.place(at);
+    truth = this.place(truth);
+    const placed = lines.map((l) => ({ ...l, coords: l.coords.map((point) => this.place(point)) }));
     this.nowLayer.setOption({
       series: [
-        { id: 'associations', name: 'associations now', type: 'lines', coordinateSystem: 'cartesian2d', data: lines, silent: true },
+        { id: 'associations', name: 'associations now', type: 'lines', coordinateSystem: 'cartesian2d', data: placed, silent: true },
         {
           id: 'now',
           name: 'pose now',

@@ -170,6 +170,8 @@ export class RunView {
     });
     window.addEventListener('resize', () => {
       if (!this.view) return;
+      // A phone turned on its side: the map may fit better the other way now.
+      if (this.map.fitsTurned() !== this.map.turned) this.showData(this.view);
       this.map.axesKey = null;
       this.map.showRun(this.view.estimate, this.view.ellipses, this.view.rejected);
       this.describeEllipses();
@@ -181,7 +183,7 @@ export class RunView {
     const whole = newData || !this.view;
     this.view = v;
     if (newData) {
-      this.map.showData(v.landmarks, v.truth, v.odometry);
+      this.showData(v);
       this.time.max = String(v.t.length - 1);
       this.time.value = this.time.max;
     }
@@ -190,6 +192,12 @@ export class RunView {
     this.showNow();
     this.describeEllipses();
     describeOverTime(this.plots, v);
+  }
+
+  /** The map of `v`'s data set, and whether it is turned. */
+  showData(v) {
+    this.map.showData(v.landmarks, v.truth, v.odometry);
+    byId('map-turned').hidden = !this.map.turned;
   }
 
   /** Says how large the ellipses are drawn, beside their control and in the map's summary. */

@@ -60,6 +60,8 @@ const ui = {
   tests: byId('tests'),
   runs: byId('runs'),
   runChoice: byId('run-choice'),
+  runSummary: byId('run-summary'),
+  results: byId('results'),
 };
 const starter = byId('starter').value;
 const runner = new Runner(workbench.worker);
@@ -69,11 +71,22 @@ const runsLabel = ui.runLoops.textContent;
 // ---------------------------------------------------------------------------------------
 // The file: edited, saved as it is typed, reset, downloaded and uploaded.
 
+/**
+ * What both editors share: long lines wrap (a phone shows a third of an 80-column line),
+ * and the text area has a name and a place in the keyboard's order, so that a screen
+ * reader says what it is and the keyboard reaches (and scrolls) it, editable or not.
+ */
+const editorBasics = (name) => [
+  basicSetup,
+  javascript(),
+  EditorView.lineWrapping,
+  EditorView.contentAttributes.of({ 'aria-label': name, tabindex: '0' }),
+];
+
 const editor = new EditorView({
   doc: localStorage.getItem(STORAGE.source) ?? starter,
   extensions: [
-    basicSetup,
-    javascript(),
+    ...editorBasics('your code'),
     EditorView.updateListener.of((update) => {
       if (update.docChanged) edited();
     }),
@@ -369,8 +382,26 @@ function runLoops() {
   });
 }
 
-ui.runTests.addEventListener('click', () => runTests(null));
-ui.runLoops.addEventListener('click', runLoops);
+/**
+ * After a run started from the toolbar: what it gave (the status and the score) under
+ * the buttons, announced to a screen reader, and the results brought into view when they
+ * lie off the screen (below the editor, on a phone).
+ */
+function reportRun() {
+  ui.runSummary.textContent = ui.score.hidden ? ui.status.textContent : `${ui.status.textContent} ${ui.score.textContent}`;
+  ui.runSummary.hidden = false;
+  const { top } = ui.results.getBoundingClientRect();
+  if (top < 0 || top > window.innerHeight - 100) ui.results.scrollIntoView({ block: 'start' });
+}
+
+ui.runTests.addEventListener('click', async () => {
+  await runTests(null);
+  reportRun();
+});
+ui.runLoops.addEventListener('click', async () => {
+  await runLoops();
+  reportRun();
+});
 ui.stop.addEventListener('click', () => runner.cancel());
 ui.runChoice.addEventListener('change', showRun);
 
@@ -540,7 +571,7 @@ const viewer = {
 function showSource(text) {
   viewer.view ??= new EditorView({
     doc: '',
-    extensions: [basicSetup, javascript(), EditorView.editable.of(false)],
+    extensions: [...editorBasics('the code submitted, read-only'), EditorView.editable.of(false)],
     parent: byId('viewer-source'),
   });
   viewer.view.dispatch({ changes: { from: 0, to: viewer.view.state.doc.length, insert: text } });

@@ -1,7 +1,7 @@
 // EKF localization, computed in the browser by the wasm build of the reference filters:
 // a data set (simulated, or the reader's own EL2320 files), the filter's settings, and
 // the plots of the lab.
-import { byId, download, setText, showError } from '../controls.js';
+import { byId, download, fieldMessage, setText, showError } from '../controls.js';
 import { decimal, fmt } from '../format.js';
 import { renderMath } from '../math.js';
 import { RunView, collect } from '../ekf/runview.js';
@@ -47,6 +47,67 @@ let shownName = null;
 let keptOnChange = false;
 
 /**
+ * The standard deviations the reader sets, each with the variance of the lab's settings
+ * it stands for (`of`, `at`) and its unit.
+ */
+const sigmas = [
+  { input: ui.rX, of: 'r', at: 0, unit: 1, name: 'metres' },
+  { input: ui.rY, of: 'r', at: 1, unit: 1, name: 'metres' },
+  { input: ui.rTheta, of: 'r', at: 2, unit: degrees, name: 'degrees' },
+  { input: ui.qRange, of: 'q', at: 0, unit: 1, name: 'metres' },
+  { input: ui.qBearing, of: 'q', at: 1, unit: degrees, name: 'degrees' },
+];
+const modeInput = (mode) => document.querySelector(`input[name=mode][value="${CSS.escape(mode)}"]`);
+
+/**
+ * Every setting the reader can change, by the name the address gives it (the control's
+ * id; `mode` for the update): its value as the filter takes it (`value(reference)`: in
+ * the settings `reference` instead), its text for the address, how a text of the address sets it, and what is
+ * wrong with it (null: nothing).
+ */
+const controls = new Map([
+  ...sigmas.map((sigma) => [sigma.input.id, {
+    value: (reference) => decimal(reference ? reference[sigma.of][sigma.at] : variance(sigma.input, sigma.unit)),
+    text: () => sigma.input.value,
+    read: (text) => { sigma.input.value = text; },
+    problem: () => {
+      const value = Number(sigma.input.value);
+      return sigma.input.value !== '' && Number.isFinite(value) && value > 0 ? null
+        : `A standard deviation must be a number above 0 (in ${sigma.name}), got ${sigma.input.value === '' ? 'nothing' : sigma.input.value}.`;
+    },
+  }]),
+  ['delta-m', {
+    value: (reference) => decimal(reference ? reference.delta_m : Number(ui.deltaM.value)),
+    text: () => ui.deltaM.value,
+    read: (text) => { ui.deltaM.value = text; },
+    // A probability: δ_M = 1 rejects nothing, δ_M = 0 would reject every reading.
+    problem: () => {
+      const value = Number(ui.deltaM.value);
+      return ui.deltaM.value !== '' && value > 0 && value <= 1 ? null
+        : `δ_M is the share of good readings the gate keeps: a number in (0, 1], got ${ui.deltaM.value === '' ? 'nothing' : ui.deltaM.value}.`;
+    },
+  }],
+  ['mode', {
+    value: (reference) => (reference ? reference.mode : document.querySelector('input[name=mode]:checked').value),
+    text: () => document.querySelector('input[name=mode]:checked').value,
+    read: (text) => { if (modeInput(text)) modeInput(text).checked = true; },
+    problem: () => null,
+  }],
+  ['known-associations', {
+    value: (reference) => (reference ? reference.known_associations : ui.known.checked),
+    text: () => String(ui.known.checked),
+    read: (text) => { if (['true', 'false'].includes(text)) ui.known.checked = text === 'true'; },
+    problem: () => null,
+  }],
+]);
+
+/** The settings the reader changed themselves, by name: only these stay when the data set changes. */
+const edited = new Set();
+
+/** The names of the settings that differ from `lab`'s. */
+const differing = (names, lab) => [...names].filter((name) => controls.get(name).value() !== controls.get(name).value(lab));
+
+/**
  * The variance an input of standard deviations (in `unit`s) stands for. An input filled
  * from the lab's settings shows a rounded value but keeps the lab's variance until the
  * reader edits it, so that the lab's settings run as the lab has them.
@@ -71,11 +132,12 @@ function showVariance(input, value, unit = 1) {
  * in its shortest form, runs exactly what the page ran.
  */
 function settings() {
+  const variances = (matrix) => sigmas.filter((sigma) => sigma.of === matrix).map((sigma) => decimal(variance(sigma.input, sigma.unit)));
   return {
     mode: document.querySelector('input[name=mode]:checked').value,
     known_associations: ui.known.checked,
-    r: [variance(ui.rX), variance(ui.rY), variance(ui.rTheta, degrees)].map(decimal),
-    q: [variance(ui.qRange), variance(ui.qBearing, degrees)].map(decimal),
+    r: variances('r'),
+    q: variances('q'),
     delta_m: decimal(Number(ui.deltaM.value)),
   };
 }
@@ -93,16 +155,41 @@ function differences(current, lab) {
   return named.filter(([, differs]) => differs).map(([name]) => name);
 }
 
-/** Sets the controls to the lab's settings for the current data. */
-function labSettings() {
-  showVariance(ui.rX, lab.r[0]);
-  showVariance(ui.rY, lab.r[1]);
-  showVariance(ui.rTheta, lab.r[2], degrees);
-  showVariance(ui.qRange, lab.q[0]);
-  showVariance(ui.qBearing, lab.q[1], degrees);
-  ui.deltaM.value = lab.delta_m;
-  ui.known.checked = lab.known_associations;
-  document.querySelector(`input[name=mode][value=${lab.mode}]`).checked = true;
+/** Sets the controls to the lab's settings for the current data, except those named in `keep`. */
+function labSettings(keep = new Set()) {
+  for (const sigma of sigmas) {
+    if (!keep.has(sigma.input.id)) showVariance(sigma.input, lab[sigma.of][sigma.at], sigma.unit);
+  }
+  if (!keep.has('delta-m')) ui.deltaM.value = lab.delta_m;
+  if (!keep.has('known-associations')) ui.known.checked = lab.known_associations;
+  if (!keep.has('mode')) modeInput(lab.mode).checked = true;
+}
+
+/** Says beside each setting what is wrong with it; whether all are right. */
+function checkSettings() {
+  let right = true;
+  for (const [name, control] of controls) {
+    const problem = control.problem();
+    if (problem) right = false;
+    if (name !== 'mode') fieldMessage(byId(name), problem);
+  }
+  return right;
+}
+
+/**
+ * The address follows the data set and the settings that differ from the lab's, so that
+ * a link opens the same run (a link cannot carry the reader's own files: it names their
+ * settings only).
+ */
+function showAddress() {
+  const address = new URLSearchParams();
+  if (ui.kind.value !== 'files') {
+    address.set('kind', ui.kind.value);
+    address.set('seed', ui.seed.value);
+  }
+  for (const name of lab ? differing(controls.keys(), lab) : []) address.set(name, controls.get(name).text());
+  const url = `${location.pathname}?${address}`;
+  if (url !== location.pathname + location.search) history.replaceState(null, '', url);
 }
 
 /**
@@ -137,6 +224,7 @@ function describeSettings(current) {
 
 /** No data set (`why`): nothing runs until one loads, as the controls no longer say the old one. */
 function noData(why) {
+  showAddress();
   dataset?.free();
   dataset = null;
   markStale(why);
@@ -168,14 +256,17 @@ async function loadDataset() {
     noData('No run: the data did not load.');
     return;
   }
-  // The settings stay the reader's when they have changed them; untouched (still the
-  // lab's for the data before), they become the lab's for the new data.
-  const followsLab = !lab || differences(settings(), lab).length === 0;
+  // A setting stays the reader's when they changed it themselves (at first: when the link
+  // set it); every other becomes the lab's for the new data, those set by another
+  // control too (the lab's settings of the data before).
+  const kept = new Set(lab ? differing(edited, lab) : edited);
+  keptOnChange = lab !== null && kept.size > 0;
   dataset?.free();
   dataset = next;
   lab = JSON.parse(dataset.labSettings());
-  keptOnChange = !followsLab;
-  if (followsLab) labSettings();
+  labSettings(kept);
+  edited.clear();
+  for (const name of kept) edited.add(name);
   newDataPending = true;
   update();
 }
@@ -198,6 +289,14 @@ function commandLine(current) {
 /** Runs the filter and redraws (the data set's views too when it changed). */
 function update() {
   if (!dataset) return;
+  showAddress();
+  if (!checkSettings()) {
+    showError(ui.error, null);
+    // Λ_M of a δ_M out of range means nothing: it comes back with a run.
+    if (controls.get('delta-m').problem()) setText(ui.lambda, '');
+    markStale('No run: a setting is out of range (the message is beside it).');
+    return;
+  }
   const newData = newDataPending;
   const start = performance.now();
   const current = settings();
@@ -233,20 +332,33 @@ ui.kind.addEventListener('change', loadDataset);
 ui.seed.addEventListener('change', loadDataset);
 ui.mapFile.addEventListener('change', loadDataset);
 ui.sensorFile.addEventListener('change', loadDataset);
-for (const input of document.querySelectorAll('#ekf-settings .filter input')) input.addEventListener('input', () => update());
-byId('lab-settings').addEventListener('click', () => { labSettings(); keptOnChange = false; update(); });
+for (const input of document.querySelectorAll('#ekf-settings .filter input')) {
+  input.addEventListener('input', () => {
+    edited.add(input.name === 'mode' ? 'mode' : input.id);
+    update();
+  });
+}
+byId('lab-settings').addEventListener('click', () => {
+  labSettings();
+  edited.clear();
+  keptOnChange = false;
+  update();
+});
 byId('download-map').addEventListener('click', () => download(`map_${ui.kind.value}_${ui.seed.value}.txt`, dataset.mapFile()));
 byId('download-sensor').addEventListener('click', () => download(`so_${ui.kind.value}_${ui.seed.value}.txt`, dataset.sensorFile()));
-// A link may choose the data set and the update (the workbench links its graded runs
-// here, whole): /ekf?kind=outliers&seed=12&mode=batch.
+// A link may choose the data set and any setting, as the address shows them (the
+// workbench links its graded runs here, whole): /ekf?kind=outliers&seed=12&mode=batch.
+// A setting of the link counts as the reader's own; one out of range is refused beside
+// its field, as if typed.
 const asked = new URLSearchParams(location.search);
 if ([...ui.kind.options].some((option) => option.value === asked.get('kind') && option.value !== 'files')) {
   ui.kind.value = asked.get('kind');
 }
 if (/^\d{1,16}$/.test(asked.get('seed') ?? '')) ui.seed.value = asked.get('seed');
-await loadDataset();
-const askedMode = document.querySelector(`input[name=mode][value="${CSS.escape(asked.get('mode') ?? '')}"]`);
-if (askedMode) {
-  askedMode.checked = true;
-  update();
+for (const [name, control] of controls) {
+  if (!asked.has(name)) continue;
+  control.read(asked.get(name));
+  edited.add(name);
 }
+await loadDataset();
+document.body.dataset.ready = 'true';

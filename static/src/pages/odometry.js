@@ -7,11 +7,11 @@
 // Three views, each computed only when what it depends on changed: the belief (the
 // propagation and the robots), the systematic errors, and the UMBmark test. A view whose
 // settings do not run keeps its last plots, dimmed, beside the library's message.
-import { LogSlider, byId, setText, showError } from '../controls.js';
+import { LogSlider, byId, fieldMessage, setText, showError } from '../controls.js';
 import { decimal, fmt } from '../format.js';
 import { renderMath } from '../math.js';
 import {
-  colours, dashes, ellipseAxes, ellipseSpacing, line, markers, outlineSeries, outlineXY, outlines, overTime, pairs, plane, planeGrid,
+  colours, dashes, ellipseAxes, ellipseSpacing, line, markers, outlineSeries, outlineXY, outlines, overTime, pairs, plane,
   plotsIn, styled,
 } from '../plots.js';
 import { loadEstlab } from '../wasm.js';
@@ -420,12 +420,10 @@ class PathView {
 
   /** Shows the series of `pathSeries` on the axes of `plane` over `xs`, `ys`. */
   show({ base, noise }, xs, ys) {
-    const option = plane(this.plot, base, xs, ys);
     // The legend lists the upper layer's series too: entries without data down here. It
     // leaves out the points drawn and the robots along the way while there are none.
-    option.series = [...base, ...noise.map((s) => ({ ...s, data: [] }))];
     const listed = [...base, ...noise].filter((s) => !['points', 'clouds'].includes(s.id) || s.data.length);
-    option.legend = { ...option.legend, data: listed.map((s) => s.name) };
+    const option = plane(this.plot, [...base, ...noise.map((s) => ({ ...s, data: [] }))], xs, ys, listed.map((s) => s.name));
     const shown = {
       axes: [option.xAxis.min, option.xAxis.max, option.yAxis.min, option.yAxis.max],
       names: listed.map((s) => s.name),
@@ -438,7 +436,7 @@ class PathView {
     }
     // Drawn at once, in view or not (the chart beneath waits until it is in view).
     const hidden = (axis) => ({ ...axis, show: false });
-    this.layer.setOption({ animation: false, grid: planeGrid, legend: { show: false }, xAxis: hidden(option.xAxis), yAxis: hidden(option.yAxis), series: noise }, { replaceMerge: ['series'] });
+    this.layer.setOption({ animation: false, grid: option.grid, legend: { show: false }, xAxis: hidden(option.xAxis), yAxis: hidden(option.yAxis), series: noise }, { replaceMerge: ['series'] });
   }
 }
 
@@ -673,6 +671,31 @@ function drawUmbmark(u, s) {
 
 // --- running ---
 
+/**
+ * The field a message of the library (or of parsePoints) concerns, by the setting it
+ * names before its colon (`shape.side: must lie in ...`), or null.
+ */
+function fieldOf(message) {
+  const name = message.slice(0, message.indexOf(':'));
+  if (name === 'shape.points') return ui.points;
+  if (name.startsWith('shape.')) return ui.size;
+  return { robots: ui.robots, side: ui.side, runs: ui.runs }[name] ?? null;
+}
+
+/** The fields a message can concern: each says beside it what is wrong with it. */
+const checkedFields = [ui.points, ui.size, ui.robots, ui.side, ui.runs];
+
+/**
+ * Each message beside its field (the box above the plots, an alert, says them all at
+ * once: the notes beside the fields are not announced again).
+ */
+function showFieldMessages(messages) {
+  for (const field of checkedFields) {
+    const own = messages.filter((message) => fieldOf(message) === field);
+    fieldMessage(field, own.length ? own.join('\n') : null, { live: false });
+  }
+}
+
 /** Runs what changed and redraws it; `force` redraws every view (a new window size). */
 function update(force = false) {
   const start = performance.now();
@@ -741,6 +764,7 @@ function update(force = false) {
   run(umbmark, JSON.stringify([s.params.speed, s.params.wheel_base, s.params.k_r, s.params.k_l, s.errors, s.umbmark]), computeUmbmark, drawUmbmark);
 
   showError(ui.error, messages.length ? [...new Set(messages)].join('\n') : null);
+  showFieldMessages([...new Set(messages)]);
   const commandShown = !messages.length && !noPath;
   ui.command.closest('p').hidden = !commandShown;
   if (commandShown) {

@@ -126,14 +126,15 @@ function show(value) {
 
 function failureView(failure) {
   const box = element('div', 'failure');
-  box.append(element('h4', null, `${failure.case}: ${failure.note}${failure.hidden ? ' (a hidden case)' : ''}`));
+  // A title, not a heading: the panels it appears in sit under headings of any level.
+  box.append(element('p', 'case-title', `${failure.case}: ${failure.note}${failure.hidden ? ' (a hidden case)' : ''}`));
   if (failure.error) box.append(element('p', 'thrown', failure.error));
   if (failure.hint) box.append(element('p', 'hint', `Hint: ${failure.hint.text}`));
   const mismatches = failure.mismatches ?? [];
   if (mismatches.length) {
     const table = element('table', 'mismatches');
     const header = element('tr');
-    for (const title of ['element', 'expected', 'got', '']) header.append(element('th', null, title));
+    for (const title of ['element', 'expected', 'got', 'problem']) header.append(element('th', null, title));
     table.append(header);
     for (const m of mismatches.slice(0, SHOWN.mismatches)) {
       const row = element('tr');
