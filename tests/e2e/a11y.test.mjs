@@ -1,0 +1,82 @@
+// Every page of the site checked by axe-core in headless Chromium, at a phone's size and a
+// laptop's, as a student and as the course's instructor would open them, after the page
+// has drawn (and, on the workbenches, after a run of the tests, whose results panel axe
+// reads too): no violation that axe rates serious or critical (contrast, names of
+// fields and buttons, headings in order, table headers with text, scrollable regions a
+// keyboard reaches, ...). A violation names the page, the rule and the elements.
+import assert from 'node:assert/strict';
+import { readFileSync } from 'node:fs';
+import { createRequire } from 'node:module';
+import { test } from 'node:test';
+import {
+  bounded, correct, estlab, getJson, laptop, phone, runAndWait, setUpCourse, signIn, waitFor, withServerAndBrowser,
+} from './harness.mjs';
+
+const axeSource = readFileSync(createRequire(import.meta.url).resolve('axe-core/axe.min.js'), 'utf8');
+
+let server;
+let browser;
+withServerAndBrowser((s, b) => { server = s; browser = b; });
+
+const COURSE = 'a11y';
+const LAB = 'ekf-localization';
+
+/** The serious and critical violations axe finds on `page` as it is now, as readable lines. */
+async function violations(page) {
+  await page.evaluate(axeSource);
+  const found = await page.evaluate(() => window.axe.run(document, { resultTypes: ['violations'] }).then((r) => r.violations
+    .filter((v) => v.impact === 'serious' || v.impact === 'critical')
+    .map((v) => `${v.id} (${v.impact}): ${v.help}; ${v.nodes.slice(0, 5).map((n) => n.target.join(' ')).join(' | ')}` +
+      (v.nodes.length > 5 ? ` and ${v.nodes.length - 5} more` : ''))));
+  return found;
+}
+
+/** Opens `path` in a context of `size` (signed in with `cookie` when given), drawn. */
+async function open(path, size, cookie) {
+  // The site's Content-Security-Policy refuses scripts it did not serve; axe is the test's.
+  const context = await browser.newContext({ viewport: size, bypassCSP: true });
+  if (cookie) {
+    const [name, value] = cookie.split('=');
+    await context.addCookies([{ name, value, url: server.url }]);
+  }
+  const page = await context.newPage();
+  await page.goto(server.url + path);
+  await page.waitForSelector('body[data-ready=true]', { timeout: 60_000 });
+  return page;
+}
+
+for (const [name, size] of [['phone', phone], ['laptop', laptop]]) {
+  test(`at a ${name}'s size: no page has a serious or critical accessibility violation`, bounded, async () => {
+    const course = `${COURSE}-${name}`;
+    const { students } = setUpCourse(server, { course, title: 'Accessible', prefix: `${name[0]}`, count: 2, role: 'assistant' });
+    const link = estlab('course', 'staff', course, `teacher@${name}.example`, '--role', 'instructor',
+      '--data', server.dataDir, '--url', server.url).trim().split('\n').pop();
+    const teacher = await signIn(server, link.split('#')[1]);
+    const student = await signIn(server, students[0].code);
+    // One graded submission, so that the staff's pages and /me show a result.
+    const response = await fetch(`${server.url}/api/submissions`, {
+      method: 'POST',
+      headers: { cookie: student, 'content-type': 'application/json' },
+      body: JSON.stringify({ source: correct }),
+    });
+    const sent = await response.json();
+    assert.equal(response.status, 202, JSON.stringify(sent));
+    await waitFor(`submission ${sent.id}`, async () => (await getJson(server, sent.url, { cookie: student })).body,
+      (s) => s.status === 'graded', { timeout: 180_000 });
+
+    const pages = [
+      ['/', null], ['/car', null], ['/ekf', null], ['/odometry', null], ['/signin', null],
+      ['/ekf/code', student], ['/odometry/code', student], ['/me', student],
+      ['/me', teacher], [`/courses/${course}`, teacher], [`/courses/${course}/${LAB}`, teacher],
+      [`/courses/${course}/${LAB}/students/${students[0].id}`, teacher],
+    ];
+    const problems = [];
+    for (const [path, cookie] of pages) {
+      const page = await open(path, size, cookie);
+      if (path.endsWith('/code')) await runAndWait(page, '#run-tests');
+      for (const line of await violations(page)) problems.push(`${path}${cookie === teacher ? ' (staff)' : ''}: ${line}`);
+      await page.context().close();
+    }
+    assert.deepEqual(problems, []);
+  });
+}
