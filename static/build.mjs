@@ -1,6 +1,6 @@
 // Bundles the page scripts (each page's of static/pages.json) and the styles with esbuild into content-hashed files, and the
 // Web Worker that runs students' code as a classic script of its own; writes manifest.json
-// (the style, each page's script, the worker) for the server, and precompresses every text
+// (the style, each page's script and what it preloads, the worker) for the server, and precompresses every text
 // asset with brotli and gzip so that the server can send the smaller one.
 //
 //   node build.mjs PKG_DIR OUT_DIR
@@ -49,11 +49,39 @@ const worker = await esbuild.build({
   logLevel: 'warning',
 });
 
-const manifest = { style: null, worker: null, scripts: {} };
+/**
+ * What a page's script needs before it can draw, for the page to ask for at once instead
+ * of after its script has arrived and run: the chunks it imports (`module`, for
+ * `<link rel=modulepreload>`) and the wasm module its code fetches (`wasm`, for
+ * `<link rel=preload as=fetch>`), found by following the entry's static imports.
+ */
+function preloads(entry) {
+  const found = [];
+  const seen = new Set();
+  const walk = (file) => {
+    for (const { path, kind } of result.metafile.outputs[file].imports) {
+      if (seen.has(path)) continue;
+      seen.add(path);
+      if (kind === 'import-statement') {
+        found.push({ kind: 'module', path: relative(out, path) });
+        walk(path);
+      } else if (kind === 'file-loader' && path.endsWith('.wasm')) {
+        found.push({ kind: 'wasm', path: relative(out, path) });
+      }
+    }
+  };
+  walk(entry);
+  return found;
+}
+
+const manifest = { style: null, worker: null, scripts: {}, preloads: {} };
 manifest.worker = relative(out, Object.keys(worker.metafile.outputs).find((file) => file.endsWith('.js')));
 for (const [file, output] of Object.entries(result.metafile.outputs)) {
   const page = pages.find((p) => output.entryPoint === `src/pages/${p}.js`);
-  if (page) manifest.scripts[page] = relative(out, file);
+  if (page) {
+    manifest.scripts[page] = relative(out, file);
+    manifest.preloads[page] = preloads(file);
+  }
   if (output.entryPoint === 'src/style.css') manifest.style = relative(out, file);
 }
 writeFileSync(join(out, 'manifest.json'), JSON.stringify(manifest, null, 2));

@@ -1,12 +1,12 @@
 // Measures the browser side in headless Chromium and prints a Markdown report:
 // wasm whole runs (median of many) beside native, the wasm module's size, every page's
-// first-load transferred bytes, the time from moving a control to the redrawn plots, the
+// first-load transferred bytes, the first chart on a slow phone, the time from moving a control to the redrawn plots, the
 // re-plot on /ekf with o3 in detail, the odometry page's Monte Carlo and re-plot, and
 // grading in the browser.
 //
 //   node tests/bench/web.mjs [SECTION...]   (scripts/bench-web builds what it needs first)
 //
-// SECTION is any of wasm, loads, redraw, replot, odometry, grading; all of them when none
+// SECTION is any of wasm, loads, firstchart, redraw, replot, odometry, grading; all of them when none
 // is named.
 // ESTLAB_WEB picks the browser build, as for the end-to-end tests.
 import { readFileSync } from 'node:fs';
@@ -115,6 +115,50 @@ async function firstLoads() {
     await fresh.evaluate(() => document.fonts.ready);
     await fresh.waitForTimeout(500);
     say(`| ${path} | ${requests} | ${kb(bytes)} |`);
+    await context.close();
+  }
+}
+
+// --- the first chart on a slow phone ---
+/** A phone on a slow mobile network: 1.6 Mbps down, 750 kbps up, 150 ms, 4x slower CPU. */
+const SLOW_PHONE = { latency: 150, downloadThroughput: (1.6e6 / 8), uploadThroughput: (750e3 / 8), cpu: 4 };
+
+/**
+ * For each experiment page, opened cold on a slow phone (390 x 844), when the first
+ * chart was painted (its canvas drawn and the page ready) and, from the resource timings,
+ * when the page script, the wasm module and the fonts arrived: where the time goes.
+ */
+async function firstChart() {
+  say();
+  say('| page | first chart | page script arrived | wasm arrived (started) | fonts arrived | transferred |');
+  say('| --- | ---: | ---: | ---: | ---: | ---: |');
+  for (const path of ['/car', '/ekf', '/odometry']) {
+    const context = await browser.newContext({ viewport: { width: 390, height: 844 } });
+    const page = await context.newPage();
+    const cdp = await context.newCDPSession(page);
+    await cdp.send('Network.enable');
+    await cdp.send('Network.emulateNetworkConditions', { offline: false, ...SLOW_PHONE });
+    await cdp.send('Emulation.setCPUThrottlingRate', { rate: SLOW_PHONE.cpu });
+    let bytes = 0;
+    cdp.on('Network.loadingFinished', (event) => { bytes += event.encodedDataLength; });
+    await page.goto(server.url + path, { timeout: 120_000 });
+    await page.waitForSelector('body[data-ready=true]', { timeout: 120_000 });
+    await page.waitForFunction(() => document.querySelector('figure canvas'), null, { timeout: 120_000 });
+    const times = await page.evaluate(() => new Promise((resolve) => requestAnimationFrame(() => {
+      const painted = performance.now();
+      const entries = performance.getEntriesByType('resource');
+      const last = (test) => Math.max(0, ...entries.filter((e) => test(e.name)).map((e) => e.responseEnd));
+      const first = (test) => Math.min(...entries.filter((e) => test(e.name)).map((e) => e.startTime));
+      resolve({
+        painted,
+        script: last((n) => /\/static\/.*\.js$/.test(n) && !/worker/.test(n)),
+        wasm: last((n) => n.endsWith('.wasm')),
+        wasmStart: first((n) => n.endsWith('.wasm')),
+        fonts: last((n) => /\.woff2?$/.test(n)),
+      });
+    })));
+    const s = (ms) => (ms > 0 && Number.isFinite(ms) ? `${(ms / 1000).toFixed(2)} s` : '–');
+    say(`| \`${path}\` | ${s(times.painted)} | ${s(times.script)} | ${s(times.wasm)} (${s(times.wasmStart)}) | ${s(times.fonts)} | ${kb(bytes)} |`);
     await context.close();
   }
 }
@@ -358,7 +402,7 @@ async function grading() {
   }
 }
 
-const sections = { wasm: wasmRuns, loads: firstLoads, redraw: redraws, replot, odometry, grading };
+const sections = { wasm: wasmRuns, loads: firstLoads, firstchart: firstChart, redraw: redraws, replot, odometry, grading };
 const asked = process.argv.slice(2);
 for (const name of asked) {
   if (!sections[name]) throw new Error(`no section ${name}: the sections are ${Object.keys(sections).join(', ')}`);

@@ -453,3 +453,25 @@ test('on a wide screen the workbench uses the room it has', bounded, async () =>
   assert.ok(editor.width > 900, `the editor is ${editor.width} px wide at 1800 px`);
   await page.close();
 });
+
+test('a page that plots asks for its wasm module and its chunks at once, and the module is fetched once', bounded, async () => {
+  for (const path of ['/car', '/ekf', '/odometry']) {
+    const context = await browser.newContext();
+    const page = await context.newPage();
+    const wasmRequests = [];
+    page.on('request', (request) => { if (request.url().endsWith('.wasm')) wasmRequests.push(request.url()); });
+    const warnings = [];
+    page.on('console', (message) => { if (/preload/i.test(message.text())) warnings.push(message.text()); });
+    await page.goto(server.url + path);
+    await page.waitForSelector('body[data-ready=true]', { timeout: 60_000 });
+    const links = await page.evaluate(() => [...document.head.querySelectorAll('link[rel=preload], link[rel=modulepreload]')]
+      .map((link) => ({ rel: link.rel, href: link.href, as: link.getAttribute('as') })));
+    const wasm = links.filter((l) => l.rel === 'preload' && l.as === 'fetch');
+    assert.equal(wasm.length, 1, `${path}: one wasm preload`);
+    assert.ok(links.some((l) => l.rel === 'modulepreload'), `${path}: its chunks preloaded`);
+    // The preload is the very request the page's script makes: the module comes once.
+    assert.deepEqual(wasmRequests, [wasm[0].href], `${path}: ${wasmRequests}`);
+    assert.deepEqual(warnings, [], `${path}: the browser used what was preloaded`);
+    await context.close();
+  }
+});

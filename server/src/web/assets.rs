@@ -22,6 +22,33 @@ struct Manifest {
     scripts: HashMap<String, String>,
     /// The Web Worker that runs students' code.
     worker: String,
+    /// What each page's script needs before it can draw (its chunks, its wasm module),
+    /// for the page to ask for at once.
+    preloads: HashMap<String, Vec<Preload>>,
+}
+
+/// A file a page asks for before its script does.
+#[derive(Debug, Deserialize)]
+pub struct Preload {
+    pub kind: PreloadKind,
+    /// Below `/static/`.
+    pub path: String,
+}
+
+#[derive(Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum PreloadKind {
+    /// A chunk the script imports: `<link rel="modulepreload">`.
+    Module,
+    /// The wasm module the script fetches: `<link rel="preload" as="fetch">`, so that it
+    /// downloads beside the script instead of after it.
+    Wasm,
+}
+
+impl Preload {
+    pub fn is_wasm(&self) -> bool {
+        self.kind == PreloadKind::Wasm
+    }
 }
 
 /// What a page links to.
@@ -29,6 +56,7 @@ struct Manifest {
 pub struct PageAssets<'a> {
     pub style: &'a str,
     pub script: &'a str,
+    pub preloads: &'a [Preload],
 }
 
 /// The name of the Web Worker that runs students' code starts so.
@@ -80,9 +108,15 @@ impl Assets {
 
     /// The assets of the page of the registry called `name`.
     pub fn page(&self, name: &str) -> PageAssets<'_> {
+        let script = &registry::page(name).script;
         PageAssets {
             style: &self.manifest.style,
-            script: &self.manifest.scripts[&registry::page(name).script],
+            script: &self.manifest.scripts[script],
+            preloads: self
+                .manifest
+                .preloads
+                .get(script)
+                .map_or(&[], Vec::as_slice),
         }
     }
 }
