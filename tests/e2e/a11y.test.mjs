@@ -9,7 +9,8 @@ import { readFileSync } from 'node:fs';
 import { createRequire } from 'node:module';
 import { test } from 'node:test';
 import {
-  bounded, correct, estlab, getJson, laptop, phone, runAndWait, setUpCourse, signIn, waitFor, withServerAndBrowser,
+  bounded, correct, estlab, getJson, laptop, openIn, phone, runAndWait, setUpCourse, signIn, signedInContext, waitFor,
+  withServerAndBrowser,
 } from './harness.mjs';
 
 const axeSource = readFileSync(createRequire(import.meta.url).resolve('axe-core/axe.min.js'), 'utf8');
@@ -34,15 +35,8 @@ async function violations(page) {
 /** Opens `path` in a context of `size` (signed in with `cookie` when given), drawn. */
 async function open(path, size, cookie) {
   // The site's Content-Security-Policy refuses scripts it did not serve; axe is the test's.
-  const context = await browser.newContext({ viewport: size, bypassCSP: true });
-  if (cookie) {
-    const [name, value] = cookie.split('=');
-    await context.addCookies([{ name, value, url: server.url }]);
-  }
-  const page = await context.newPage();
-  await page.goto(server.url + path);
-  await page.waitForSelector('body[data-ready=true]', { timeout: 60_000 });
-  return page;
+  const context = await signedInContext(browser, server, cookie, size, { bypassCSP: true });
+  return openIn(context, server.url + path);
 }
 
 for (const [name, size] of [['phone', phone], ['laptop', laptop]]) {

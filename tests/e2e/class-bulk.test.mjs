@@ -6,7 +6,8 @@
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
 import {
-  bounded, estlab, getJson, laptop, phone, setUpCourse, signIn, starter, waitFor, withServerAndBrowser,
+  bounded, classTable, estlab, getJson, laptop, openIn, phone, setUpCourse, signIn, signedInContext, starter, waitFor,
+  withServerAndBrowser,
 } from './harness.mjs';
 
 let server;
@@ -27,17 +28,6 @@ async function submitAs(cookie, source) {
   return body.id;
 }
 
-/** The class table's rows by student id: the cells' text by column title. */
-function classTable(page) {
-  return page.locator('#class-table').evaluate((table) => {
-    const titles = [...table.querySelectorAll('thead th')].map((th) => th.textContent.trim());
-    return Object.fromEntries([...table.querySelectorAll('tbody tr')].map((tr) => {
-      const cells = [...tr.cells].map((td) => td.textContent.trim());
-      return [tr.dataset.student, Object.fromEntries(titles.map((title, i) => [title, cells[i]]))];
-    }));
-  });
-}
-
 for (const [name, size] of [['phone', phone], ['laptop', laptop]]) {
   test(`at a ${name}'s size: the class table follows gradings, and a selection is extended and regraded at once`, bounded, async () => {
     const course = `bulk-${name}`;
@@ -53,14 +43,8 @@ for (const [name, size] of [['phone', phone], ['laptop', laptop]]) {
         (s) => s.status === 'graded', { timeout: 120_000 });
     }
 
-    const context = await browser.newContext({ viewport: size, timezoneId: 'Europe/Stockholm', locale: 'en-GB' });
-    const [cookieName, cookieValue] = teacher.split('=');
-    await context.addCookies([{ name: cookieName, value: cookieValue, url: server.url }]);
-    const page = await context.newPage();
-    page.problems = [];
-    page.on('pageerror', (error) => page.problems.push(`uncaught: ${error.message}`));
-    await page.goto(`${server.url}/courses/${course}/${LAB}`);
-    await page.waitForSelector('body[data-ready=true]', { timeout: 60_000 });
+    const context = await signedInContext(browser, server, teacher, size, { timezoneId: 'Europe/Stockholm', locale: 'en-GB' });
+    const page = await openIn(context, `${server.url}/courses/${course}/${LAB}`);
     const [a, b, c] = students.map((s) => s.id);
     let rows = await classTable(page);
     assert.equal(rows[c].Submissions, '0');

@@ -13,7 +13,9 @@ import assert from 'node:assert/strict';
 import { readFileSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { after, before, test } from 'node:test';
-import { bounded, correct, estlab, launchBrowser, openPage, signIn, starter, startServer, tempDir, waitFor } from './harness.mjs';
+import {
+  bounded, classTable, correct, estlab, launchBrowser, openPage, signIn, starter, startServer, tempDir, waitFor,
+} from './harness.mjs';
 
 const COURSE = 'el2320';
 const LAB = 'ekf-localization';
@@ -107,17 +109,6 @@ function staffGet(path) {
 async function visit(page, path) {
   await page.goto(server.url + path);
   await page.waitForSelector('body[data-ready=true]', { timeout: 60_000 });
-}
-
-/** The class table as shown: a row per student, by id, of the cells' text by column title. */
-function classTable(page) {
-  return page.locator('#class-table').evaluate((table) => {
-    const titles = [...table.querySelectorAll('thead th')].map((th) => th.textContent.trim());
-    return Object.fromEntries([...table.querySelectorAll('tbody tr')].map((tr) => {
-      const cells = [...tr.cells].map((td) => td.textContent.trim());
-      return [tr.dataset.student, Object.fromEntries(titles.map((title, i) => [title, cells[i]]))];
-    }));
-  });
 }
 
 const percent = (share) => (share === null || share === undefined ? '–' : `${Math.round(100 * share)} %`);

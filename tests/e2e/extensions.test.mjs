@@ -10,7 +10,8 @@ import { readFileSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { after, before, test } from 'node:test';
 import {
-  bounded, correct, estlab, laptop, launchBrowser, parseCsv, phone, signIn, startServer, tempDir, waitFor,
+  bounded, correct, estlab, laptop, launchBrowser, openIn, parseCsv, phone, signIn, signedInContext, startServer, tempDir,
+  waitFor,
 } from './harness.mjs';
 
 const COURSE = 'el2320';
@@ -63,24 +64,8 @@ after(async () => {
   await server?.stop();
 }, bounded);
 
-/** A browser context of `size` signed in with `cookie` (`estlab_session=...`). */
-async function contextWith(cookie, size) {
-  const context = await browser.newContext({ viewport: size });
-  const [name, value] = cookie.split('=');
-  await context.addCookies([{ name, value, url: server.url }]);
-  return context;
-}
-
-/** Opens `path` in a new page of `context`, ready; the page records its problems. */
-async function open(context, path) {
-  const page = await context.newPage();
-  page.problems = [];
-  page.on('pageerror', (error) => page.problems.push(`uncaught: ${error.message}`));
-  page.on('console', (message) => { if (message.type() === 'error') page.problems.push(`console: ${message.text()}`); });
-  await page.goto(server.url + path);
-  await page.waitForSelector('body[data-ready=true]', { timeout: 60_000 });
-  return page;
-}
+const contextWith = (cookie, size) => signedInContext(browser, server, cookie, size);
+const open = (context, path) => openIn(context, server.url + path);
 
 /** The student page's submissions table: { id: { Late, 'Counts as' } }. */
 function submissionsTable(page) {

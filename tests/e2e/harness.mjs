@@ -270,6 +270,44 @@ export function setUpCourse(server, { course = 'el2320', title, prefix, count, r
   return { students, token };
 }
 
+/**
+ * A new context of `browser` at the size `viewport`, signed in to `server` with `cookie`
+ * (`estlab_session=...`; none for nobody), with further context `options` (a time zone).
+ */
+export async function signedInContext(browser, server, cookie, viewport, options = {}) {
+  const context = await browser.newContext({ viewport, ...options });
+  if (cookie) {
+    const [name, value] = cookie.split('=');
+    await context.addCookies([{ name, value, url: server.url }]);
+  }
+  return context;
+}
+
+/**
+ * Opens `url` in a new page of `context` and waits until its script says it is ready; the
+ * page records its console errors and uncaught exceptions in `page.problems`.
+ */
+export async function openIn(context, url) {
+  const page = await context.newPage();
+  page.problems = [];
+  page.on('pageerror', (error) => page.problems.push(`uncaught: ${error.message}`));
+  page.on('console', (message) => { if (message.type() === 'error') page.problems.push(`console: ${message.text()}`); });
+  await page.goto(url);
+  await page.waitForSelector('body[data-ready=true]', { timeout: 60_000 });
+  return page;
+}
+
+/** The staff's class table as shown: a row per student, by id, of the cells' text by column title. */
+export function classTable(page) {
+  return page.locator('#class-table').evaluate((table) => {
+    const titles = [...table.querySelectorAll('thead th')].map((th) => th.textContent.trim());
+    return Object.fromEntries([...table.querySelectorAll('tbody tr')].map((tr) => {
+      const cells = [...tr.cells].map((td) => td.textContent.trim());
+      return [tr.dataset.student, Object.fromEntries(titles.map((title, i) => [title, cells[i]]))];
+    }));
+  });
+}
+
 /** The screen sizes the layout tests take: a phone held upright, and a laptop. */
 export const phone = { width: 390, height: 844 };
 export const laptop = { width: 1400, height: 1000 };

@@ -10,7 +10,7 @@ import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { test } from 'node:test';
 import {
-  bounded, estlab, getJson, laptop, parseCsv, phone, withServerAndBrowser,
+  bounded, estlab, getJson, laptop, openIn, parseCsv, phone, signedInContext, withServerAndBrowser,
 } from './harness.mjs';
 
 let server;
@@ -31,22 +31,8 @@ async function signsIn(code) {
 }
 
 /** A browser context of `size` in Stockholm, signed in with `cookie`. */
-async function contextWith(cookie, size) {
-  const context = await browser.newContext({ viewport: size, timezoneId: ZONE, locale: 'en-GB' });
-  const [name, value] = cookie.split('=');
-  await context.addCookies([{ name, value, url: server.url }]);
-  return context;
-}
-
-async function open(context, path) {
-  const page = await context.newPage();
-  page.problems = [];
-  page.on('pageerror', (error) => page.problems.push(`uncaught: ${error.message}`));
-  page.on('console', (message) => { if (message.type() === 'error') page.problems.push(`console: ${message.text()}`); });
-  await page.goto(server.url + path);
-  await page.waitForSelector('body[data-ready=true]', { timeout: 60_000 });
-  return page;
-}
+const contextWith = (cookie, size) => signedInContext(browser, server, cookie, size, { timezoneId: ZONE, locale: 'en-GB' });
+const open = (context, path) => openIn(context, server.url + path);
 
 /** Waits for a status line to say something other than "Working…", and returns it. */
 async function statusOf(page, id) {
