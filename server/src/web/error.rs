@@ -39,6 +39,9 @@ pub enum Error {
     TooManyRequests(String),
 }
 
+/// What a failure of the server's own says: the cause is in its log.
+const INTERNAL: &str = "estlab could not answer this request; the server log says why";
+
 /// The body of every error answer of the API.
 #[derive(Serialize)]
 struct ErrorBody {
@@ -57,10 +60,14 @@ impl IntoResponse for Error {
             Error::Forbidden(_) => StatusCode::FORBIDDEN,
             Error::TooManyRequests(_) => StatusCode::TOO_MANY_REQUESTS,
             Error::Template(_) | Error::Assets(_) | Error::Store(_) => {
+                // The cause goes to the log, never to the asker (it may name files or
+                // the database); the answer has the API's shape all the same.
                 tracing::error!("{self}");
                 return (
                     StatusCode::INTERNAL_SERVER_ERROR,
-                    "estlab could not answer this request; the server log says why.\n",
+                    Json(ErrorBody {
+                        error: INTERNAL.into(),
+                    }),
                 )
                     .into_response();
             }
@@ -72,5 +79,28 @@ impl IntoResponse for Error {
             }),
         )
             .into_response()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[tokio::test]
+    async fn a_failure_of_the_server_answers_as_every_api_error_without_its_cause() {
+        let response =
+            Error::Assets("/srv/estlab/static/manifest.json: gone".into()).into_response();
+        assert_eq!(response.status(), StatusCode::INTERNAL_SERVER_ERROR);
+        assert_eq!(
+            response.headers()[axum::http::header::CONTENT_TYPE],
+            "application/json"
+        );
+        let body = axum::body::to_bytes(response.into_body(), 1 << 16)
+            .await
+            .unwrap();
+        assert_eq!(
+            body,
+            r#"{"error":"estlab could not answer this request; the server log says why"}"#
+        );
     }
 }
