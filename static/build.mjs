@@ -5,14 +5,15 @@
 //
 //   node build.mjs PKG_DIR OUT_DIR
 import * as esbuild from 'esbuild';
-import { readdirSync, readFileSync, rmSync, statSync, writeFileSync } from 'node:fs';
+import { existsSync, readdirSync, readFileSync, rmSync, statSync, writeFileSync } from 'node:fs';
 import { join, relative } from 'node:path';
 import { brotliCompressSync, constants, gzipSync } from 'node:zlib';
 
 const [pkg, out] = process.argv.slice(2);
-// The scripts of the site's pages, from the registry the server reads too.
+// The scripts of the site's pages, from the registry the server reads too, and the
+// workbench's, which every exercise's workbench page runs.
 const registry = JSON.parse(readFileSync(new URL('pages.json', import.meta.url), 'utf8'));
-const pages = [...new Set(registry.pages.map((page) => page.script))];
+const pages = [...new Set([...registry.pages.map((page) => page.script), 'code'])];
 
 rmSync(out, { recursive: true, force: true });
 const result = await esbuild.build({
@@ -35,16 +36,27 @@ const result = await esbuild.build({
   logLevel: 'warning',
 });
 
-// A classic script, so that it starts in every browser and the harness in it is the very
-// file the server's sandbox runs.
+// A classic script, so that it starts in every browser, with the harness and every
+// exercise's loop (`labs/src/exercises/*/web/loop.js`) the very files the server's
+// sandbox runs.
+const exercises = new URL('../labs/src/exercises/', import.meta.url);
+const loops = readdirSync(exercises, { withFileTypes: true })
+  .filter((entry) => entry.isDirectory())
+  .map((entry) => join(exercises.pathname, entry.name, 'web', 'loop.js'))
+  .filter((file) => existsSync(file))
+  .sort();
 const worker = await esbuild.build({
-  entryPoints: { 'student-worker': 'src/student/worker.js' },
+  stdin: {
+    contents: ['./src/student/worker.js', ...loops].map((file) => `import ${JSON.stringify(file)};`).join('\n'),
+    resolveDir: new URL('.', import.meta.url).pathname,
+    sourcefile: 'student-worker.js',
+  },
   bundle: true,
   format: 'iife',
   target: 'es2022',
   minify: process.env.ESTLAB_MINIFY !== '0',
   outdir: out,
-  entryNames: '[name]-[hash]',
+  entryNames: 'student-worker-[hash]',
   metafile: true,
   logLevel: 'warning',
 });

@@ -14,11 +14,10 @@ pub mod car;
 pub mod dataset;
 pub mod ekf;
 mod error;
-pub mod exercise;
 pub mod exercises;
 pub mod grading;
 pub mod odometry;
 pub mod rng;
 
 pub use error::Error;
-pub use exercise::{Exercise, UnknownExercise};
+pub use exercises::{Exercise, UnknownExercise};

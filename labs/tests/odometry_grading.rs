@@ -10,8 +10,8 @@ use labs::exercises::odometry::{
     COVARIANCE_TOLERANCE, Call, Case, FUNCTIONS, PATH_FUNCTIONS, PathRecord, Plan, generate,
 };
 use labs::grading::{
-    self, CallResult, Contract, FunctionOutput, Outputs, RunOutput, RunRecord, Status, Stopped,
-    Test,
+    self, CallResult, Cause, Contract, ExercisePlan, FunctionOutput, Outputs, RunOutput, Status,
+    Stopped, Test,
 };
 use serde_json::{Value, json};
 use std::f64::consts::PI;
@@ -58,7 +58,7 @@ fn reference_outputs(plan: &Plan) -> Outputs {
             name: spec.name.clone(),
             error: None,
             stopped: None,
-            record: Some(RunRecord::Path(PathRecord {
+            recorded: Some(json!(PathRecord {
                 poses: spec.reference.poses[1..].to_vec(),
                 covariances: spec.reference.covariances[1..].to_vec(),
             })),
@@ -96,7 +96,7 @@ fn the_reference_answers_pass_every_case_and_path_of_every_seed() {
             assert_eq!(result.score, 1.0);
             // A test per function and per path.
             assert_eq!(result.tests.len(), FUNCTIONS.len() + 2);
-            assert_eq!(result.lab, "odometry");
+            assert_eq!(result.exercise, Exercise::Odometry);
         }
     }
 }
@@ -291,12 +291,13 @@ fn the_job_carries_the_wheels_of_each_path_and_nothing_of_the_reference() {
     assert!(!text.contains("expected") && !text.contains("covariances"));
 }
 
-/// What a run's output recorded along its path.
-fn path(run: &mut RunOutput) -> &mut PathRecord {
-    match run.record.as_mut() {
-        Some(RunRecord::Path(record)) => record,
-        _ => panic!("{} recorded no path", run.name),
-    }
+/// The reference outputs of `plan` with `change` made to what the square's run recorded.
+fn graded_with_record(plan: &Plan, change: impl FnOnce(&mut PathRecord)) -> Test {
+    graded_with(plan, |run| {
+        let mut record: PathRecord = run.record().expect("the run recorded its path");
+        change(&mut record);
+        run.recorded = Some(serde_json::to_value(record).unwrap());
+    })
 }
 
 /// The reference outputs of `plan` with `change` made to the square's run.
@@ -329,12 +330,12 @@ fn a_path_that_departs_fails_at_the_step_and_the_element_where_it_does() {
     );
 
     // A covariance element off by 1e-5 of the largest at step 17.
-    let off = graded_with(&plan, |run| {
-        let largest = path(run).covariances[16]
+    let off = graded_with_record(&plan, |path| {
+        let largest = path.covariances[16]
             .iter()
             .flatten()
             .fold(0.0_f64, |m, v| m.max(v.abs()));
-        path(run).covariances[16][0][2] += 10.0 * COVARIANCE_TOLERANCE * largest;
+        path.covariances[16][0][2] += 10.0 * COVARIANCE_TOLERANCE * largest;
     });
     assert_eq!((off.status, off.points), (Status::Failed, 0.0));
     assert!(
@@ -344,20 +345,20 @@ fn a_path_that_departs_fails_at_the_step_and_the_element_where_it_does() {
         off.message
     );
     // Within the tolerance it passes.
-    let close = graded_with(&plan, |run| {
-        let largest = path(run).covariances[16]
+    let close = graded_with_record(&plan, |path| {
+        let largest = path.covariances[16]
             .iter()
             .flatten()
             .fold(0.0_f64, |m, v| m.max(v.abs()));
-        path(run).covariances[16][0][2] += 0.1 * COVARIANCE_TOLERANCE * largest;
-        path(run).poses[40][0] += 1e-8;
+        path.covariances[16][0][2] += 0.1 * COVARIANCE_TOLERANCE * largest;
+        path.poses[40][0] += 1e-8;
     });
     assert_eq!(close.status, Status::Passed, "{}", close.message);
 
     // The heading is compared modulo 2 pi, x and y within 1e-6 m.
-    let turned = graded_with(&plan, |run| path(run).poses[5][2] += std::f64::consts::TAU);
+    let turned = graded_with_record(&plan, |path| path.poses[5][2] += std::f64::consts::TAU);
     assert_eq!(turned.status, Status::Passed, "{}", turned.message);
-    let moved = graded_with(&plan, |run| path(run).poses[100][1] += 1e-5);
+    let moved = graded_with_record(&plan, |path| path.poses[100][1] += 1e-5);
     assert!(
         moved.message.contains("from step 101 of") && moved.message.contains("p[1]"),
         "{}",
@@ -365,8 +366,8 @@ fn a_path_that_departs_fails_at_the_step_and_the_element_where_it_does() {
     );
 
     // A run that reports too little, that threw, or that was stopped.
-    let short = graded_with(&plan, |run| {
-        path(run).poses.pop();
+    let short = graded_with_record(&plan, |path| {
+        path.poses.pop();
     });
     assert!(
         short.message.contains(&format!("for {steps} steps")),
@@ -384,7 +385,7 @@ fn a_path_that_departs_fails_at_the_step_and_the_element_where_it_does() {
     let stopped = graded_with(&plan, |run| {
         run.stopped = Some(Stopped {
             during: "square: step 201".to_owned(),
-            cause: "time".to_owned(),
+            cause: Cause::Time,
             limit_ms: None,
         });
     });

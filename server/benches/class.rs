@@ -80,7 +80,7 @@ fn grade_files() -> Vec<Graded> {
     let correct = read("tests/student/correct.js");
     let catalogue: serde_json::Value =
         serde_json::from_str(&read("tests/student/mistakes.json")).expect("the catalogue");
-    let mut sources = vec![read("static/src/ekf/starter.js")];
+    let mut sources = vec![read("labs/src/exercises/ekf_localization/web/starter.js")];
     sources.extend(MISTAKES.iter().map(|m| mistake(&correct, &catalogue, m)));
     sources.push(correct);
     let sandbox = Sandbox::new(PathBuf::from(env!("CARGO_BIN_EXE_estlab")), 1);

@@ -94,7 +94,7 @@ fn the_correct_file_scores_1_with_hidden_cases() {
         assert!(failed.is_empty(), "{seeds:?}:\n{}", failed.join("\n"));
         assert_eq!(result.score, 1.0);
         assert!(result.hidden_cases);
-        assert_eq!(result.lab, "odometry");
+        assert_eq!(result.exercise, Exercise::Odometry);
         assert_eq!(
             result.tests.len(),
             FUNCTIONS.len() + PATHS.len(),

@@ -15,9 +15,8 @@
 //! The packages carry the static build of estlab (scripts/build-static, which
 //! scripts/test runs first); `estlab package` finds it beside the debug build.
 
-use labs::grading::{
-    GradescopeResults, HIDDEN_LATER, PrairieLearnResults, Status, Visibility, student_seed,
-};
+use estlab::platforms::{GradescopeResults, HIDDEN_LATER, PrairieLearnResults};
+use labs::grading::{Status, Visibility, student_seed};
 use serde::Deserialize;
 use serde::de::DeserializeOwned;
 use std::path::{Path, PathBuf};
@@ -683,7 +682,7 @@ fn packages_of_the_odometry_exercise_grade_its_file_and_name_its_workbench() {
     let files = [("odometry.js", ODOMETRY), ("scratch.js", "// notes")];
     let correct = gradescope.grade(&files, &[4301], 8001);
     assert_eq!(correct, gradescope.graded_alone(ODOMETRY, &correct));
-    assert_eq!(correct.extra_data.lab, "odometry");
+    assert_eq!(correct.extra_data.lab, Some(labs::Exercise::Odometry));
     assert!(correct.score.is_some_and(|score| score > 0.0));
     assert!(
         correct.tests.iter().all(|t| t.status == Status::Passed),

@@ -368,6 +368,7 @@
   }
 
   function callFunction(source, phaseJson, progress) {
+    loopsOpen = false;
     const phase = parse(phaseJson);
     const out = record();
     put(out, 'function', phase.function);
@@ -429,6 +430,7 @@
   /// loaded, the functions the loop calls checked, and the loop records what it computes
   /// in the report's `record`. Whatever stops it is recorded with what was being done (`at.doing`).
   function run(source, runJson, progress) {
+    loopsOpen = false;
     const job = parse(runJson);
     const out = record();
     put(out, 'name', job.name);
@@ -452,9 +454,8 @@
         progress(job.name + ': ' + at.doing);
         return plain(apply(functions[name], undefined, args));
       };
-      // What the loop records, tagged by the loop as its job is (`RunRecord` in Rust).
+      // What the loop records (read as the exercise's record type in Rust).
       const kept = put(out, 'record', record());
-      put(kept, 'loop', job.loop);
       loop(job, kept, invoke, at);
     } catch (error) {
       put(out, 'error', (at.doing ? at.doing + ': ' : '') +
@@ -471,138 +472,18 @@
     return check(object[name], name);
   }
 
-  /// The EKF localization exercise's filter loop over a data set, as the lab's.
-  function filterLoop(run, kept, invoke, at) {
-    put(kept, 'init', null);
-    put(kept, 'mu', []);
-    put(kept, 'sigma', []);
-    put(kept, 'c', []);
-    put(kept, 'outlier', []);
-    const init = "init('" + run.dataset + "')";
-    const tuning = put(kept, 'init', invoke('init', [run.dataset], init));
-    let mu = field(tuning, 'mu', vector(3));
-    let sigma = field(tuning, 'sigma', matrix(3, 3));
-    const R = field(tuning, 'R', matrix(3, 3));
-    const Q = field(tuning, 'Q', matrix(2, 2));
-    const lambda = field(tuning, 'Lambda_M', threshold);
-    const robot = run.robot;
-    const M = run.M;
-    const landmarks = M[0].length;
-    const index = (value, what) => {
-      if (typeof value !== 'number' || value % 1 !== 0 || value < 0 || value >= landmarks) {
-        throw new HarnessError(what + ' is ' + describe(value) +
-          ', not a landmark index from 0 to ' + (landmarks - 1));
-      }
-      return value;
-    };
-    const flag = (value, what) => {
-      if (typeof value !== 'boolean') {
-        throw new HarnessError(what + ' is ' + describe(value) + ', not true or false');
-      }
-      return value;
-    };
-    for (let k = 0; k < run.steps.length; k++) {
-      const step = run.steps[k];
-      at.step = 'at time step ' + (k + 1) + ', ';
-      const u = vector(3)(invoke('calculate_odometry', [step.e_r, step.e_l, robot.E_T,
-        robot.B, robot.R_R, robot.R_L, step.delta_t, copy(mu)]), 'u');
-      const bar = invoke('predict', [copy(mu), copy(sigma), u, copy(R)]);
-      let muBar = field(bar, 'mu_bar', vector(3));
-      let sigmaBar = field(bar, 'sigma_bar', matrix(3, 3));
-      const z = step.z;
-      const n = z[0].length;
-      if (run.mode === 'batch') {
-        const a = invoke('batch_associate', [copy(muBar), copy(sigmaBar), copy(z), copy(M),
-          lambda, copy(Q)]);
-        const c = field(a, 'c', list(n));
-        const outlier = field(a, 'outlier', list(n));
-        const nuBar = field(a, 'nu_bar', vector(2 * n));
-        const hBar = field(a, 'H_bar', matrix(2 * n, 3));
-        const H = [];
-        const nu = [];
-        for (let i = 0; i < n; i++) {
-          push(kept.c, index(c[i], 'c[' + i + ']'));
-          if (!flag(outlier[i], 'outlier[' + i + ']')) {
-            push(H, hBar[2 * i]);
-            push(H, hBar[2 * i + 1]);
-            push(nu, nuBar[2 * i]);
-            push(nu, nuBar[2 * i + 1]);
-          }
-          push(kept.outlier, outlier[i]);
-        }
-        if (nu.length > 0) {
-          const post = invoke('batch_update', [copy(muBar), copy(sigmaBar), H,
-            blockDiagonal(Q, nu.length / 2), nu]);
-          muBar = field(post, 'mu', vector(3));
-          sigmaBar = field(post, 'sigma', matrix(3, 3));
-        }
-      } else {
-        for (let i = 0; i < n; i++) {
-          const a = invoke('associate', [copy(muBar), copy(sigmaBar), [z[0][i], z[1][i]],
-            copy(M), lambda, copy(Q)]);
-          const c = index(field(a, 'c', (v) => v), 'c');
-          const isOutlier = flag(field(a, 'outlier', (v) => v), 'outlier');
-          push(kept.c, c);
-          push(kept.outlier, isOutlier);
-          if (!isOutlier) {
-            const H = field(a, 'H', list(landmarks))[c];
-            const S = field(a, 'S', list(landmarks))[c];
-            const nu = field(a, 'nu', list(landmarks))[c];
-            const post = invoke('update', [copy(muBar), copy(sigmaBar),
-              matrix(2, 3)(H, 'H[' + c + ']'), matrix(2, 2)(S, 'S[' + c + ']'),
-              vector(2)(nu, 'nu[' + c + ']')]);
-            muBar = field(post, 'mu', vector(3));
-            sigmaBar = field(post, 'sigma', matrix(3, 3));
-          }
-        }
-      }
-      mu = muBar;
-      sigma = sigmaBar;
-      push(kept.mu, mu);
-      push(kept.sigma, [sigma[0][0], sigma[0][1], sigma[0][2], sigma[1][0], sigma[1][1],
-        sigma[1][2], sigma[2][0], sigma[2][1], sigma[2][2]]);
+  /// The loops of the exercises' runs, by the name their jobs give (`RunPhase` in Rust):
+  /// each exercise's `web/loop.js` adds its own with `estlabHarness.defineLoop(name, make)`
+  /// as the harness is loaded, before any student code runs; the first phase closes the
+  /// list. `make(tools)` returns the loop, `loop(run, kept, invoke, at)`, which reads the
+  /// run's data, calls the student's functions through `invoke` and records in `kept`.
+  const LOOPS = createObject(null);
+  let loopsOpen = true;
+  function defineLoop(name, make) {
+    if (!loopsOpen || hasOwn(LOOPS, name)) {
+      throw new ErrorConstructor('the loop ' + name + ' cannot be defined now');
     }
-  }
-
-  /// The odometry exercise's loop along a path: from the start pose, known exactly
-  /// (Sigma_p = 0), every step carries the pose's covariance through the step's Jacobians
-  /// and adds the wheels' noise, then takes the step; the pose and its covariance after
-  /// every step are recorded.
-  function pathLoop(run, kept, invoke, at) {
-    put(kept, 'poses', []);
-    put(kept, 'covariances', []);
-    const b = run.b;
-    let p = copy(run.start);
-    let sigma = [[0, 0, 0], [0, 0, 0], [0, 0, 0]];
-    for (let k = 0; k < run.steps.length; k++) {
-      const ds_r = run.steps[k][0];
-      const ds_l = run.steps[k][1];
-      at.step = 'at step ' + (k + 1) + ', ';
-      const Fp = matrix(3, 3)(invoke('pose_jacobian', [copy(p), ds_r, ds_l, b]), 'F_p');
-      const Fdelta = matrix(3, 2)(invoke('increment_jacobian', [copy(p), ds_r, ds_l, b]),
-        'F_delta');
-      const sigmaDelta = matrix(2, 2)(invoke('wheel_noise', [ds_r, ds_l, run.k_r, run.k_l]),
-        'Sigma_delta');
-      sigma = matrix(3, 3)(invoke('propagate', [copy(sigma), Fp, Fdelta, sigmaDelta]),
-        'Sigma_p_next');
-      p = vector(3)(invoke('odometry_step', [copy(p), ds_r, ds_l, b]), 'p_next');
-      push(kept.poses, copy(p));
-      push(kept.covariances, copy(sigma));
-    }
-  }
-
-  /// The loops of the exercises, by the name the job gives (`RunPhase` in Rust).
-  const LOOPS = freeze({ __proto__: null, filter: filterLoop, path: pathLoop });
-
-  function blockDiagonal(Q, n) {
-    const out = [];
-    for (let i = 0; i < 2 * n; i++) {
-      const row = put(out, i, []);
-      for (let j = 0; j < 2 * n; j++) {
-        put(row, j, (i >> 1) === (j >> 1) ? Q[i & 1][j & 1] : 0);
-      }
-    }
-    return out;
+    put(LOOPS, name, make(TOOLS));
   }
 
   // Checks of what the loop passes on: a precise message instead of NaN later on.
@@ -660,5 +541,11 @@
     return clip(safeText(value));
   }
 
-  global.estlabHarness = freeze({ callFunction: callFunction, run: run });
+  /// What the harness gives the exercises' loops: its checks, and its ways of recording
+  /// that the student's code cannot tamper with.
+  const TOOLS = freeze({
+    HarnessError, put, push, copy, field, list, vector, matrix, threshold, describe,
+  });
+
+  global.estlabHarness = freeze({ callFunction: callFunction, run: run, defineLoop: defineLoop });
 })(globalThis);

@@ -2,9 +2,8 @@
 //! browser.
 
 use super::{exercise, from_json, seed};
-use labs::Exercise;
-use labs::exercises::{ekf_localization, odometry};
-use labs::grading::{Case, Contract, Generator, Tolerance};
+use labs::exercises::{Graded, Visit};
+use labs::grading::{Case, Tolerance};
 use serde_json::Value;
 use wasm_bindgen::prelude::*;
 
@@ -13,10 +12,21 @@ use wasm_bindgen::prelude::*;
 #[wasm_bindgen(js_name = generateCases)]
 pub fn generate_cases(lab: &str, seed_value: f64, per_function: usize) -> Result<String, JsError> {
     let seed = seed(seed_value)?;
-    Ok(match exercise(lab)? {
-        Exercise::EkfLocalization => cases(ekf_localization::generate, seed, per_function),
-        Exercise::Odometry => cases(odometry::generate, seed, per_function),
-    })
+    Ok(exercise(lab)?.visit(Generated { seed, per_function }))
+}
+
+/// An exercise's generated cases, as JSON.
+struct Generated {
+    seed: u64,
+    per_function: usize,
+}
+
+impl Visit for Generated {
+    type Output = String;
+    fn visit<G: Graded>(self) -> String {
+        let cases = (G::GENERATE)(self.seed, self.per_function);
+        serde_json::to_string(&cases).expect("cases serialise")
+    }
 }
 
 /// Compares what a student function of the exercise `lab` returned (`got`, JSON) with a
@@ -25,18 +35,20 @@ pub fn generate_cases(lab: &str, seed_value: f64, per_function: usize) -> Result
 #[wasm_bindgen(js_name = checkCase)]
 pub fn check_case(lab: &str, case: &str, got: &str) -> Result<String, JsError> {
     let got: Value = from_json("output", got)?;
-    match exercise(lab)? {
-        Exercise::EkfLocalization => check::<ekf_localization::Call>(case, &got),
-        Exercise::Odometry => check::<odometry::Call>(case, &got),
+    exercise(lab)?.visit(Checked { case, got: &got })
+}
+
+/// A case of an exercise (JSON) checked against what the student's function returned.
+struct Checked<'a> {
+    case: &'a str,
+    got: &'a Value,
+}
+
+impl Visit for Checked<'_> {
+    type Output = Result<String, JsError>;
+    fn visit<G: Graded>(self) -> Result<String, JsError> {
+        let case: Case<G::Call> = from_json("case", self.case)?;
+        let mismatches = case.check(self.got, Tolerance::default());
+        Ok(serde_json::to_string(&mismatches).expect("mismatches serialise"))
     }
-}
-
-fn cases<C: Contract>(generate: Generator<C>, seed: u64, per_function: usize) -> String {
-    serde_json::to_string(&generate(seed, per_function)).expect("cases serialise")
-}
-
-fn check<C: Contract>(case: &str, got: &Value) -> Result<String, JsError> {
-    let case: Case<C> = from_json("case", case)?;
-    let mismatches = case.check(got, Tolerance::default());
-    Ok(serde_json::to_string(&mismatches).expect("mismatches serialise"))
 }

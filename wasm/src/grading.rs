@@ -6,8 +6,8 @@ use super::ekf::{Dataset, EkfRun};
 use super::odometry::OdometryPropagation;
 use super::{exercise, from_json, seed};
 use labs::exercises::ekf_localization::{self, RunSpec};
-use labs::exercises::odometry::{PathRecord, PathSpec};
-use labs::grading::{self, Plan, Reports, RunOutput, RunRecord};
+use labs::exercises::odometry::{self, PathRecord, PathSpec};
+use labs::grading::{self, Plan, Reports, RunOutput};
 use labs::odometry::{Path, Propagation};
 use std::iter;
 use wasm_bindgen::prelude::*;
@@ -86,10 +86,7 @@ impl Grader {
     pub fn student_path(&self, output: &str) -> Result<OdometryPropagation, JsError> {
         let output: RunOutput = from_json("run output", output)?;
         let reference = &self.path(&output.name)?.reference;
-        let record = match output.record {
-            Some(RunRecord::Path(record)) => record,
-            _ => PathRecord::default(),
-        };
+        let record: PathRecord = output.record().unwrap_or_default();
         let steps = record
             .poses
             .len()
@@ -114,7 +111,7 @@ impl Grader {
 impl Grader {
     /// An EKF data-set run of the plan.
     fn spec(&self, name: &str) -> Result<&RunSpec, JsError> {
-        let Plan::EkfLocalization(plan) = &self.plan else {
+        let Some(plan) = self.plan.of::<ekf_localization::Plan>() else {
             return Err(JsError::new("this exercise has no data-set runs"));
         };
         plan.run(name)
@@ -123,7 +120,7 @@ impl Grader {
 
     /// An odometry path run of the plan.
     fn path(&self, name: &str) -> Result<&PathSpec, JsError> {
-        let Plan::Odometry(plan) = &self.plan else {
+        let Some(plan) = self.plan.of::<odometry::Plan>() else {
             return Err(JsError::new("this exercise has no path runs"));
         };
         plan.run(name)

@@ -1,6 +1,175 @@
-//! Each graded exercise in a folder of its own: its student contract, its case generator,
-//! its runs of the exercise's loop, its hints and its grading. What every exercise shares
-//! is in [`crate::grading`]; `DESIGN.md`, "Adding an exercise", says how to add one.
+//! The graded exercises, one folder each, and their registry: the one list of them.
+//!
+//! An exercise's folder holds the whole exercise: its student contract, its case
+//! generator, its plan (the cases and the runs of its loop), its hints and its grading in
+//! Rust; its starter file, the harness's loop for its runs and the workbench's view of a
+//! run in JavaScript (`web/`); its texts (its [`Declaration`]); and its contract as prose
+//! (`README.md`). What every exercise shares is in [`crate::grading`], which names none
+//! of them. Everything that lists exercises (the [`Exercise`] enum, the pages, the wasm
+//! grader, the server's sandbox, the platforms, the command line) reads this registry;
+//! `DESIGN.md`, "Adding an exercise", says how to add one.
 
-pub mod ekf_localization;
-pub mod odometry;
+mod declaration;
+
+pub use declaration::{Declaration, Graded, Runs, Visit, Workbench};
+
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
+use std::fmt;
+use std::str::FromStr;
+
+/// The registry: every graded exercise as its variant of [`Exercise`], its module and
+/// the type that declares it ([`Graded`]). The first is the default of the command line.
+macro_rules! registry {
+    ($($(#[$doc:meta])* $variant:ident => $module:ident :: $graded:ident,)+) => {
+        $(pub mod $module;)+
+
+        /// A graded exercise.
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+        pub enum Exercise {
+            $($(#[$doc])* $variant,)+
+        }
+
+        impl Exercise {
+            /// Every graded exercise, in the registry's order.
+            pub const ALL: &'static [Exercise] = &[$(Exercise::$variant),+];
+
+            /// Calls `visitor` with the exercise's [`Graded`] type.
+            pub fn visit<V: Visit>(self, visitor: V) -> V::Output {
+                match self {
+                    $(Exercise::$variant => visitor.visit::<$module::$graded>(),)+
+                }
+            }
+        }
+    };
+}
+
+registry! {
+    /// EKF localization of a differential-drive robot (EL2320 Lab 1, part II).
+    EkfLocalization => ekf_localization::EkfLocalization,
+    /// Odometry of a differential-drive robot and how its error grows: one step, its
+    /// Jacobians, the wheels' noise and the propagation of the pose's covariance.
+    Odometry => odometry::Odometry,
+}
+
+impl Default for Exercise {
+    fn default() -> Exercise {
+        Exercise::ALL[0]
+    }
+}
+
+/// The declaration of an exercise, read from its [`Graded`] type.
+struct Declared;
+
+impl Visit for Declared {
+    type Output = &'static Declaration;
+    fn visit<G: Graded>(self) -> &'static Declaration {
+        &G::DECLARATION
+    }
+}
+
+impl Exercise {
+    /// What the exercise declares of itself: its name, title, file and texts.
+    pub fn declaration(self) -> &'static Declaration {
+        self.visit(Declared)
+    }
+
+    /// The name the API, the command line, the store and the packages use.
+    pub fn name(self) -> &'static str {
+        self.declaration().name
+    }
+
+    /// What a person calls it: "EKF localization".
+    pub fn title(self) -> &'static str {
+        self.declaration().title
+    }
+
+    /// The student's file, as the workbench downloads it and the platforms' packages
+    /// look for it: `ekf_localization.js`.
+    pub fn file_name(self) -> &'static str {
+        self.declaration().file_name
+    }
+
+    /// Every exercise's name, for a message or a command line's choices.
+    pub fn names() -> Vec<&'static str> {
+        Exercise::ALL.iter().map(|e| e.name()).collect()
+    }
+}
+
+impl fmt::Display for Exercise {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// A name that is no exercise's.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("unknown exercise {given:?}; the exercises graded here: {}", Exercise::names().join(", "))]
+pub struct UnknownExercise {
+    pub given: String,
+}
+
+impl FromStr for Exercise {
+    type Err = UnknownExercise;
+
+    fn from_str(name: &str) -> Result<Exercise, UnknownExercise> {
+        Exercise::ALL
+            .iter()
+            .copied()
+            .find(|e| e.name() == name)
+            .ok_or_else(|| UnknownExercise {
+                given: name.to_owned(),
+            })
+    }
+}
+
+impl Serialize for Exercise {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.serialize_str(self.name())
+    }
+}
+
+impl<'de> Deserialize<'de> for Exercise {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Exercise, D::Error> {
+        let name = String::deserialize(deserializer)?;
+        name.parse().map_err(serde::de::Error::custom)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::BTreeSet;
+
+    #[test]
+    fn names_round_trip_and_an_unknown_one_lists_the_known() {
+        for &exercise in Exercise::ALL {
+            assert_eq!(exercise.name().parse(), Ok(exercise));
+            assert_eq!(
+                serde_json::to_value(exercise).unwrap(),
+                serde_json::json!(exercise.name())
+            );
+        }
+        let unknown = "particle-filter".parse::<Exercise>().unwrap_err();
+        assert_eq!(
+            unknown.to_string(),
+            "unknown exercise \"particle-filter\"; the exercises graded here: ekf-localization, odometry"
+        );
+    }
+
+    /// What tells exercises apart in a URL, a file and the harness is each one's own.
+    #[test]
+    fn every_exercise_declares_names_of_its_own() {
+        let mut seen = BTreeSet::new();
+        for &exercise in Exercise::ALL {
+            let d = exercise.declaration();
+            for name in [d.name, d.file_name, d.run_loop, d.workbench.path] {
+                assert!(seen.insert(name), "{name} declared twice");
+            }
+            assert!(d.workbench.path.starts_with('/'), "{}", d.workbench.path);
+            assert!(d.file_name.ends_with(".js"), "{}", d.file_name);
+            for text in [d.title, d.runs.noun, d.starter, d.harness_loop] {
+                assert!(!text.trim().is_empty(), "{}: an empty text", d.name);
+            }
+        }
+    }
+}

@@ -4,7 +4,7 @@
 //! call with the output it must return.
 
 use super::compare::{Mismatch, Shape, Tolerance, compare};
-use super::hints::{Hint, HintKind};
+use super::hints::{Hint, Mistake};
 use crate::{Error, Exercise};
 use serde::de::{DeserializeOwned, Deserializer, IgnoredAny, MapAccess, Visitor};
 use serde::{Deserialize, Serialize};
@@ -18,9 +18,11 @@ pub trait Contract: Clone + Debug + PartialEq + Serialize + DeserializeOwned {
     const EXERCISE: Exercise;
     /// The student functions, in the order the exercise introduces them.
     const FUNCTIONS: &'static [&'static str];
-    /// The hint for a function that answers a call differently in a fresh copy of the
+    /// The exercise's classic mistakes.
+    type Mistake: Mistake;
+    /// The mistake of a function that answers a call differently in a fresh copy of the
     /// file (it keeps state between calls).
-    const KEEPS_STATE: HintKind;
+    const KEEPS_STATE: Self::Mistake;
 
     /// The function's name in the contract.
     fn function(&self) -> &'static str;

@@ -5,7 +5,7 @@
 
 use super::compare::Tolerance;
 use super::contract::Contract;
-use super::hints::describe;
+use super::hints::{Mistake, describe};
 use super::outputs::FunctionOutput;
 use super::result::{Failure, POINTS, Status, Test, Visibility};
 use super::suite::{FUNCTION_LIMIT_MS, PlannedCase, Suite, cases_of};

@@ -6,9 +6,11 @@
 use super::compare::{Mismatch, Problem, Tolerance, compare};
 use super::contract::Contract;
 use super::infinity;
-use crate::exercises::{ekf_localization, odometry};
-use serde::{Deserialize, Serialize};
+use crate::Exercise;
+use crate::exercises::{Graded, Visit};
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use serde_json::Value;
+use strum::VariantArray;
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Hint {
@@ -17,18 +19,33 @@ pub struct Hint {
 }
 
 /// A classic mistake, of any exercise: stored by its name alone, which is unique across
-/// the exercises (`wrong_shape`, `wheels_swapped`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(untagged)]
-pub enum HintKind {
-    Common(Common),
-    EkfLocalization(ekf_localization::HintKind),
-    Odometry(odometry::HintKind),
+/// the exercises (`wrong_shape`, `wheels_swapped`), and read back as the same mistake.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct HintKind {
+    name: &'static str,
+    text: &'static str,
+}
+
+/// An exercise's classic mistakes (or the [`Common`] ones): each has a name, unique
+/// across the exercises, and a text that explains it to the student.
+pub trait Mistake: Copy + VariantArray + Into<&'static str> + 'static {
+    fn text(self) -> &'static str;
+
+    fn kind(self) -> HintKind {
+        HintKind {
+            name: self.into(),
+            text: self.text(),
+        }
+    }
+
+    fn hint(self) -> Hint {
+        self.kind().hint()
+    }
 }
 
 /// The mistakes an output of any exercise can show.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, strum::IntoStaticStr, strum::VariantArray)]
+#[strum(serialize_all = "snake_case")]
 pub enum Common {
     /// A matrix the contract says is symmetrised is not exactly symmetric.
     NotSymmetrised,
@@ -36,14 +53,7 @@ pub enum Common {
     NotFinite,
 }
 
-impl Common {
-    /// Every kind, for the test that each has a name of its own.
-    pub const ALL: [Common; 3] = [
-        Common::NotSymmetrised,
-        Common::WrongShape,
-        Common::NotFinite,
-    ];
-
+impl Mistake for Common {
     fn text(self) -> &'static str {
         match self {
             Common::NotSymmetrised => {
@@ -58,26 +68,61 @@ impl Common {
             }
         }
     }
-
-    pub fn hint(self) -> Hint {
-        HintKind::Common(self).hint()
-    }
 }
 
 impl HintKind {
-    pub fn text(self) -> &'static str {
-        match self {
-            HintKind::Common(kind) => kind.text(),
-            HintKind::EkfLocalization(kind) => kind.text(),
-            HintKind::Odometry(kind) => kind.text(),
+    /// Every mistake of every exercise, the common ones first.
+    pub fn every() -> Vec<HintKind> {
+        struct Mistakes;
+        impl Visit for Mistakes {
+            type Output = Vec<HintKind>;
+            fn visit<G: Graded>(self) -> Vec<HintKind> {
+                kinds::<<G::Call as Contract>::Mistake>()
+            }
         }
+        let mut every = kinds::<Common>();
+        for exercise in Exercise::ALL {
+            every.extend(exercise.visit(Mistakes));
+        }
+        every
+    }
+
+    /// Its name, as it is stored.
+    pub fn name(self) -> &'static str {
+        self.name
+    }
+
+    pub fn text(self) -> &'static str {
+        self.text
     }
 
     pub fn hint(self) -> Hint {
         Hint {
             kind: self,
-            text: self.text().to_owned(),
+            text: self.text.to_owned(),
         }
+    }
+}
+
+fn kinds<M: Mistake>() -> Vec<HintKind> {
+    M::VARIANTS.iter().map(|m| m.kind()).collect()
+}
+
+impl Serialize for HintKind {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.serialize_str(self.name)
+    }
+}
+
+impl<'de> Deserialize<'de> for HintKind {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<HintKind, D::Error> {
+        let name = String::deserialize(deserializer)?;
+        HintKind::every()
+            .into_iter()
+            .find(|kind| kind.name == name)
+            .ok_or_else(|| {
+                serde::de::Error::custom(format!("no exercise has the mistake {name:?}"))
+            })
     }
 }
 
@@ -155,7 +200,7 @@ fn shape_hint(mismatch: &Mismatch, got: &Value) -> Hint {
         });
     }
     Hint {
-        kind: HintKind::Common(Common::WrongShape),
+        kind: Common::WrongShape.kind(),
         text,
     }
 }
@@ -227,12 +272,9 @@ mod tests {
     /// exercises and reads back as the same hint, with a text.
     #[test]
     fn every_hint_has_a_name_of_its_own_and_reads_back_as_itself() {
-        let every = Common::ALL
-            .map(HintKind::Common)
-            .into_iter()
-            .chain(ekf_localization::HintKind::ALL.map(HintKind::EkfLocalization))
-            .chain(odometry::HintKind::ALL.map(HintKind::Odometry));
         let mut names = BTreeSet::new();
+        let every = HintKind::every();
+        assert!(every.len() > Common::VARIANTS.len());
         for kind in every {
             let stored = serde_json::to_value(kind).unwrap();
             assert!(names.insert(stored.to_string()), "{stored} twice");
@@ -240,5 +282,7 @@ mod tests {
             assert_eq!(read, kind, "{stored}");
             assert!(!kind.text().is_empty());
         }
+        let unknown = serde_json::from_value::<HintKind>(serde_json::json!("no_such_mistake"));
+        assert!(unknown.is_err());
     }
 }

@@ -3,10 +3,9 @@
 //! the exercise's loop (the data, never the ground truth), each with its time limit. Made
 //! by [`Plan::job`](super::Plan::job); the harness reads it as JSON.
 
-use crate::exercises::ekf_localization::FilterRun;
-use crate::exercises::odometry::PathRun;
+use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
-use serde_json::Value;
+use serde_json::{Map, Value};
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Job {
@@ -31,32 +30,40 @@ pub struct CallJob {
     pub args: Vec<Value>,
 }
 
-/// One run of an exercise's loop with the student's functions (`estlabHarness.run`),
-/// which the harness tells apart by its `loop`.
+/// One run of an exercise's loop with the student's functions (`estlabHarness.run`): the
+/// envelope every exercise's runs share around the exercise's own data, which its loop in
+/// the harness reads.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "loop", rename_all = "snake_case")]
-pub enum RunPhase {
-    /// The EKF localization exercise's filter loop over a data set.
-    Filter(FilterRun),
-    /// The odometry exercise's loop along a path, propagating the pose's covariance.
-    Path(PathRun),
+pub struct RunPhase {
+    /// The harness's loop: the exercise's [`run_loop`](crate::exercises::Declaration::run_loop).
+    #[serde(rename = "loop")]
+    pub run_loop: String,
+    /// `no-odometry/batch`.
+    pub name: String,
+    /// CPU time for the whole run.
+    pub limit_ms: u32,
+    /// The exercise's data of the run, as its loop reads it.
+    #[serde(flatten)]
+    pub data: Map<String, Value>,
 }
 
 impl RunPhase {
-    /// `no-odometry/batch`.
-    pub fn name(&self) -> &str {
-        match self {
-            RunPhase::Filter(run) => &run.name,
-            RunPhase::Path(run) => &run.name,
+    /// A run of the loop `run_loop` called `name` over `data`, an object.
+    pub fn new(run_loop: &str, name: &str, limit_ms: u32, data: &impl Serialize) -> RunPhase {
+        let Ok(Value::Object(data)) = serde_json::to_value(data) else {
+            panic!("a run's data serialises as an object");
+        };
+        RunPhase {
+            run_loop: run_loop.to_owned(),
+            name: name.to_owned(),
+            limit_ms,
+            data,
         }
     }
 
-    /// CPU time for the whole run.
-    pub fn limit_ms(&self) -> u32 {
-        match self {
-            RunPhase::Filter(run) => run.limit_ms,
-            RunPhase::Path(run) => run.limit_ms,
-        }
+    /// The exercise's data of the run, read back.
+    pub fn data<T: DeserializeOwned>(&self) -> Result<T, serde_json::Error> {
+        serde_json::from_value(Value::Object(self.data.clone()))
     }
 }
 
@@ -101,14 +108,14 @@ impl Phase<'_> {
     pub fn name(&self) -> &str {
         match self {
             Phase::Function(phase) => &phase.function,
-            Phase::Run(phase) => phase.name(),
+            Phase::Run(phase) => &phase.name,
         }
     }
 
     pub fn limit_ms(&self) -> u32 {
         match self {
             Phase::Function(phase) => phase.limit_ms,
-            Phase::Run(phase) => phase.limit_ms(),
+            Phase::Run(phase) => phase.limit_ms,
         }
     }
 

@@ -20,7 +20,6 @@ mod hints;
 pub mod infinity;
 mod job;
 mod outputs;
-mod platforms;
 mod result;
 mod suite;
 
@@ -31,15 +30,11 @@ pub use compare::{
 pub use contract::{Case, Contract};
 pub use functions::{FunctionVerdicts, function_tests};
 pub use hints::{
-    Common, Hint, HintKind, describe, form_hint, holds_non_finite, negated, transpose,
+    Common, Hint, HintKind, Mistake, describe, form_hint, holds_non_finite, negated, transpose,
 };
 pub use job::{CallJob, FunctionPhase, Job, Phase, PhaseKind, RunPhase};
 pub use outputs::{
-    CallResult, FunctionOutput, Outputs, PhaseOutput, Reports, RunOutput, RunRecord, Stopped,
-};
-pub use platforms::{
-    GraderData, GradescopeResults, GradescopeTest, HIDDEN_LATER, PrairieLearnResults,
-    PrairieLearnTest,
+    CallResult, Cause, FunctionOutput, Outputs, PhaseOutput, Reports, RunOutput, Stopped,
 };
 pub use result::{Failure, GradeResult, POINTS, RunFigures, Status, Test, Visibility};
 pub use suite::{
@@ -48,7 +43,10 @@ pub use suite::{
 };
 
 use crate::Exercise;
-use crate::exercises::{ekf_localization, odometry};
+use crate::exercises::{Graded, Visit};
+use std::any::Any;
+use std::fmt::Debug;
+use std::sync::Arc;
 
 /// The course a student's variant belongs to unless another is named.
 pub const DEFAULT_COURSE: &str = "el2320";
@@ -65,52 +63,66 @@ pub fn student_seed(course: &str, student: &str) -> u64 {
 }
 
 /// Everything one grading of an exercise checks, made from the student's seed and, on the
-/// server, a seed of hidden cases.
+/// server, a seed of hidden cases: the exercise's own plan ([`ExercisePlan`]).
 #[derive(Clone, Debug)]
-pub enum Plan {
-    EkfLocalization(ekf_localization::Plan),
-    Odometry(odometry::Plan),
+pub struct Plan(Arc<dyn ExercisePlan>);
+
+/// An exercise's plan of a grading: its cases and runs, the job they make and the grading
+/// of what the harness reported.
+pub trait ExercisePlan: Any + Debug + Send + Sync {
+    fn exercise(&self) -> Exercise;
+
+    /// The seed of the student's variant.
+    fn seed(&self) -> u64;
+
+    /// What the harness carries out with the student's code.
+    fn job(&self) -> Job;
+
+    /// Grades what the harness reported; tests whose outputs are missing fail as not run.
+    fn grade(&self, outputs: &Outputs) -> GradeResult;
+}
+
+/// The plan of an exercise, made by its [`Graded`](crate::exercises::Graded) type.
+struct Planned {
+    seed: u64,
+    hidden: Option<u64>,
+}
+
+impl Visit for Planned {
+    type Output = Plan;
+    fn visit<G: Graded>(self) -> Plan {
+        Plan(Arc::new(G::plan(self.seed, self.hidden)))
+    }
 }
 
 impl Plan {
     /// The plan of `exercise` for the variant `seed`; with `hidden`, hidden cases (and
     /// runs) drawn from it besides, as the server grades.
     pub fn new(exercise: Exercise, seed: u64, hidden: Option<u64>) -> Plan {
-        match exercise {
-            Exercise::EkfLocalization => {
-                Plan::EkfLocalization(ekf_localization::Plan::new(seed, hidden))
-            }
-            Exercise::Odometry => Plan::Odometry(odometry::Plan::new(seed, hidden)),
-        }
+        exercise.visit(Planned { seed, hidden })
     }
 
     pub fn exercise(&self) -> Exercise {
-        match self {
-            Plan::EkfLocalization(_) => Exercise::EkfLocalization,
-            Plan::Odometry(_) => Exercise::Odometry,
-        }
+        self.0.exercise()
     }
 
     pub fn seed(&self) -> u64 {
-        match self {
-            Plan::EkfLocalization(plan) => plan.seed,
-            Plan::Odometry(plan) => plan.seed,
-        }
+        self.0.seed()
     }
 
     /// What the harness carries out with the student's code.
     pub fn job(&self) -> Job {
-        match self {
-            Plan::EkfLocalization(plan) => plan.job(),
-            Plan::Odometry(plan) => plan.job(),
-        }
+        self.0.job()
     }
 
     /// Grades what the harness reported; tests whose outputs are missing fail as not run.
     pub fn grade(&self, outputs: &Outputs) -> GradeResult {
-        match self {
-            Plan::EkfLocalization(plan) => ekf_localization::grade(plan, outputs),
-            Plan::Odometry(plan) => odometry::grade(plan, outputs),
-        }
+        self.0.grade(outputs)
+    }
+
+    /// The exercise's own plan, when it is an `E` (a view of one exercise's runs asks).
+    pub fn of<E: ExercisePlan>(&self) -> Option<&E> {
+        let plan: &dyn Any = self.0.as_ref();
+        plan.downcast_ref()
     }
 }

@@ -4,8 +4,6 @@
 //! as the string "undefined".
 
 use super::job::Job;
-use crate::exercises::ekf_localization::FilterRecord;
-use crate::exercises::odometry::PathRecord;
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
@@ -36,7 +34,7 @@ impl Outputs {
                 .iter()
                 .map(|p| function(&p.function))
                 .collect(),
-            runs: job.runs.iter().map(|p| run(p.name())).collect(),
+            runs: job.runs.iter().map(|p| run(&p.name)).collect(),
         }
     }
 }
@@ -132,7 +130,7 @@ impl PhaseOutput for RunOutput {
             name: name.to_owned(),
             error: Some(error),
             stopped: None,
-            record: None,
+            recorded: None,
         }
     }
 }
@@ -194,20 +192,23 @@ pub struct RunOutput {
     /// Set by the host when it stopped the code.
     #[serde(default)]
     pub stopped: Option<Stopped>,
-    /// What the loop recorded until it ended (none when the file did not load).
-    #[serde(default)]
-    pub record: Option<RunRecord>,
-}
-
-/// What a run of a loop records, tagged by the loop as its job is (`RunPhase`).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "loop", rename_all = "snake_case")]
-pub enum RunRecord {
-    Filter(FilterRecord),
-    Path(PathRecord),
+    /// What the loop recorded until it ended (none when the file did not load), as the
+    /// exercise's loop writes it: read with [`RunOutput::record`].
+    #[serde(default, rename = "record")]
+    pub recorded: Option<Value>,
 }
 
 impl RunOutput {
+    /// What the loop recorded, read as the exercise's record `R`: its default when the
+    /// run recorded nothing, and why not when the record does not read (the student's
+    /// code can spoil what the harness writes).
+    pub fn record<R: DeserializeOwned + Default>(&self) -> Result<R, String> {
+        match &self.recorded {
+            None => Ok(R::default()),
+            Some(record) => R::deserialize(record).map_err(|e| format!("{UNREADABLE} ({e}).")),
+        }
+    }
+
     /// A run the host stopped.
     pub fn stopped(name: &str, stopped: Stopped) -> RunOutput {
         RunOutput {
@@ -224,8 +225,7 @@ impl RunOutput {
 pub struct Stopped {
     /// What was running: a case id, or a run's step.
     pub during: String,
-    /// "time", or what else stopped it ("out of memory").
-    pub cause: String,
+    pub cause: Cause,
     /// The time limit that ran out, when it was not the phase's own (the file's top level
     /// is evaluated once, with a limit of its own, before any phase).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -235,14 +235,28 @@ pub struct Stopped {
 impl Stopped {
     /// What happened, for the student; `phase_limit_ms` is the phase's time limit.
     pub fn message(&self, phase_limit_ms: u32) -> String {
-        if self.cause == "time" {
-            format!(
+        match &self.cause {
+            Cause::Time => format!(
                 "Stopped after {} s, the time limit, while running {}: an endless loop, or far too much work?",
                 f64::from(self.limit_ms.unwrap_or(phase_limit_ms)) / 1000.0,
                 self.during
-            )
-        } else {
-            format!("Stopped while running {}: {}.", self.during, self.cause)
+            ),
+            Cause::Cancelled => format!("Stopped while running {}: you stopped it.", self.during),
+            Cause::Other(what) => format!("Stopped while running {}: {what}.", self.during),
         }
     }
+}
+
+/// What stopped the student's code.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum Cause {
+    /// The phase's time limit ran out.
+    #[serde(rename = "time")]
+    Time,
+    /// The student stopped it (in the browser).
+    #[serde(rename = "you stopped it")]
+    Cancelled,
+    /// Anything else, in words: "out of memory (the limit is 64 MB)".
+    #[serde(untagged)]
+    Other(String),
 }

@@ -8,7 +8,9 @@ use serde_json::Value;
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct GradeResult {
-    pub lab: String,
+    /// The exercise graded (`lab` on the wire, as results have always named it).
+    #[serde(rename = "lab")]
+    pub exercise: Exercise,
     pub seed: u64,
     /// False when the sandbox itself failed (not the student's code): the submission is
     /// then neither passed nor failed, and `reason` says what happened.
@@ -244,7 +246,7 @@ impl GradeResult {
         let points: f64 = tests.iter().map(|t| t.points).sum();
         let max_points: f64 = tests.iter().map(|t| t.max_points).sum();
         GradeResult {
-            lab: exercise.name().to_owned(),
+            exercise,
             seed,
             gradable: true,
             reason: None,
@@ -257,9 +259,9 @@ impl GradeResult {
     }
 
     /// The result of a grading the sandbox could not carry out.
-    pub fn not_gradable(lab: &str, seed: u64, reason: impl Into<String>) -> GradeResult {
+    pub fn not_gradable(exercise: Exercise, seed: u64, reason: impl Into<String>) -> GradeResult {
         GradeResult {
-            lab: lab.to_owned(),
+            exercise,
             seed,
             gradable: false,
             reason: Some(reason.into()),
@@ -277,10 +279,7 @@ impl GradeResult {
 
     /// What a result graded without hidden cases leaves out, for a person reading it.
     pub fn shown_only(exercise: Exercise) -> String {
-        let unseen = match exercise {
-            Exercise::EkfLocalization => "data sets",
-            Exercise::Odometry => "paths",
-        };
+        let unseen = exercise.declaration().runs.noun;
         format!(
             "Graded on the shown cases only: the server also grades hidden cases drawn from its secret, and {unseen} you have not seen."
         )

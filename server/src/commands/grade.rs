@@ -2,6 +2,7 @@
 
 use super::{print, read};
 use crate::error::Error;
+use crate::platforms::{GradescopeResults, PrairieLearnResults};
 use crate::sandbox::{Sandbox, check_size, cores};
 use crate::submissions::{Secret, grader_version};
 use labs::Exercise;
@@ -68,8 +69,12 @@ pub fn run(args: &Args) -> Result<(), Error> {
     let result = sandbox.grade(args.lab, &source, seed, hidden);
     let text = match args.format {
         Format::Json => serde_json::to_string_pretty(&result),
-        Format::Gradescope => serde_json::to_string_pretty(&result.gradescope(&grader, key)),
-        Format::Prairielearn => serde_json::to_string_pretty(&result.prairielearn(&grader, key)),
+        Format::Gradescope => {
+            serde_json::to_string_pretty(&GradescopeResults::of(&result, &grader, key))
+        }
+        Format::Prairielearn => {
+            serde_json::to_string_pretty(&PrairieLearnResults::of(&result, &grader, key))
+        }
         Format::Text => Ok(result
             .tests
             .iter()

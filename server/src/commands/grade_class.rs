@@ -226,7 +226,7 @@ fn write_results(rows: &[Row], dir: &Path, exercise: Exercise, course: &str) -> 
         let result = match &row.outcome {
             Outcome::Graded(result) => result.clone(),
             Outcome::Unreadable(reason) => {
-                GradeResult::not_gradable(exercise.name(), student_seed(course, &row.id), reason)
+                GradeResult::not_gradable(exercise, student_seed(course, &row.id), reason)
             }
         };
         let path = dir.join(format!("{}.json", row.id));

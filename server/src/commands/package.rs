@@ -96,7 +96,7 @@ pub fn run(args: &Args) -> Result<(), Error> {
                     secret: &secret,
                     image,
                     uuid: uuid()?,
-                    starter: crate::web::starter_file(common.lab),
+                    starter: common.lab.declaration().starter,
                     workbench: workbench.as_deref(),
                 },
             )?;

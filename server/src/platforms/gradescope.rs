@@ -6,9 +6,9 @@
 //! files in `/autograder/submission` and `/autograder/submission_metadata.json` beside
 //! them, and shows `/autograder/results/results.json`.
 
-use super::{Drawn, PackagedGrader, SECRET, SETTINGS, Settings, write_graded};
+use super::{Drawn, GradescopeResults, PackagedGrader, SECRET, SETTINGS, Settings, write_graded};
 use crate::error::Error;
-use labs::grading::{GradescopeResults, student_seed};
+use labs::grading::student_seed;
 use serde::Deserialize;
 use std::io::Write;
 use std::path::Path;
@@ -85,9 +85,7 @@ struct User {
 /// `?seed=N` on the exercise's workbench. When the package or the metadata cannot be read, the results say
 /// so (worth nothing) and the error is returned.
 pub fn autograde(root: &Path) -> Result<(), Error> {
-    write_graded(root, graded(root), |result| {
-        result.gradescope("estlab", None)
-    })
+    write_graded(root, graded(root), GradescopeResults::unreadable)
 }
 
 fn graded(root: &Path) -> Result<GradescopeResults, Error> {
@@ -111,5 +109,5 @@ fn graded(root: &Path) -> Result<GradescopeResults, Error> {
         seed,
         Drawn::GradescopeSubmission(metadata.id),
     );
-    Ok(result.gradescope(&grader.version, key))
+    Ok(GradescopeResults::of(&result, &grader.version, key))
 }

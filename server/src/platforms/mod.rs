@@ -10,6 +10,7 @@
 pub mod elf;
 pub mod gradescope;
 pub mod prairielearn;
+mod results;
 mod submitted;
 
 use crate::error::Error;
@@ -21,6 +22,10 @@ use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 use std::path::Path;
 
+pub use results::{
+    GraderData, GradescopeResults, GradescopeTest, HIDDEN_LATER, PrairieLearnResults,
+    PrairieLearnTest,
+};
 pub use submitted::student_file;
 
 /// The file of a package holding its [`Settings`].
@@ -75,7 +80,7 @@ impl PackagedGrader {
     /// returned beside the result); a submission without one gradable file is not
     /// gradable, and says why.
     pub fn grade(&self, submitted: &Path, seed: u64, drawn: Drawn) -> (GradeResult, Option<i64>) {
-        let lab = self.settings.lab.name();
+        let lab = self.settings.lab;
         let not_gradable = |reason: String| (GradeResult::not_gradable(lab, seed, reason), None);
         let path = match student_file(submitted, self.settings.lab.file_name()) {
             Ok(path) => path,
@@ -142,20 +147,18 @@ impl Drawn {
 }
 
 /// Writes the results `graded` made under `root`; when grading could not even start (the
-/// package or the platform's metadata unreadable), writes a result that says why, worth
-/// nothing, in the platform's format (`export`), and returns the error.
+/// package or the platform's metadata unreadable), writes results that say why, worth
+/// nothing, in the platform's format (`unreadable`), and returns the error.
 fn write_graded<R: Serialize>(
     root: &Path,
     graded: Result<R, Error>,
-    export: impl FnOnce(&GradeResult) -> R,
+    unreadable: impl FnOnce(&str) -> R,
 ) -> Result<(), Error> {
     match graded {
         Ok(results) => write_results(root, &results),
         Err(error) => {
             let reason = format!("the package could not grade this submission: {error}");
-            // Which exercise the package grades is in what could not be read.
-            let result = GradeResult::not_gradable("unknown", 0, reason);
-            write_results(root, &export(&result))?;
+            write_results(root, &unreadable(&reason))?;
             Err(error)
         }
     }

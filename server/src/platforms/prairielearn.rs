@@ -6,10 +6,9 @@
 //! question's data in `/grade/data/data.json`, runs the entrypoint, and reads
 //! `/grade/results/results.json`.
 
-use super::{Drawn, PackagedGrader, SECRET, Settings, write_graded};
+use super::{Drawn, PackagedGrader, PrairieLearnResults, SECRET, Settings, write_graded};
 use crate::error::Error;
 use labs::Exercise;
-use labs::grading::PrairieLearnResults;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -148,28 +147,11 @@ def generate(data):
     data["params"]["seed"] = int(data["variant_seed"]) % (2**53)
 "#;
 
-/// What the student implements, and what the grader runs besides the cases.
-fn task(exercise: Exercise) -> (&'static str, &'static str) {
-    match exercise {
-        Exercise::EkfLocalization => (
-            "the odometry, the prediction, the observation model and its Jacobian, the \
-             maximum-likelihood association with the outlier test, and the sequential and \
-             batch updates",
-            "runs whole data sets against the lab's error bounds",
-        ),
-        Exercise::Odometry => (
-            "one step of odometry, its Jacobians with respect to the pose and to the \
-             wheels' distances, the wheels' noise, and one step of the propagation of the \
-             pose's covariance",
-            "drives your functions along whole paths against the reference",
-        ),
-    }
-}
-
 fn question_html(exercise: Exercise, workbench: Option<&str>) -> String {
     let page = crate::web::workbench_path(exercise);
     let file = exercise.file_name();
-    let (functions, runs) = task(exercise);
+    let declared = exercise.declaration();
+    let (functions, runs) = (declared.functions, declared.runs.graded);
     let run = match workbench {
         Some(url) => format!(
             "Run the tests of your variant in your browser, as often as you like, in\n    \
@@ -241,9 +223,7 @@ struct Params {
 /// [`Drawn`]). When the package or the data cannot be read, the results say so (not
 /// gradable, which costs no attempt) and the error is returned.
 pub fn autograde(root: &Path) -> Result<(), Error> {
-    write_graded(root, graded(root), |result| {
-        result.prairielearn("estlab", None)
-    })
+    write_graded(root, graded(root), PrairieLearnResults::unreadable)
 }
 
 fn graded(root: &Path) -> Result<PrairieLearnResults, Error> {
@@ -263,5 +243,5 @@ fn graded(root: &Path) -> Result<PrairieLearnResults, Error> {
         seed,
         Drawn::PrairieLearnVariant(seed),
     );
-    Ok(result.prairielearn(&grader.version, key))
+    Ok(PrairieLearnResults::of(&result, &grader.version, key))
 }

@@ -1,5 +1,6 @@
 //! Inside the worker process: the student's code in QuickJS, driven by the same harness
-//! the browser's Web Worker runs (`static/src/harness.js`). The engine has no file system,
+//! the browser's Web Worker runs (`static/src/harness.js`, with the loop of the exercise
+//! whose run a phase is, from its folder). The engine has no file system,
 //! network, module loader or host functions beyond the harness's progress callback; each
 //! phase of the job runs within a limit of its own CPU time (the interrupt handler reads
 //! the clock of the engine's thread, so a busy machine changes no verdict), a memory limit
@@ -10,9 +11,10 @@
 use super::cpu::ThreadClock;
 use super::memory::Metered;
 use super::watchdog::{Pulse, Watchdog};
+use labs::Exercise;
 use labs::grading::{
-    FUNCTION_LIMIT_MS, FunctionOutput, FunctionPhase, Job, Outputs, Phase, PhaseKind, PhaseOutput,
-    RunOutput, Stopped,
+    Cause, FUNCTION_LIMIT_MS, FunctionOutput, FunctionPhase, Job, Outputs, Phase, PhaseKind,
+    PhaseOutput, RunOutput, Stopped,
 };
 use rquickjs::{CatchResultExt, CaughtError, Context, Function, Object, Persistent, Runtime};
 use std::cell::{Cell, RefCell};
@@ -76,8 +78,9 @@ struct Engine {
 }
 
 impl Engine {
-    /// An engine with the harness loaded, showing the watchdog its `pulse`.
-    fn new(pulse: Arc<Pulse>) -> Result<Engine, String> {
+    /// An engine with the harness loaded, and the loop of the exercise whose run it is to
+    /// carry out if it is one, showing the watchdog its `pulse`.
+    fn new(pulse: Arc<Pulse>, run_loop: Option<&str>) -> Result<Engine, String> {
         let out_of_memory = Rc::new(RefCell::new(None));
         let allocator = Metered::new(MEMORY_LIMIT, Arc::clone(&pulse), Rc::clone(&out_of_memory));
         let runtime = Runtime::new_with_alloc(allocator).map_err(|e| format!("QuickJS: {e}"))?;
@@ -96,6 +99,11 @@ impl Engine {
             ctx.eval::<(), _>(HARNESS)
                 .catch(&ctx)
                 .map_err(|e| format!("the harness: {e}"))?;
+            if let Some(source) = run_loop {
+                ctx.eval::<(), _>(source)
+                    .catch(&ctx)
+                    .map_err(|e| format!("the harness's loop: {e}"))?;
+            }
             let harness: Object = ctx
                 .globals()
                 .get("estlabHarness")
@@ -146,7 +154,7 @@ impl Engine {
         // Where it stopped: where it ran out of memory, if it did, else where it was
         // when it ended (what the harness said last).
         let out_of_memory = self.out_of_memory.borrow().clone();
-        let stopped = |label: String, cause: String| Stopped {
+        let stopped = |label: String, cause: Cause| Stopped {
             limit_ms: None,
             during: if label.is_empty() {
                 "your file".to_owned()
@@ -156,20 +164,20 @@ impl Engine {
             cause,
         };
         match (outcome, out_of_memory) {
-            _ if over_time => Err(stopped(pulse.label(), "time".to_owned())),
+            _ if over_time => Err(stopped(pulse.label(), Cause::Time)),
             // However the phase ended: its code, or the harness after it, lacked memory
             // for something, and what it reported is not to be trusted.
             (_, Some(label)) => Err(stopped(
                 label,
-                format!(
+                Cause::Other(format!(
                     "out of memory (the limit is {} MB): far too much data allocated",
                     MEMORY_LIMIT >> 20
-                ),
+                )),
             )),
             (Ok(report), None) => Ok(report),
             (Err(what), None) => Err(stopped(
                 pulse.label(),
-                format!("the test harness failed: {what}"),
+                Cause::Other(format!("the test harness failed: {what}")),
             )),
         }
     }
@@ -317,7 +325,15 @@ fn run_phase(
     (slot, watched_as): (usize, &str),
 ) -> Result<Report, String> {
     let pulse = Arc::new(Pulse::default());
-    let engine = Engine::new(Arc::clone(&pulse))?;
+    let run_loop = match phase {
+        Phase::Run(run) => Exercise::ALL
+            .iter()
+            .map(|exercise| exercise.declaration())
+            .find(|declared| declared.run_loop == run.run_loop)
+            .map(|declared| declared.harness_loop),
+        Phase::Function(_) => None,
+    };
+    let engine = Engine::new(Arc::clone(&pulse), run_loop)?;
     let limit = Duration::from_millis(phase.limit_ms().into());
     let _watching = watchdog.watch(slot, watched_as, pulse);
     Ok(engine.phase(phase.kind(), source, &phase.to_json(), limit))

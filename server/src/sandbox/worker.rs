@@ -89,7 +89,7 @@ impl Sandbox {
         hidden: Option<u64>,
     ) -> GradeResult {
         self.try_grade(exercise, source, seed, hidden)
-            .unwrap_or_else(|e| GradeResult::not_gradable(exercise.name(), seed, e.to_string()))
+            .unwrap_or_else(|e| GradeResult::not_gradable(exercise, seed, e.to_string()))
     }
 
     /// As `grade`, but a worker that did not start is an error rather than a result "not
@@ -107,7 +107,7 @@ impl Sandbox {
         let child = self.start(cpu_limit)?;
         Ok(match self.carry_out(child, source, job, cpu_limit) {
             Ok(outputs) => plan.grade(&outputs),
-            Err(reason) => GradeResult::not_gradable(exercise.name(), seed, reason),
+            Err(reason) => GradeResult::not_gradable(exercise, seed, reason),
         })
     }
 

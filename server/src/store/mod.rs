@@ -71,6 +71,14 @@ pub enum Error {
     Task(String),
 }
 
+/// The exercise a row's column names (`lab`).
+fn exercise(row: &rusqlite::Row, column: usize) -> rusqlite::Result<labs::Exercise> {
+    let name: String = row.get(column)?;
+    name.parse().map_err(|e| {
+        rusqlite::Error::FromSqlConversionFailure(column, rusqlite::types::Type::Text, Box::new(e))
+    })
+}
+
 /// A moment stored as whole seconds since 1970 (as `Timestamp::as_second` wrote it).
 fn timestamp(seconds: i64) -> jiff::Timestamp {
     jiff::Timestamp::from_second(seconds).unwrap_or(jiff::Timestamp::UNIX_EPOCH)

@@ -6,12 +6,11 @@
 
 use super::courses::policy_in_force;
 use super::staff::{Waiver, waiver_at};
-use super::{Error, Store};
+use super::{Error, Store, exercise};
 use crate::courses::deadline::Lateness;
 use jiff::Timestamp;
 use labs::Exercise;
 use labs::grading::GradeResult;
-use rusqlite::types::Type;
 use rusqlite::{OptionalExtension, Row, params};
 use serde::Serialize;
 use std::collections::HashMap;
@@ -220,9 +219,7 @@ impl Store {
             [id],
             |row| {
                 Ok(ToGrade {
-                    exercise: row.get::<_, String>(4)?.parse().map_err(|e| {
-                        rusqlite::Error::FromSqlConversionFailure(4, Type::Text, Box::new(e))
-                    })?,
+                    exercise: exercise(row, 4)?,
                     source: row.get(0)?,
                     seed: row.get::<_, i64>(1)? as u64,
                     course: row.get(2)?,
@@ -250,14 +247,14 @@ impl Store {
 
     /// Ends a submission whose grading failed as not gradable, with the reason.
     pub fn give_up(&self, id: i64, reason: &str) -> Result<(), Error> {
-        let (lab, seed): (String, i64) = self.connection().query_row(
+        let (exercise, seed): (Exercise, i64) = self.connection().query_row(
             "SELECT lab, seed FROM submissions WHERE id = ?1",
             [id],
-            |row| Ok((row.get(0)?, row.get(1)?)),
+            |row| Ok((exercise(row, 0)?, row.get(1)?)),
         )?;
         self.finish_grading(
             id,
-            &GradeResult::not_gradable(&lab, seed as u64, reason),
+            &GradeResult::not_gradable(exercise, seed as u64, reason),
             None,
         )
     }

@@ -28,7 +28,7 @@ pub struct Grader {
     secret: Secret,
     /// Which grader grades each exercise (in the order of `Exercise::ALL`): the release and
     /// a hash of what it grades (see `version`).
-    versions: [String; Exercise::ALL.len()],
+    versions: Vec<String>,
     queue: Mutex<FairQueue>,
     /// Wakes the dispatcher: a grading arrived, ended or moved to the background, or a
     /// regrade started.
@@ -74,7 +74,10 @@ impl Grader {
         clock: Arc<dyn Clock>,
     ) -> Arc<Grader> {
         Arc::new(Grader {
-            versions: Exercise::ALL.map(|exercise| grader_version(exercise, Some(&secret))),
+            versions: Exercise::ALL
+                .iter()
+                .map(|&exercise| grader_version(exercise, Some(&secret)))
+                .collect(),
             store,
             sandbox,
             secret,

@@ -21,7 +21,7 @@ mod viewer;
 pub use assets::Assets;
 pub use error::Error;
 pub use limiter::SignInLimiter;
-pub use pages::starter_file;
+
 pub use viewer::SESSION_COOKIE;
 
 use crate::clock::Clock;

@@ -9,6 +9,8 @@ use axum::extract::State;
 use axum::http::{StatusCode, Uri, header};
 use axum::response::{Html, IntoResponse, Response};
 use labs::Exercise;
+use labs::exercises::ekf_localization::EkfLocalization;
+use labs::exercises::{Declaration, Graded};
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
@@ -42,6 +44,8 @@ struct Ekf<'a> {
     page: &'a str,
     assets: PageAssets<'a>,
     nav: Nav,
+    /// The views of a whole run, as the exercise's workbench shows a student's.
+    plots: &'static str,
 }
 
 #[derive(Template)]
@@ -51,31 +55,23 @@ struct Code<'a> {
     assets: PageAssets<'a>,
     nav: Nav,
     exercise: Exercise,
+    declared: &'static Declaration,
     /// The workbench's own path, which its links go back to.
     path: &'a str,
     /// Every exercise's workbench (JSON: the path by the exercise's name), where this one
     /// sends a submission of another exercise.
     workbenches: String,
     worker: &'a str,
-    starter: &'a str,
 }
 
 /// Every exercise's workbench path by the exercise's name, as JSON.
 fn workbenches() -> String {
     let paths: BTreeMap<&str, &str> = Exercise::ALL
-        .into_iter()
+        .iter()
+        .copied()
         .map(|exercise| (exercise.name(), super::workbench_path(exercise)))
         .collect();
     serde_json::to_string(&paths).expect("paths serialise")
-}
-
-/// The file a student of an exercise starts from: every function of the contract,
-/// documented, throwing "not implemented".
-pub fn starter_file(exercise: Exercise) -> &'static str {
-    match exercise {
-        Exercise::EkfLocalization => include_str!("../../../static/src/ekf/starter.js"),
-        Exercise::Odometry => include_str!("../../../static/src/odometry/starter.js"),
-    }
 }
 
 #[derive(Template)]
@@ -160,6 +156,7 @@ pub async fn ekf(State(state): State<Arc<AppState>>, viewer: Viewer) -> Result<R
         page: "ekf",
         assets: state.assets.page("ekf"),
         nav: Nav::of(&state, &viewer).await?,
+        plots: EkfLocalization::DECLARATION.workbench.run_view,
     })
 }
 
@@ -175,10 +172,10 @@ pub async fn workbench(
         assets: state.assets.page(&page.name),
         nav: Nav::of(&state, &viewer).await?,
         exercise,
+        declared: exercise.declaration(),
         path: &page.path,
         workbenches: workbenches(),
         worker: state.assets.worker(),
-        starter: starter_file(exercise),
     })
 }
 
@@ -189,7 +186,7 @@ pub async fn starter(exercise: Exercise) -> Response {
             (header::CONTENT_TYPE, "text/javascript; charset=utf-8"),
             (header::CACHE_CONTROL, "no-cache"),
         ],
-        starter_file(exercise),
+        exercise.declaration().starter,
     )
         .into_response()
 }

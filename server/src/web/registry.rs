@@ -1,8 +1,9 @@
-//! The registry of the site's pages, `static/pages.json`: each page's path, the script the
-//! asset build bundles for it (`static/build.mjs` reads the same file), its link in the
-//! navigation, its card on the home page, and for a workbench the exercise it is for. The
-//! router serves every page of the registry ([`MethodRouter`]s by name, in `web::router`),
-//! and a test checks that each has a handler.
+//! The registry of the site's pages: those of `static/pages.json` (each page's path, the
+//! script the asset build bundles for it, which `static/build.mjs` reads from the same
+//! file, its link in the navigation, its card on the home page) and every exercise's
+//! workbench, made from the exercise's declaration and placed after the exercise's
+//! experiment page. The router serves every page of the registry ([`MethodRouter`]s by
+//! name, in `web::router`), and a test checks that each has a handler.
 
 use labs::Exercise;
 use serde::Deserialize;
@@ -33,8 +34,29 @@ pub struct Page {
     #[serde(default)]
     pub card: Option<Card>,
     /// For a workbench: the exercise whose functions it tests and submits.
-    #[serde(default)]
+    #[serde(skip)]
     pub exercise: Option<Exercise>,
+}
+
+/// Every workbench's script, `static/src/pages/code.js`.
+const WORKBENCH_SCRIPT: &str = "code";
+
+impl Page {
+    /// The workbench of an exercise, as its declaration describes it.
+    fn workbench(exercise: Exercise) -> Page {
+        let declared = &exercise.declaration().workbench;
+        Page {
+            name: format!("{exercise}-code"),
+            path: declared.path.to_owned(),
+            script: WORKBENCH_SCRIPT.to_owned(),
+            nav: Some(declared.nav.to_owned()),
+            card: Some(Card {
+                title: declared.heading.to_owned(),
+                text: declared.card.to_owned(),
+            }),
+            exercise: Some(exercise),
+        }
+    }
 }
 
 impl Page {
@@ -58,7 +80,18 @@ pub struct Card {
 static PAGES: LazyLock<Vec<Page>> = LazyLock::new(|| {
     let registry: Registry = serde_json::from_str(REGISTRY)
         .unwrap_or_else(|e| panic!("static/pages.json does not read: {e}"));
-    registry.pages
+    let mut pages = Vec::new();
+    for page in registry.pages {
+        let path = page.path.clone();
+        pages.push(page);
+        pages.extend(
+            Exercise::ALL
+                .iter()
+                .filter(|exercise| exercise.declaration().workbench.experiments == path)
+                .map(|&exercise| Page::workbench(exercise)),
+        );
+    }
+    pages
 });
 
 /// Every page, in the order of the navigation and the home page.
@@ -99,7 +132,7 @@ mod tests {
 
     #[test]
     fn every_exercise_has_one_workbench_and_names_are_unique() {
-        for exercise in Exercise::ALL {
+        for &exercise in Exercise::ALL {
             let workbenches = pages()
                 .iter()
                 .filter(|page| page.exercise == Some(exercise))

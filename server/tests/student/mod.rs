@@ -6,11 +6,12 @@
 
 pub mod odometry;
 
+use labs::exercises::Graded;
 use serde::Deserialize;
 
 pub const CORRECT: &str = include_str!("../../../tests/student/correct.js");
 pub const CORRECT_ALT: &str = include_str!("../../../tests/student/correct-alt.js");
-pub const STARTER: &str = include_str!("../../../static/src/ekf/starter.js");
+pub const STARTER: &str = labs::exercises::ekf_localization::EkfLocalization::DECLARATION.starter;
 const MISTAKES: &str = include_str!("../../../tests/student/mistakes.json");
 
 /// A classic mistake: correct.js with some lines replaced.

@@ -3,10 +3,11 @@
 //! in the correct file.
 
 use super::{Replacement, made_in};
+use labs::exercises::Graded;
 use serde::Deserialize;
 
 pub const CORRECT: &str = include_str!("../../../tests/student/odometry/correct.js");
-pub const STARTER: &str = include_str!("../../../static/src/odometry/starter.js");
+pub const STARTER: &str = labs::exercises::odometry::Odometry::DECLARATION.starter;
 const MISTAKES: &str = include_str!("../../../tests/student/odometry/mistakes.json");
 
 /// The runs of the path loop a grading holds the student's functions to.

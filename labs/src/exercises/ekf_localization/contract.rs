@@ -118,8 +118,8 @@ pub const FUNCTIONS: &[&str] = &[
 impl Contract for Call {
     const EXERCISE: Exercise = Exercise::EkfLocalization;
     const FUNCTIONS: &'static [&'static str] = FUNCTIONS;
-    const KEEPS_STATE: grading::HintKind =
-        grading::HintKind::EkfLocalization(HintKind::StaleAssociation);
+    type Mistake = HintKind;
+    const KEEPS_STATE: HintKind = HintKind::StaleAssociation;
 
     fn function(&self) -> &'static str {
         FUNCTIONS[match self {

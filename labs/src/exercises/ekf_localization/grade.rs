@@ -9,10 +9,11 @@ use crate::Exercise;
 use crate::dataset::Kind;
 use crate::ekf::{self, Belief, Decision, UpdateMode};
 use crate::grading::{
-    FunctionVerdicts, GradeResult, HEADING_TURNS, Outputs, RunFigures, RunOutput, RunRecord, Test,
+    FunctionVerdicts, GradeResult, HEADING_TURNS, Mistake, Outputs, RunFigures, RunOutput, Test,
     describe, function_tests, heading_within_turns, infinity,
 };
 use nalgebra::{Matrix2, Matrix3, Vector3};
+use serde::Deserialize;
 use serde_json::Value;
 
 /// Grades what the harness reported. Tests whose outputs are missing fail as not run.
@@ -94,9 +95,9 @@ fn dataset_test(plan: &Plan, outputs: &Outputs, kind: Kind, functions: &Function
             .runs
             .iter()
             .find(|r| r.name == graded.name)
-            .and_then(|output| record(output)?.init.as_ref());
+            .and_then(|output| output.record::<FilterRecord>().ok()?.init);
         lines.extend(
-            init.and_then(|init| tuning(kind.name(), init).ok())
+            init.and_then(|init| tuning(kind.name(), &init).ok())
                 .and_then(|tuning| settings_hint(kind, &tuning)),
         );
     }
@@ -130,55 +131,83 @@ struct Tuning {
     lambda_m: f64,
 }
 
+/// What `init` returned, field by field, each as it came: every one is checked below, with
+/// a message naming it.
+#[derive(Default, Deserialize)]
+struct Init {
+    #[serde(default)]
+    mu: Value,
+    #[serde(default)]
+    sigma: Value,
+    #[serde(default, rename = "R")]
+    r: Value,
+    #[serde(default, rename = "Q")]
+    q: Value,
+    #[serde(default, rename = "Lambda_M")]
+    lambda_m: Value,
+}
+
 fn tuning(dataset: &str, init: &Value) -> Result<Tuning, String> {
-    let dims = |field: &str| -> Option<(usize, usize)> {
-        let rows = init.get(field)?.as_array()?;
-        let cols = rows.first()?.as_array()?.len();
-        rows.iter()
-            .all(|r| {
-                r.as_array()
-                    .is_some_and(|r| r.len() == cols && r.iter().all(Value::is_number))
-            })
-            .then_some((rows.len(), cols))
+    let init: Init = match init {
+        Value::Object(_) => Init::deserialize(init).unwrap_or_default(),
+        _ => Init::default(),
     };
-    if dims("R") == Some((2, 2)) && dims("Q") == Some((3, 3)) {
+    if shape(&init.r) == Some((2, 2)) && shape(&init.q) == Some((3, 3)) {
         return Err(format!(
             "init('{dataset}'): {}",
             HintKind::RQSwapped.hint().text
         ));
     }
-    for (field, shape) in [("sigma", (3, 3)), ("R", (3, 3)), ("Q", (2, 2))] {
-        if dims(field) != Some(shape) {
+    for (field, value, expected) in [
+        ("sigma", &init.sigma, (3, 3)),
+        ("R", &init.r, (3, 3)),
+        ("Q", &init.q, (2, 2)),
+    ] {
+        if shape(value) != Some(expected) {
             return Err(format!(
                 "init('{dataset}').{field} should be a {} x {} array of rows, but is {}.",
-                shape.0,
-                shape.1,
-                describe(init.get(field).unwrap_or(&Value::Null))
+                expected.0,
+                expected.1,
+                describe(value)
             ));
         }
     }
-    let number = |field: &str, i: usize, j: usize| init[field][i][j].as_f64().unwrap_or(f64::NAN);
-    let mu: [f64; 3] = serde_json::from_value(init["mu"].clone()).map_err(|_| {
+    let mu: [f64; 3] = serde_json::from_value(init.mu.clone()).map_err(|_| {
         format!(
             "init('{dataset}').mu should be an array of 3 numbers, but is {}.",
-            describe(&init["mu"])
+            describe(&init.mu)
         )
     })?;
-    let lambda_m = infinity::read(&init["Lambda_M"])
+    let lambda_m = infinity::read(&init.lambda_m)
         .filter(|v| *v >= 0.0)
         .ok_or_else(|| {
             format!(
                 "init('{dataset}').Lambda_M should be a number >= 0 (or Infinity), but is {}.",
-                describe(&init["Lambda_M"])
+                describe(&init.lambda_m)
             )
         })?;
+    // The shapes are checked: every element is a number.
+    let element = |rows: &Value, i: usize, j: usize| rows[i][j].as_f64().unwrap_or(f64::NAN);
     Ok(Tuning {
         mu: Vector3::from(mu),
-        sigma: Matrix3::from_fn(|i, j| number("sigma", i, j)),
-        r: Matrix3::from_fn(|i, j| number("R", i, j)),
-        q: Matrix2::from_fn(|i, j| number("Q", i, j)),
+        sigma: Matrix3::from_fn(|i, j| element(&init.sigma, i, j)),
+        r: Matrix3::from_fn(|i, j| element(&init.r, i, j)),
+        q: Matrix2::from_fn(|i, j| element(&init.q, i, j)),
         lambda_m,
     })
+}
+
+/// The rows and columns of a matrix given as an array of rows of numbers; none for
+/// anything else.
+fn shape(value: &Value) -> Option<(usize, usize)> {
+    let rows = value.as_array()?;
+    let cols = rows.first()?.as_array()?.len();
+    rows.iter()
+        .all(|r| {
+            r.as_array()
+                .is_some_and(|r| r.len() == cols && r.iter().all(Value::is_number))
+        })
+        .then_some((rows.len(), cols))
 }
 
 /// The settings `init` returned that are not the lab's for this kind of data set, each
@@ -260,24 +289,18 @@ fn matrix_text<R: nalgebra::Dim, C: nalgebra::Dim, S: nalgebra::RawStorage<f64, 
     }
 }
 
-/// What the filter loop recorded of a run, if it is a filter loop's.
-fn record(output: &RunOutput) -> Option<&FilterRecord> {
-    match &output.record {
-        Some(RunRecord::Filter(record)) => Some(record),
-        _ => None,
-    }
-}
-
 /// The student's run as a whole `ekf::Run` (errors against the ground truth, summary,
 /// odometry for plotting), or what went wrong with it.
 pub fn student_run(spec: &RunSpec, output: &RunOutput) -> Result<ekf::Run, String> {
     let dataset = spec.kind.name();
-    let error = output
-        .error
-        .clone()
+    let (record, unreadable) = match output.record::<FilterRecord>() {
+        Ok(record) => (record, None),
+        Err(unreadable) => (FilterRecord::default(), Some(unreadable)),
+    };
+    let error = unreadable
+        .or_else(|| output.error.clone())
         .or_else(|| output.stopped.as_ref().map(|s| s.message(RUN_LIMIT_MS)));
-    let empty = FilterRecord::default();
-    let output = record(output).unwrap_or(&empty);
+    let output = &record;
     let init = output.init.as_ref().ok_or_else(|| {
         error
             .clone()

@@ -6,15 +6,14 @@ use super::contract::{Call, reference, rows};
 use crate::angle::wrap;
 use crate::ekf::motion_jacobian;
 use crate::grading::{
-    self, Contract, Hint, Mismatch, Tolerance, compare, form_hint, holds_non_finite, negated,
+    Contract, Hint, Mismatch, Mistake, Tolerance, compare, form_hint, holds_non_finite, negated,
 };
 use nalgebra::{Matrix2, Matrix3, Vector2};
-use serde::{Deserialize, Serialize};
 use serde_json::{Value, json};
 use std::f64::consts::TAU;
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, strum::IntoStaticStr, strum::VariantArray)]
+#[strum(serialize_all = "snake_case")]
 pub enum HintKind {
     BearingNotWrapped,
     JacobianSign,
@@ -24,7 +23,7 @@ pub enum HintKind {
     WheelsSwapped,
     FirstStep,
     PredictTransposed,
-    #[serde(rename = "r_q_swapped")]
+    #[strum(serialize = "r_q_swapped")]
     RQSwapped,
     StaleAssociation,
     NearestMahalanobis,
@@ -35,28 +34,8 @@ pub enum HintKind {
     BatchQBar,
 }
 
-impl HintKind {
-    /// Every kind, for the test that each has a name of its own.
-    pub const ALL: [HintKind; 16] = [
-        HintKind::BearingNotWrapped,
-        HintKind::JacobianSign,
-        HintKind::JacobianTransposed,
-        HintKind::OneBasedIndex,
-        HintKind::ThresholdStrict,
-        HintKind::WheelsSwapped,
-        HintKind::FirstStep,
-        HintKind::PredictTransposed,
-        HintKind::RQSwapped,
-        HintKind::StaleAssociation,
-        HintKind::NearestMahalanobis,
-        HintKind::NearestInnovation,
-        HintKind::OutlierOtherLandmark,
-        HintKind::OdometryHeading,
-        HintKind::AbsoluteHeading,
-        HintKind::BatchQBar,
-    ];
-
-    pub fn text(self) -> &'static str {
+impl Mistake for HintKind {
+    fn text(self) -> &'static str {
         match self {
             HintKind::BearingNotWrapped => {
                 "A bearing lies outside [-pi, pi): wrap every angle you compute, for example \
@@ -140,9 +119,6 @@ impl HintKind {
         }
     }
 
-    pub fn hint(self) -> Hint {
-        grading::HintKind::EkfLocalization(self).hint()
-    }
 }
 
 /// The classic mistake that explains a failing output, if one does.
@@ -169,9 +145,9 @@ pub fn diagnose(
         }
     }
     let transposed = matches!(call, Call::JacobianObservationModel { .. }).then_some(
-        grading::HintKind::EkfLocalization(HintKind::JacobianTransposed),
+        HintKind::JacobianTransposed.kind(),
     );
-    let not_wrapped = grading::HintKind::EkfLocalization(HintKind::BearingNotWrapped);
+    let not_wrapped = HintKind::BearingNotWrapped.kind();
     if let Some(hint) = form_hint(call, expected, got, mismatches, transposed, not_wrapped) {
         return Some(hint);
     }

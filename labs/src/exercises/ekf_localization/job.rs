@@ -8,8 +8,6 @@ use serde_json::Value;
 /// One run of the lab's filter loop with the student's functions.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct FilterRun {
-    /// `no-odometry/batch`.
-    pub name: String,
     /// The student functions the loop calls (`init` first).
     pub functions: Vec<String>,
     /// What `init` is called with: `o3`, `outliers`, `no-odometry`.
@@ -20,8 +18,6 @@ pub struct FilterRun {
     #[serde(rename = "M")]
     pub m: [Vec<f64>; 2],
     pub steps: Vec<StepJob>,
-    /// CPU time for the whole run.
-    pub limit_ms: u32,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]

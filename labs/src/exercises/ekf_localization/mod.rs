@@ -1,7 +1,7 @@
 //! EKF localization of a differential-drive robot (EL2320 Lab 1, part II): the student
-//! contract (eight functions and `init`, `DESIGN.md`, "The student contract"), its case
-//! generator and the original EL2320 fixtures, the hints for its classic mistakes, and
-//! the data-set runs of the lab's filter loop held to the lab's bounds.
+//! contract (eight functions and `init`, `README.md`), its case generator and the
+//! original EL2320 fixtures, the hints for its classic mistakes, and the data-set runs of
+//! the lab's filter loop (`web/loop.js`) held to the lab's bounds.
 
 mod contract;
 mod el2320;
@@ -21,3 +21,49 @@ pub use plan::{Plan, RunSpec, bound, graded_readings, mode_name, run_name, shows
 
 /// A test case of this exercise.
 pub type Case = crate::grading::Case<Call>;
+
+use crate::exercises::{Declaration, Graded, Runs, Workbench};
+
+/// The exercise, as the registry knows it.
+pub struct EkfLocalization;
+
+impl Graded for EkfLocalization {
+    const DECLARATION: Declaration = Declaration {
+        name: "ekf-localization",
+        title: "EKF localization",
+        file_name: "ekf_localization.js",
+        run_loop: "filter",
+        runs: Runs {
+            noun: "data sets",
+            hidden: "ran {whose} filter on data sets",
+            graded: "runs whole data sets against the lab's error bounds",
+        },
+        workbench: Workbench {
+            path: "/ekf/code",
+            heading: "Your EKF localization",
+            nav: "Your EKF code",
+            card: "Write the lab's functions yourself, in JavaScript, in the browser: run them \
+                   on test cases made for you and on the three data sets against the lab's \
+                   bounds, with a hint where a classic mistake explains a failure, and submit \
+                   them to be graded.",
+            intro: include_str!("web/intro.html"),
+            run_button: "Run data sets",
+            runs_heading: "Your filter on the data sets",
+            run_choice: "Run",
+            run_view: include_str!("web/run_view.html"),
+            experiments: "/ekf",
+        },
+        functions: "the odometry, the prediction, the observation model and its Jacobian, the \
+                    maximum-likelihood association with the outlier test, and the sequential \
+                    and batch updates",
+        starter: include_str!("web/starter.js"),
+        harness_loop: include_str!("web/loop.js"),
+    };
+    type Call = Call;
+    type Plan = Plan;
+    const GENERATE: crate::grading::Generator<Call> = generate;
+
+    fn plan(seed: u64, hidden: Option<u64>) -> Plan {
+        Plan::new(seed, hidden)
+    }
+}

@@ -7,7 +7,13 @@ use super::generate::generate;
 use super::job::{FilterRun, Mode, RobotJob, StepJob};
 use crate::dataset::{Dataset, Kind, simulate};
 use crate::ekf::{self, UpdateMode, increments};
-use crate::grading::{Job, PlannedCase, RunPhase, function_phases, planned_cases};
+use super::grade::grade;
+use super::EkfLocalization;
+use crate::Exercise;
+use crate::exercises::Graded;
+use crate::grading::{
+    ExercisePlan, GradeResult, Job, Outputs, PlannedCase, RunPhase, function_phases, planned_cases,
+};
 use crate::rng::Rng;
 use nalgebra::Vector3;
 
@@ -86,14 +92,28 @@ impl Plan {
     pub fn run(&self, name: &str) -> Option<&RunSpec> {
         self.runs.iter().find(|run| run.name == name)
     }
+}
+
+impl ExercisePlan for Plan {
+    fn exercise(&self) -> Exercise {
+        Exercise::EkfLocalization
+    }
+
+    fn seed(&self) -> u64 {
+        self.seed
+    }
 
     /// What the harness needs to call the student's code: the arguments of every case (not
     /// the expected outputs) and the data of every run (not the ground truth).
-    pub fn job(&self) -> Job {
+    fn job(&self) -> Job {
         Job {
             functions: function_phases(&self.cases),
             runs: self.runs.iter().map(run_job).collect(),
         }
+    }
+
+    fn grade(&self, outputs: &Outputs) -> GradeResult {
+        grade(self, outputs)
     }
 }
 
@@ -236,8 +256,7 @@ fn run_job(run: &RunSpec) -> RunPhase {
             "batch_update",
         ],
     };
-    RunPhase::Filter(FilterRun {
-        name: run.name.clone(),
+    let data = FilterRun {
         functions: functions.iter().map(|&f| f.to_owned()).collect(),
         dataset: run.kind.name().to_owned(),
         mode: match run.mode {
@@ -255,8 +274,13 @@ fn run_job(run: &RunSpec) -> RunPhase {
             landmarks.iter().map(|l| l.position.y).collect(),
         ],
         steps,
-        limit_ms: RUN_LIMIT_MS,
-    })
+    };
+    RunPhase::new(
+        EkfLocalization::DECLARATION.run_loop,
+        &run.name,
+        RUN_LIMIT_MS,
+        &data,
+    )
 }
 
 #[cfg(test)]

@@ -1,10 +1,10 @@
 //! The student functions of the odometry exercise, in the shapes of its contract
-//! (`static/src/odometry/starter.js`): the pose is `[x, y, theta]`, matrices are arrays of
+//! (`web/starter.js`): the pose is `[x, y, theta]`, matrices are arrays of
 //! rows, the wheels come right first. A [`Call`] is one call of one function with its
 //! arguments; [`reference`] answers it with the model of [`crate::odometry`].
 
 use super::hints::{HintKind, diagnose};
-use crate::grading::{self, Contract, Hint, Kind, Mismatch, Shape, matrix};
+use crate::grading::{Contract, Hint, Kind, Mismatch, Shape, matrix};
 use crate::odometry::{
     Increment, increment_jacobian, pose_jacobian, propagate_through, step, wheel_noise,
 };
@@ -70,7 +70,8 @@ pub const FUNCTIONS: &[&str] = &[
 impl Contract for Call {
     const EXERCISE: Exercise = Exercise::Odometry;
     const FUNCTIONS: &'static [&'static str] = FUNCTIONS;
-    const KEEPS_STATE: grading::HintKind = grading::HintKind::Odometry(HintKind::KeepsState);
+    type Mistake = HintKind;
+    const KEEPS_STATE: HintKind = HintKind::KeepsState;
 
     fn function(&self) -> &'static str {
         FUNCTIONS[match self {

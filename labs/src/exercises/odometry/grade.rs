@@ -8,7 +8,7 @@ use super::job::PathRecord;
 use super::plan::{PathSpec, Plan, RUN_LIMIT_MS};
 use crate::Exercise;
 use crate::grading::{
-    FunctionVerdicts, GradeResult, Outputs, RunOutput, RunRecord, Test, Tolerance, compare,
+    FunctionVerdicts, GradeResult, Outputs, RunOutput, Test, Tolerance, compare,
     function_tests, matrix, pose,
 };
 use serde_json::json;
@@ -80,18 +80,17 @@ fn path_test(spec: &PathSpec, output: Option<&RunOutput>, functions: &FunctionVe
 /// Where the student's run first departs from the reference (or what stopped it), or
 /// nothing when it follows it throughout.
 fn departure(spec: &PathSpec, output: &RunOutput) -> Result<(), String> {
-    if let Some(error) = output
-        .error
-        .clone()
+    let record = output.record::<PathRecord>();
+    if let Some(error) = record
+        .as_ref()
+        .err()
+        .cloned()
+        .or_else(|| output.error.clone())
         .or_else(|| output.stopped.as_ref().map(|s| s.message(RUN_LIMIT_MS)))
     {
         return Err(error);
     }
-    let empty = PathRecord::default();
-    let record = match &output.record {
-        Some(RunRecord::Path(record)) => record,
-        _ => &empty,
-    };
+    let record = record?;
     let steps = spec.steps();
     if record.poses.len() != steps || record.covariances.len() != steps {
         return Err(format!(

@@ -5,17 +5,18 @@
 //! expected output (a sign, a term left out), and compares the student's output with it.
 
 use super::contract::{Call, matrix_of, output_shape, rows};
-use crate::grading::{self, Hint, Mismatch, Tolerance, compare, form_hint, negated, transpose};
+use crate::grading::{
+    Hint, Mismatch, Mistake, Tolerance, compare, form_hint, negated, transpose,
+};
 use crate::odometry::{
     Increment, increment_jacobian, pose_jacobian, propagate_through, step, wheel_noise,
 };
 use nalgebra::{Matrix2, Matrix3x2, Vector3};
-use serde::{Deserialize, Serialize};
 use serde_json::{Value, json};
 
 /// A classic mistake of the odometry exercise, named uniquely across the exercises.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, strum::IntoStaticStr, strum::VariantArray)]
+#[strum(serialize_all = "snake_case")]
 pub enum HintKind {
     /// The step taken along theta or theta + dtheta instead of theta + dtheta/2.
     MidpointHeading,
@@ -46,34 +47,12 @@ pub enum HintKind {
     PropagateTransposed,
     /// Sigma_delta padded to 3 x 3 and added as it is, or left out.
     WheelNoiseNotMapped,
-    #[serde(rename = "odometry_keeps_state")]
+    #[strum(serialize = "odometry_keeps_state")]
     KeepsState,
 }
 
-impl HintKind {
-    /// Every kind, for the tests that each has a name of its own.
-    pub const ALL: [HintKind; 18] = [
-        HintKind::MidpointHeading,
-        HintKind::HalfAxle,
-        HintKind::HeadingNotWrapped,
-        HintKind::TurnReversed,
-        HintKind::PoseJacobianSign,
-        HintKind::PoseJacobianTransposed,
-        HintKind::IncrementJacobianSign,
-        HintKind::IncrementJacobianTransposed,
-        HintKind::IncrementJacobianTurn,
-        HintKind::IncrementJacobianTurnDoubled,
-        HintKind::IncrementJacobianColumnsSwapped,
-        HintKind::NegativeWheelVariance,
-        HintKind::WheelDeviation,
-        HintKind::WheelVarianceSquared,
-        HintKind::WheelConstantsSwapped,
-        HintKind::PropagateTransposed,
-        HintKind::WheelNoiseNotMapped,
-        HintKind::KeepsState,
-    ];
-
-    pub fn text(self) -> &'static str {
+impl Mistake for HintKind {
+    fn text(self) -> &'static str {
         match self {
             HintKind::MidpointHeading => {
                 "The result follows another heading than the step's: over a step the robot \
@@ -179,9 +158,6 @@ impl HintKind {
         }
     }
 
-    pub fn hint(self) -> Hint {
-        grading::HintKind::Odometry(self).hint()
-    }
 }
 
 /// The classic mistake that explains a failing output, if one does (and only one).
@@ -198,9 +174,9 @@ pub fn diagnose(
         compare(&output_shape(call), alternative, got, Tolerance::default()).is_empty()
     };
     let transposed = matches!(call, Call::IncrementJacobian { .. }).then_some(
-        grading::HintKind::Odometry(HintKind::IncrementJacobianTransposed),
+        HintKind::IncrementJacobianTransposed.kind(),
     );
-    let not_wrapped = grading::HintKind::Odometry(HintKind::HeadingNotWrapped);
+    let not_wrapped = HintKind::HeadingNotWrapped.kind();
     if let Some(hint) = form_hint(call, expected, got, mismatches, transposed, not_wrapped) {
         return Some(hint);
     }
@@ -428,7 +404,7 @@ mod tests {
     use std::collections::BTreeSet;
     use std::f64::consts::TAU;
 
-    fn diagnosed(case: &Case, got: &Value) -> Option<grading::HintKind> {
+    fn diagnosed(case: &Case, got: &Value) -> Option<crate::grading::HintKind> {
         let mismatches = case.check(got, Tolerance::default());
         diagnose(&case.call, &case.expected, got, &mismatches).map(|hint| hint.kind)
     }
@@ -471,7 +447,7 @@ mod tests {
                         .iter()
                         .any(|(other, answer)| other != kind && same(&case, answer, wrong))
                         || sign_flipped(&case.call, &mismatches).is_some_and(|sign| sign != *kind);
-                    let expected = (!rivalled).then_some(grading::HintKind::Odometry(*kind));
+                    let expected = (!rivalled).then_some(kind.kind());
                     assert_eq!(
                         diagnosed(&case, wrong),
                         expected,
@@ -493,7 +469,7 @@ mod tests {
     /// symmetrised, each in the cases where it shows.
     #[test]
     fn signs_transposes_wrapping_and_symmetry_are_recognised() {
-        let hint = |kind| Some(grading::HintKind::Odometry(kind));
+        let hint = |kind: HintKind| Some(kind.kind());
         for seed in 1..=20 {
             for case in generate(seed, 6) {
                 let mut wrong = case.expected.clone();
@@ -533,7 +509,7 @@ mod tests {
                         wrong[0][1] = json!(a + a.abs() * f64::EPSILON);
                         assert_eq!(
                             diagnosed(&case, &wrong),
-                            Some(grading::HintKind::Common(grading::Common::NotSymmetrised))
+                            Some(crate::grading::Common::NotSymmetrised.kind())
                         );
                     }
                     _ => {}

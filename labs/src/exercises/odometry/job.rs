@@ -13,8 +13,6 @@ use serde::{Deserialize, Serialize};
 /// recording p and Sigma_p after the step.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PathRun {
-    /// `square`, `figure-eight`.
-    pub name: String,
     /// The student functions the loop calls.
     pub functions: Vec<String>,
     /// The pose before the first step, [x, y, theta].
@@ -26,8 +24,6 @@ pub struct PathRun {
     pub k_l: f64,
     /// [ds_r, ds_l] of every step, metres.
     pub steps: Vec<[f64; 2]>,
-    /// CPU time for the whole run.
-    pub limit_ms: u32,
 }
 
 /// What the path loop records of a run: the pose and its covariance after every step.

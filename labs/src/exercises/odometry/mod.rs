@@ -1,7 +1,7 @@
 //! Odometry and how its error grows: the student contract (five functions: one step of
 //! odometry, its two Jacobians, the wheels' noise and one step of covariance propagation;
-//! `static/src/odometry/starter.js`), its case generator, the hints for its classic
-//! mistakes, and the runs of the harness's path loop, held to the reference's poses and
+//! `web/starter.js`, `README.md`), its case generator, the hints for its classic
+//! mistakes, and the runs of the harness's path loop (`web/loop.js`), held to the reference's poses and
 //! covariances along a square and a figure eight. The reference answers all come from
 //! the model in [`crate::odometry`].
 
@@ -21,3 +21,49 @@ pub use plan::{PATH_FUNCTIONS, PathSpec, Plan, RUN_LIMIT_MS};
 
 /// A test case of this exercise.
 pub type Case = crate::grading::Case<Call>;
+
+use crate::exercises::{Declaration, Graded, Runs, Workbench};
+
+/// The exercise, as the registry knows it.
+pub struct Odometry;
+
+impl Graded for Odometry {
+    const DECLARATION: Declaration = Declaration {
+        name: "odometry",
+        title: "Odometry and its error propagation",
+        file_name: "odometry.js",
+        run_loop: "path",
+        runs: Runs {
+            noun: "paths",
+            hidden: "drove {whose} functions along paths",
+            graded: "drives your functions along whole paths against the reference",
+        },
+        workbench: Workbench {
+            path: "/odometry/code",
+            heading: "Your odometry",
+            nav: "Your odometry code",
+            card: "Write the step of odometry, its two Jacobians, the wheels' noise and the \
+                   propagation of the pose's covariance in JavaScript: run them on test cases \
+                   made for you and along the paths the grader drives, with a hint where a \
+                   classic mistake explains a failure, and submit them to be graded.",
+            intro: include_str!("web/intro.html"),
+            run_button: "Run paths",
+            runs_heading: "Your odometry along the paths",
+            run_choice: "Path",
+            run_view: include_str!("web/run_view.html"),
+            experiments: "/odometry",
+        },
+        functions: "one step of odometry, its Jacobians with respect to the pose and to the \
+                    wheels' distances, the wheels' noise, and one step of the propagation of \
+                    the pose's covariance",
+        starter: include_str!("web/starter.js"),
+        harness_loop: include_str!("web/loop.js"),
+    };
+    type Call = Call;
+    type Plan = Plan;
+    const GENERATE: crate::grading::Generator<Call> = generate;
+
+    fn plan(seed: u64, hidden: Option<u64>) -> Plan {
+        Plan::new(seed, hidden)
+    }
+}

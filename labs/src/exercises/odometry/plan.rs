@@ -6,7 +6,13 @@
 use super::contract::Call;
 use super::generate::{generate, wheel_constants};
 use super::job::PathRun;
-use crate::grading::{Job, PlannedCase, RunPhase, function_phases, planned_cases};
+use super::grade::grade;
+use super::Odometry;
+use crate::Exercise;
+use crate::exercises::Graded;
+use crate::grading::{
+    ExercisePlan, GradeResult, Job, Outputs, PlannedCase, RunPhase, function_phases, planned_cases,
+};
 use crate::odometry::{Direction, OdometryParams, Propagation, Shape, propagate};
 use crate::rng::Rng;
 
@@ -75,14 +81,28 @@ impl Plan {
     pub fn run(&self, name: &str) -> Option<&PathSpec> {
         self.runs.iter().find(|run| run.name == name)
     }
+}
+
+impl ExercisePlan for Plan {
+    fn exercise(&self) -> Exercise {
+        Exercise::Odometry
+    }
+
+    fn seed(&self) -> u64 {
+        self.seed
+    }
 
     /// What the harness needs to call the student's code: the arguments of every case (not
     /// the expected outputs) and the wheels of every path (not the reference's poses).
-    pub fn job(&self) -> Job {
+    fn job(&self) -> Job {
         Job {
             functions: function_phases(&self.cases),
             runs: self.runs.iter().map(PathSpec::job).collect(),
         }
+    }
+
+    fn grade(&self, outputs: &Outputs) -> GradeResult {
+        grade(self, outputs)
     }
 }
 
@@ -122,8 +142,7 @@ impl PathSpec {
     }
 
     fn job(&self) -> RunPhase {
-        RunPhase::Path(PathRun {
-            name: self.name.clone(),
+        let data = PathRun {
             functions: PATH_FUNCTIONS.iter().map(|&f| f.to_owned()).collect(),
             start: self.reference.path.start,
             b: self.params.wheel_base,
@@ -136,8 +155,8 @@ impl PathSpec {
                 .iter()
                 .map(|increment| [increment.right, increment.left])
                 .collect(),
-            limit_ms: RUN_LIMIT_MS,
-        })
+        };
+        RunPhase::new(Odometry::DECLARATION.run_loop, &self.name, RUN_LIMIT_MS, &data)
     }
 }
 

@@ -9,6 +9,7 @@ mod gradebook;
 pub use gradebook::inert;
 
 use super::class::{self, ClassView, StudentRow};
+use crate::platforms::{GradescopeResults, PrairieLearnResults};
 use crate::store::{self, Store, Submission};
 use archive::{FileNames, zip_of};
 use std::collections::HashMap;
@@ -67,29 +68,32 @@ fn file_names(view: &ClassView) -> FileNames {
 /// that graded it.
 pub fn results(view: &ClassView, graded: &HashMap<i64, Submission>, format: Format) -> Vec<u8> {
     let names = file_names(view);
-    let files = view
-        .students
-        .iter()
-        .filter_map(|s| {
-            let submission = graded.get(&exported(s)?)?;
-            let result = submission.result.as_ref()?;
-            let grader = submission.grader.as_deref().unwrap_or("estlab");
-            let json = match format {
-                // The server draws a submission's hidden cases from its id.
-                Format::Prairielearn => serde_json::to_vec_pretty(
-                    &result.prairielearn(grader, Some(submission.summary.id)),
-                ),
-                _ => serde_json::to_vec_pretty(
-                    &result.gradescope(grader, Some(submission.summary.id)),
-                ),
-            };
-            Some((
-                s.id.clone(),
-                format!("{}/results.json", names.get(&s.id)),
-                json.expect("results serialise"),
-            ))
-        })
-        .collect();
+    let files =
+        view.students
+            .iter()
+            .filter_map(|s| {
+                let submission = graded.get(&exported(s)?)?;
+                let result = submission.result.as_ref()?;
+                let grader = submission.grader.as_deref().unwrap_or("estlab");
+                let json =
+                    match format {
+                        // The server draws a submission's hidden cases from its id.
+                        Format::Prairielearn => serde_json::to_vec_pretty(
+                            &PrairieLearnResults::of(result, grader, Some(submission.summary.id)),
+                        ),
+                        _ => serde_json::to_vec_pretty(&GradescopeResults::of(
+                            result,
+                            grader,
+                            Some(submission.summary.id),
+                        )),
+                    };
+                Some((
+                    s.id.clone(),
+                    format!("{}/results.json", names.get(&s.id)),
+                    json.expect("results serialise"),
+                ))
+            })
+            .collect();
     zip_of(&names, files)
 }
 

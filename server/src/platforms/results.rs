@@ -3,7 +3,8 @@
 //! the platform's documented format that estlab writes, so a test can read a file back
 //! and refuse any other.
 
-use super::result::{GradeResult, Status, Visibility};
+use labs::Exercise;
+use labs::grading::{GradeResult, Status, Visibility};
 use serde::{Deserialize, Serialize};
 
 /// Gradescope's `results.json` (the autograder specification).
@@ -37,7 +38,8 @@ pub struct GradescopeTest {
 pub struct GraderData {
     /// The grader's version: estlab's release and a hash of what it grades.
     pub grader: String,
-    pub lab: String,
+    /// None when the package could not be read, which says which exercise it grades.
+    pub lab: Option<Exercise>,
     pub seed: u64,
     /// What drew the hidden cases with the grader's secret (`estlab grade --secret FILE
     /// --submission KEY` grades the same file the same way); none without hidden cases.
@@ -75,32 +77,47 @@ pub struct PrairieLearnTest {
 /// What a test's output says in place of the failing hidden cases before the due date.
 pub const HIDDEN_LATER: &str = "The failing hidden cases are described after the due date.";
 
-impl GradeResult {
-    /// The summary line with the variant and the grader that graded it.
-    fn signed(&self, grader: &str) -> String {
-        format!(
-            "{}\nVariant: seed {}. Graded by {grader}.",
-            self.summary(),
-            self.seed
-        )
-    }
+/// The summary line with the variant and the grader that graded it.
+fn signed(result: &GradeResult, grader: &str) -> String {
+    format!(
+        "{}\nVariant: seed {}. Graded by {grader}.",
+        result.summary(),
+        result.seed
+    )
+}
 
-    fn grader_data(&self, grader: &str, hidden_key: Option<i64>) -> GraderData {
-        GraderData {
-            grader: grader.to_owned(),
-            lab: self.lab.clone(),
-            seed: self.seed,
-            hidden_key: hidden_key.filter(|_| self.hidden_cases),
-        }
+fn grader_data(result: &GradeResult, grader: &str, hidden_key: Option<i64>) -> GraderData {
+    GraderData {
+        grader: grader.to_owned(),
+        lab: Some(result.exercise),
+        seed: result.seed,
+        hidden_key: hidden_key.filter(|_| result.hidden_cases),
     }
+}
 
+/// What a package that cannot be read says of itself, where a grader's data would be.
+fn unreadable_grader() -> GraderData {
+    GraderData {
+        grader: "estlab".to_owned(),
+        lab: None,
+        seed: 0,
+        hidden_key: None,
+    }
+}
+
+/// A submission the package could not grade, and why, for a person.
+fn not_gradable(reason: &str) -> String {
+    format!("Not gradable: {reason}\nVariant: seed 0. Graded by estlab.")
+}
+
+impl GradescopeResults {
     /// Gradescope's `results.json`: points per test and the message as its output. The
     /// details of failing hidden cases move out of a test's output into a test of their
     /// own, worth nothing and shown after the due date; their count stays in the test's
     /// first line, as estlab's own server shows it.
-    pub fn gradescope(&self, grader: &str, hidden_key: Option<i64>) -> GradescopeResults {
+    pub fn of(result: &GradeResult, grader: &str, hidden_key: Option<i64>) -> GradescopeResults {
         let mut tests = Vec::new();
-        for t in &self.tests {
+        for t in &result.tests {
             let output = if t.hidden_detail.is_empty() {
                 t.message.clone()
             } else {
@@ -126,21 +143,33 @@ impl GradeResult {
             }
         }
         GradescopeResults {
-            score: self.gradable.then_some(self.points),
-            output: self.signed(grader),
+            score: result.gradable.then_some(result.points),
+            output: signed(result, grader),
             tests,
-            extra_data: self.grader_data(grader, hidden_key),
+            extra_data: grader_data(result, grader, hidden_key),
         }
     }
 
+    /// The results of a package that could not grade the submission (worth nothing).
+    pub fn unreadable(reason: &str) -> GradescopeResults {
+        GradescopeResults {
+            score: None,
+            output: not_gradable(reason),
+            tests: Vec::new(),
+            extra_data: unreadable_grader(),
+        }
+    }
+}
+
+impl PrairieLearnResults {
     /// PrairieLearn's external grader `results.json`: score in [0, 1], points per test.
-    pub fn prairielearn(&self, grader: &str, hidden_key: Option<i64>) -> PrairieLearnResults {
+    pub fn of(result: &GradeResult, grader: &str, hidden_key: Option<i64>) -> PrairieLearnResults {
         PrairieLearnResults {
-            gradable: self.gradable,
-            score: self.score,
-            message: self.signed(grader),
-            format_errors: self.reason.clone().filter(|_| !self.gradable),
-            tests: self
+            gradable: result.gradable,
+            score: result.score,
+            message: signed(result, grader),
+            format_errors: result.reason.clone().filter(|_| !result.gradable),
+            tests: result
                 .tests
                 .iter()
                 .map(|t| PrairieLearnTest {
@@ -150,7 +179,20 @@ impl GradeResult {
                     message: t.message.clone(),
                 })
                 .collect(),
-            estlab: self.grader_data(grader, hidden_key),
+            estlab: grader_data(result, grader, hidden_key),
+        }
+    }
+
+    /// The results of a package that could not grade the submission (not gradable, which
+    /// costs no attempt).
+    pub fn unreadable(reason: &str) -> PrairieLearnResults {
+        PrairieLearnResults {
+            gradable: false,
+            score: 0.0,
+            message: not_gradable(reason),
+            format_errors: Some(reason.to_owned()),
+            tests: Vec::new(),
+            estlab: unreadable_grader(),
         }
     }
 }
