@@ -11,6 +11,8 @@ pub enum Error {
     Web(#[from] crate::web::Error),
     #[error(transparent)]
     Store(#[from] crate::store::Error),
+    #[error(transparent)]
+    Sandbox(#[from] crate::sandbox::Failure),
     /// Bad input that is not a data file: a submission too large, a job that is not JSON.
     #[error("{0}")]
     Invalid(String),

@@ -12,21 +12,7 @@ use wasm_bindgen::prelude::*;
 #[wasm_bindgen(js_name = generateCases)]
 pub fn generate_cases(lab: &str, seed_value: f64, per_function: usize) -> Result<String, JsError> {
     let seed = seed(seed_value)?;
-    Ok(exercise(lab)?.visit(Generated { seed, per_function }))
-}
-
-/// An exercise's generated cases, as JSON.
-struct Generated {
-    seed: u64,
-    per_function: usize,
-}
-
-impl Visit for Generated {
-    type Output = String;
-    fn visit<G: Graded>(self) -> String {
-        let cases = (G::GENERATE)(self.seed, self.per_function);
-        serde_json::to_string(&cases).expect("cases serialise")
-    }
+    Ok(exercise(lab)?.generated_cases(seed, per_function))
 }
 
 /// Compares what a student function of the exercise `lab` returned (`got`, JSON) with a

@@ -67,7 +67,27 @@ impl Visit for Declared {
     }
 }
 
+/// An exercise's generated test cases, as JSON.
+struct Generated {
+    seed: u64,
+    per_function: usize,
+}
+
+impl Visit for Generated {
+    type Output = String;
+    fn visit<G: Graded>(self) -> String {
+        let cases = (G::GENERATE)(self.seed, self.per_function);
+        serde_json::to_string(&cases).expect("cases serialise")
+    }
+}
+
 impl Exercise {
+    /// `per_function` generated test cases of every student function of the variant
+    /// `seed`, as a JSON array.
+    pub fn generated_cases(self, seed: u64, per_function: usize) -> String {
+        self.visit(Generated { seed, per_function })
+    }
+
     /// What the exercise declares of itself: its name, title, file and texts.
     pub fn declaration(self) -> &'static Declaration {
         self.visit(Declared)

@@ -3,9 +3,7 @@
 use super::{print, read};
 use crate::error::Error;
 use labs::Exercise;
-use labs::exercises::ekf_localization::{self, FIXTURE_FILES, load_fixtures};
-use labs::exercises::odometry;
-use labs::grading::{Contract, Generator};
+use labs::exercises::ekf_localization::{FIXTURE_FILES, load_fixtures};
 use std::path::PathBuf;
 use std::str::FromStr;
 
@@ -43,12 +41,7 @@ pub fn run(args: &Args) -> Result<(), Error> {
                 Exercise::EkfLocalization
             )));
         }
-        (Exercise::EkfLocalization, None) => generated(ekf_localization::generate, args),
-        (Exercise::Odometry, None) => generated(odometry::generate, args),
+        (exercise, None) => exercise.generated_cases(args.seed, args.per_function),
     };
     print(&text)
-}
-
-fn generated<C: Contract>(generate: Generator<C>, args: &Args) -> String {
-    serde_json::to_string(&generate(args.seed, args.per_function)).expect("cases serialise")
 }

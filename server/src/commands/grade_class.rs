@@ -110,7 +110,7 @@ fn grade_one(sandbox: &Sandbox, exercise: Exercise, course: &str, entry: &Entry)
         );
     };
     if let Err(problem) = check_size(&source) {
-        return Outcome::Unreadable(problem);
+        return Outcome::Unreadable(problem.to_string());
     }
     Outcome::Graded(sandbox.grade(exercise, &source, student_seed(course, &entry.id), None))
 }

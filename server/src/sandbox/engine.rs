@@ -9,6 +9,7 @@
 //! imitate): the interrupt handler's flag for time, the allocator's for memory.
 
 use super::cpu::ThreadClock;
+use super::error::Failure;
 use super::memory::Metered;
 use super::watchdog::{Pulse, Watchdog};
 use labs::Exercise;
@@ -80,10 +81,10 @@ struct Engine {
 impl Engine {
     /// An engine with the harness loaded, and the loop of the exercise whose run it is to
     /// carry out if it is one, showing the watchdog its `pulse`.
-    fn new(pulse: Arc<Pulse>, run_loop: Option<&str>) -> Result<Engine, String> {
+    fn new(pulse: Arc<Pulse>, run_loop: Option<&str>) -> Result<Engine, Failure> {
         let out_of_memory = Rc::new(RefCell::new(None));
         let allocator = Metered::new(MEMORY_LIMIT, Arc::clone(&pulse), Rc::clone(&out_of_memory));
-        let runtime = Runtime::new_with_alloc(allocator).map_err(|e| format!("QuickJS: {e}"))?;
+        let runtime = Runtime::new_with_alloc(allocator).map_err(Failure::Engine)?;
         runtime.set_max_stack_size(STACK_LIMIT);
         let budget = Rc::new(Budget {
             clock: ThreadClock::start(),
@@ -94,25 +95,25 @@ impl Engine {
         let handler = Rc::clone(&budget);
         // The handler runs on this thread only: the engine never leaves it.
         runtime.set_interrupt_handler(Some(Box::new(move || handler.exhausted())));
-        let context = Context::full(&runtime).map_err(|e| format!("QuickJS: {e}"))?;
+        let context = Context::full(&runtime).map_err(Failure::Engine)?;
         let (call_function, run) = context.with(|ctx| {
             ctx.eval::<(), _>(HARNESS)
                 .catch(&ctx)
-                .map_err(|e| format!("the harness: {e}"))?;
+                .map_err(harness_failed(HARNESS_PART))?;
             if let Some(source) = run_loop {
                 ctx.eval::<(), _>(source)
                     .catch(&ctx)
-                    .map_err(|e| format!("the harness's loop: {e}"))?;
+                    .map_err(harness_failed("the harness's loop"))?;
             }
             let harness: Object = ctx
                 .globals()
                 .get("estlabHarness")
-                .map_err(|e| format!("the harness: {e}"))?;
-            let get = |name: &str| -> Result<Persistent<Function<'static>>, String> {
-                let f: Function = harness.get(name).map_err(|e| format!("the harness: {e}"))?;
+                .map_err(harness_failed(HARNESS_PART))?;
+            let get = |name: &str| -> Result<Persistent<Function<'static>>, Failure> {
+                let f: Function = harness.get(name).map_err(harness_failed(HARNESS_PART))?;
                 Ok(Persistent::save(&ctx, f))
             };
-            Ok::<_, String>((get("callFunction")?, get("run")?))
+            Ok::<_, Failure>((get("callFunction")?, get("run")?))
         })?;
         Ok(Engine {
             call_function,
@@ -183,6 +184,17 @@ impl Engine {
     }
 }
 
+/// What the harness is called in a failure to load it.
+const HARNESS_PART: &str = "the harness";
+
+/// A part of the harness that did not load, with QuickJS's reason.
+fn harness_failed<E: std::fmt::Display>(part: &'static str) -> impl FnOnce(E) -> Failure {
+    move |reason| Failure::Harness {
+        part,
+        reason: reason.to_string(),
+    }
+}
+
 /// What escaped the harness, by its kind only: the harness describes everything the
 /// student's code throws, so this is a fault of the harness, and no text of the student's
 /// belongs in it (nor an address of the engine's heap, as a value's display has).
@@ -203,7 +215,7 @@ const THREAD_STACK: usize = 8 << 20;
 /// engine, so that nothing one phase leaves behind reaches another, the longest (the
 /// data-set runs) first. A watchdog ends the process if a phase stalls in a single call
 /// (see `watchdog`).
-pub fn carry_out(source: &str, job: &Job, threads: usize) -> Result<Outputs, String> {
+pub fn carry_out(source: &str, job: &Job, threads: usize) -> Result<Outputs, Failure> {
     let phases: Vec<Phase> = job.phases().collect();
     let threads = threads.clamp(1, phases.len().max(1));
     let watchdog = Watchdog::new(threads);
@@ -221,7 +233,7 @@ fn watched(
     phases: &[Phase],
     threads: usize,
     watchdog: &Watchdog,
-) -> Result<Outputs, String> {
+) -> Result<Outputs, Failure> {
     if let Some(stopped) = load_check(source, job, watchdog)? {
         return Ok(Outputs::every_phase(
             job,
@@ -247,14 +259,12 @@ fn watched(
                             *reports[i].lock().expect("a report slot") = Some(report);
                         }
                     })
-                    .map_err(|e| format!("the sandbox could not start a thread: {e}"))
+                    .map_err(Failure::Thread)
             })
-            .collect::<Result<_, String>>()?;
+            .collect::<Result<_, Failure>>()?;
         workers.into_iter().try_for_each(
-            |worker: std::thread::ScopedJoinHandle<'_, Result<(), String>>| {
-                worker
-                    .join()
-                    .map_err(|_| "a sandbox thread panicked".to_owned())?
+            |worker: std::thread::ScopedJoinHandle<'_, Result<(), Failure>>| {
+                worker.join().map_err(|_| Failure::Panicked)?
             },
         )
     })?;
@@ -286,7 +296,7 @@ pub const TOP_LEVEL: &str = "the top level of your file (evaluated once, before 
 
 /// Evaluates the file once, calling nothing (the job's first function phase without its
 /// calls): what stopped it, if anything did.
-fn load_check(source: &str, job: &Job, watchdog: &Watchdog) -> Result<Option<Stopped>, String> {
+fn load_check(source: &str, job: &Job, watchdog: &Watchdog) -> Result<Option<Stopped>, Failure> {
     let nothing = FunctionPhase {
         function: job
             .functions
@@ -303,9 +313,9 @@ fn load_check(source: &str, job: &Job, watchdog: &Watchdog) -> Result<Option<Sto
             .spawn_scoped(scope, || {
                 run_phase(source, Phase::Function(&nothing), watchdog, (0, TOP_LEVEL))
             })
-            .map_err(|e| format!("the sandbox could not start a thread: {e}"))?
+            .map_err(Failure::Thread)?
             .join()
-            .map_err(|_| "a sandbox thread panicked".to_owned())?
+            .map_err(|_| Failure::Panicked)?
     })?
     .err();
     Ok(stopped.map(|stopped| Stopped {
@@ -323,7 +333,7 @@ fn run_phase(
     phase: Phase,
     watchdog: &Watchdog,
     (slot, watched_as): (usize, &str),
-) -> Result<Report, String> {
+) -> Result<Report, Failure> {
     let pulse = Arc::new(Pulse::default());
     let run_loop = match phase {
         Phase::Run(run) => Exercise::ALL

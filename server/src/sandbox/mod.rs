@@ -2,11 +2,13 @@
 
 mod cpu;
 mod engine;
+mod error;
 mod memory;
 mod watchdog;
 mod worker;
 
 pub use engine::carry_out;
+pub use error::{Failure, TooLarge};
 pub use worker::{MAX_SOURCE, Sandbox, WorkerInput, check_length, check_size};
 
 /// A worker that could not be started (`Command::spawn` failed: no descriptors left for

@@ -8,6 +8,7 @@
 
 use super::DidNotStart;
 use super::engine::LOAD_LIMIT_MS;
+use super::error::{Failure, TooLarge};
 use super::watchdog::{OVERRUN_EXIT, OVERRUN_PREFIX};
 use labs::Exercise;
 use labs::grading::{FunctionOutput, GradeResult, Job, Outputs, PhaseOutput, Plan, RunOutput};
@@ -24,17 +25,17 @@ const WORKER_COMMAND: &str = "sandbox-worker";
 /// The largest source file accepted, in bytes.
 pub const MAX_SOURCE: usize = 256 << 10;
 /// Whether a source file is small enough to be graded; if not, why not.
-pub fn check_size(source: &str) -> Result<(), String> {
+pub fn check_size(source: &str) -> Result<(), TooLarge> {
     check_length(source.len() as u64)
 }
 
 /// Whether a file of `bytes` is small enough to be graded (asked before reading it).
-pub fn check_length(bytes: u64) -> Result<(), String> {
+pub fn check_length(bytes: u64) -> Result<(), TooLarge> {
     if bytes > MAX_SOURCE as u64 {
-        return Err(format!(
-            "{bytes} bytes; a submission may have at most {} KB",
-            MAX_SOURCE >> 10
-        ));
+        return Err(TooLarge {
+            bytes,
+            limit: MAX_SOURCE,
+        });
     }
     Ok(())
 }
@@ -107,7 +108,7 @@ impl Sandbox {
         let child = self.start(cpu_limit)?;
         Ok(match self.carry_out(child, source, job, cpu_limit) {
             Ok(outputs) => plan.grade(&outputs),
-            Err(reason) => GradeResult::not_gradable(exercise, seed, reason),
+            Err(failure) => GradeResult::not_gradable(exercise, seed, failure.to_string()),
         })
     }
 
@@ -137,7 +138,7 @@ impl Sandbox {
         source: &str,
         job: Job,
         cpu_limit: Duration,
-    ) -> Result<Outputs, String> {
+    ) -> Result<Outputs, Failure> {
         let limit = cpu_limit * WALL_CLOCK_FACTOR;
         let input = serde_json::to_string(&WorkerInput {
             source: source.to_owned(),
@@ -171,13 +172,12 @@ impl Sandbox {
                 Ok(None) if started.elapsed() > limit => {
                     let _ = child.kill();
                     let _ = child.wait();
-                    return Err(format!(
-                        "the sandbox did not finish within {} s",
-                        limit.as_secs()
-                    ));
+                    return Err(Failure::Hung {
+                        seconds: limit.as_secs(),
+                    });
                 }
                 Ok(None) => thread::sleep(Duration::from_millis(5)),
-                Err(e) => return Err(format!("the sandbox could not be watched: {e}")),
+                Err(e) => return Err(Failure::Unwatched(e)),
             }
         };
         let _ = writer.join();
@@ -191,17 +191,9 @@ impl Sandbox {
             ));
         }
         if !status.success() {
-            return Err(format!(
-                "the sandbox failed ({status}){}",
-                if complaints.trim().is_empty() {
-                    String::new()
-                } else {
-                    format!(": {}", complaints.trim())
-                }
-            ));
+            return Err(Failure::Crashed { status, complaints });
         }
-        serde_json::from_str(&output)
-            .map_err(|e| format!("the sandbox wrote unreadable outputs: {e}"))
+        serde_json::from_str(&output).map_err(Failure::Unreadable)
     }
 }
 

@@ -71,6 +71,33 @@ pub enum Error {
     Task(String),
 }
 
+/// What an error of the store is, for whoever answers for it: an outcome of the request
+/// (the asker can do something about it) or a failure of the server's own.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    /// Someone or something the request names is not there.
+    Missing,
+    /// The request contradicts what is stored, or waits on it.
+    Conflict,
+    /// The data directory, the database, the secret or a task failed.
+    Failure,
+}
+
+impl Error {
+    pub fn kind(&self) -> Kind {
+        match self {
+            Error::UnknownCourse { .. } | Error::UnknownMember { .. } => Kind::Missing,
+            Error::Busy(_) | Error::Conflict(_) => Kind::Conflict,
+            Error::DataDir { .. }
+            | Error::Database { .. }
+            | Error::Sql(_)
+            | Error::StoredResult(_)
+            | Error::Secret { .. }
+            | Error::Task(_) => Kind::Failure,
+        }
+    }
+}
+
 /// The exercise a row's column names (`lab`).
 fn exercise(row: &rusqlite::Row, column: usize) -> rusqlite::Result<labs::Exercise> {
     let name: String = row.get(column)?;

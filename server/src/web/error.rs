@@ -55,10 +55,13 @@ impl IntoResponse for Error {
             Error::TooLarge(_) => StatusCode::PAYLOAD_TOO_LARGE,
             Error::TimedOut(_) => StatusCode::REQUEST_TIMEOUT,
             Error::NotFound(_) => StatusCode::NOT_FOUND,
-            Error::Conflict(_) | Error::Store(store::Error::Busy(_)) => StatusCode::CONFLICT,
+            Error::Conflict(_) => StatusCode::CONFLICT,
             Error::Unauthorized(_) => StatusCode::UNAUTHORIZED,
             Error::Forbidden(_) => StatusCode::FORBIDDEN,
             Error::TooManyRequests(_) => StatusCode::TOO_MANY_REQUESTS,
+            // What the store says of the request, once for every handler.
+            Error::Store(error) if error.kind() == store::Kind::Missing => StatusCode::NOT_FOUND,
+            Error::Store(error) if error.kind() == store::Kind::Conflict => StatusCode::CONFLICT,
             Error::Template(_) | Error::Assets(_) | Error::Store(_) => {
                 // The cause goes to the log, never to the asker (it may name files or
                 // the database); the answer has the API's shape all the same.

@@ -26,12 +26,6 @@ impl From<setup::Error> for Error {
     fn from(error: setup::Error) -> Error {
         match error {
             setup::Error::Invalid(message) => Error::BadRequest(message),
-            setup::Error::Store(crate::store::Error::Conflict(message)) => {
-                Error::BadRequest(message)
-            }
-            setup::Error::Store(crate::store::Error::UnknownMember { course, login }) => {
-                Error::BadRequest(format!("{course} has nobody with the id {login:?}"))
-            }
             setup::Error::Store(error) => Error::Store(error),
         }
     }

@@ -171,11 +171,7 @@ pub async fn start_regrade(
         )?;
         Ok(started)
     })
-    .await
-    .map_err(|error| match error {
-        Error::Store(crate::store::Error::Conflict(message)) => Error::Conflict(message),
-        other => other,
-    })?;
+    .await?;
     state.grader.regrade_started();
     let url = format!("/api/courses/{url_course}/regrades/{id}");
     Ok((
@@ -259,14 +255,7 @@ pub async fn extend(
         };
         store.grant_extension(&course, &grant, &who, now)
     })
-    .await
-    .map_err(|error| match error {
-        Error::Store(crate::store::Error::UnknownMember { course, login }) => {
-            Error::NotFound(format!("{course} has no student {login:?}"))
-        }
-        Error::Store(crate::store::Error::Conflict(message)) => Error::BadRequest(message),
-        other => other,
-    })?;
+    .await?;
     Ok(Json(granted).into_response())
 }
 
