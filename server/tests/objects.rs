@@ -161,8 +161,9 @@ const OBJECTS: &[Row] = &[
     row("GET", "/api/courses/{course}/audit", "/api/courses/{course}/audit"),
     // The course's set-up, for its instructors: a token to revoke, by id, the other
     // course's is a 404 like one that does not exist; a student to give a new code, by
-    // id, the other course's is nobody of this one; the rest name no object. `{roster}`
-    // is the course's own roster as it is, so importing it changes nobody.
+    // id, the other course's is nobody of this one (404, as for any student missing);
+    // the rest name no object. `{roster}` is the course's own roster as it is, so
+    // importing it changes nobody.
     row("POST", "/api/courses/{course}/staff", "/api/courses/{course}/staff")
         .body(r#"{"email": "new.ta@staff.example", "role": "assistant"}"#).instructors(),
     row("POST", "/api/courses/{course}/roster/preview", "/api/courses/{course}/roster/preview")
@@ -170,7 +171,7 @@ const OBJECTS: &[Row] = &[
     row("POST", "/api/courses/{course}/roster", "/api/courses/{course}/roster")
         .body(r#"{"file_name": "roster.csv", "csv": {roster}}"#).instructors().holds("/unchanged", 2),
     row("POST", "/api/courses/{course}/codes", "/api/courses/{course}/codes")
-        .body(r#"{"students": ["{student}"]}"#).instructors().other(400).holds("/count", 1),
+        .body(r#"{"students": ["{student}"]}"#).instructors().other(404).holds("/count", 1),
     row("POST", "/api/courses/{course}/assignments", "/api/courses/{course}/assignments")
         .body(r#"{"lab": "{lab}", "due": "2031-01-01T00:00Z", "cutoff": "2032-06-01T00:00Z", "late_penalty": "10%/day"}"#)
         .instructors(),

@@ -1,7 +1,7 @@
 //! The pages, each an askama template over the base layout.
 
 use super::assets::PageAssets;
-use super::registry::{self, Page};
+use super::registry::{self, Group};
 use super::viewer::Viewer;
 use super::{AppState, Error, blocking};
 use askama::Template;
@@ -85,8 +85,8 @@ struct NotFound<'a> {
 
 /// What the header shows: the pages of the navigation, and who is signed in.
 pub struct Nav {
-    /// Every page of the registry (those with a `nav` title are linked).
-    pub pages: &'static [Page],
+    /// Every page of the registry in its group (those with a `nav` title are linked).
+    pub groups: &'static [Group],
     /// Whether the server runs courses (else submitting is open to anyone).
     pub courses: bool,
     /// The signed-in person's name (or id) and course.
@@ -102,13 +102,13 @@ impl Nav {
                 member.name.clone()
             };
             return Ok(Nav {
-                pages: registry::pages(),
+                groups: registry::groups(),
                 courses: true,
                 member: Some((name, member.course.clone())),
             });
         }
         Ok(Nav {
-            pages: registry::pages(),
+            groups: registry::groups(),
             courses: blocking(state, |store| store.any_course()).await?,
             member: None,
         })

@@ -99,6 +99,41 @@ pub fn pages() -> &'static [Page] {
     &PAGES
 }
 
+/// Pages the navigation and the home page show together: an exercise's experiment page
+/// with its workbench, or a page on its own.
+#[derive(Debug)]
+pub struct Group {
+    pub pages: Vec<&'static Page>,
+}
+
+impl Group {
+    /// The group's first page: the experiment page, or the page on its own.
+    pub fn lead(&self) -> &'static Page {
+        self.pages[0]
+    }
+
+    /// The workbenches of the group (after its lead).
+    pub fn rest(&self) -> &[&'static Page] {
+        &self.pages[1..]
+    }
+}
+
+static GROUPS: LazyLock<Vec<Group>> = LazyLock::new(|| {
+    let mut groups: Vec<Group> = Vec::new();
+    for page in pages() {
+        match groups.last_mut() {
+            Some(group) if page.exercise.is_some() => group.pages.push(page),
+            _ => groups.push(Group { pages: vec![page] }),
+        }
+    }
+    groups
+});
+
+/// Every page in its group, in the order of the navigation and the home page.
+pub fn groups() -> &'static [Group] {
+    &GROUPS
+}
+
 /// The page called `name`.
 pub fn page(name: &str) -> &'static Page {
     pages()
