@@ -38,7 +38,9 @@ const result = await esbuild.build({
 // A classic script, so that it starts in every browser and the harness in it is the very
 // file the server's sandbox runs.
 const worker = await esbuild.build({
-  entryPoints: { 'student-worker': 'src/student/worker.js' },
+  // The server gives the worker its own content security policy by this name
+  // (server/src/web/assets.rs, WORKER_PREFIX).
+  entryPoints: { 'student-worker': 'src/sandbox/worker.js' },
   bundle: true,
   format: 'iife',
   target: 'es2022',

@@ -12,11 +12,10 @@ import { byId, download, showError } from '../controls.js';
 import { datasetRuns } from '../ekf/workbench.js';
 import { fmt } from '../format.js';
 import { pathRuns } from '../odometry/workbench.js';
-import { Runner } from '../student/runner.js';
-import {
-  element, getJson, lateness, link, notImplemented, percent, pollSubmission, renderSubmission, span, testItem,
-  testKey,
-} from '../student/results.js';
+import { lateness, percent, span } from '../results/format.js';
+import { getJson, pollSubmission } from '../results/http.js';
+import { element, link, notImplemented, renderSubmission, testItem, testKey } from '../results/render.js';
+import { Runner } from '../sandbox/runner.js';
 import { loadEstlab } from '../wasm.js';
 
 const COURSE = 'el2320';
