@@ -56,6 +56,9 @@ export function instant(local) {
 /** The reader's time zone, as the pages name it beside the fields that take a time. */
 export const zone = Intl.DateTimeFormat().resolvedOptions().timeZone;
 
+/** A moment in the reader's time zone, as the workbench dates a deadline or a submission. */
+export const localTime = (at) => new Date(at).toLocaleString(undefined, { dateStyle: 'medium', timeStyle: 'short' });
+
 /** A moment in the reader's time zone, named, or a dash. */
 export function moment(text) {
   const at = text ? new Date(text) : null;
