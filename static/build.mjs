@@ -47,7 +47,7 @@ const loops = readdirSync(exercises, { withFileTypes: true })
   .sort();
 const worker = await esbuild.build({
   stdin: {
-    contents: ['./src/student/worker.js', ...loops].map((file) => `import ${JSON.stringify(file)};`).join('\n'),
+    contents: ['./src/sandbox/worker.js', ...loops].map((file) => `import ${JSON.stringify(file)};`).join('\n'),
     resolveDir: new URL('.', import.meta.url).pathname,
     sourcefile: 'student-worker.js',
   },
@@ -56,6 +56,8 @@ const worker = await esbuild.build({
   target: 'es2022',
   minify: process.env.ESTLAB_MINIFY !== '0',
   outdir: out,
+  // The server gives the worker its own content security policy by this name
+  // (server/src/web/assets.rs, WORKER_PREFIX).
   entryNames: 'student-worker-[hash]',
   metafile: true,
   logLevel: 'warning',

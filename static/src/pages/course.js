@@ -5,9 +5,9 @@
 // course's API, which checks that the asker is an instructor of the course; what is
 // shown once (codes, links, tokens) lives in this page only.
 import { byId } from '../controls.js';
-import {
-  element, fillTable, getJson, instant, link, moment as when, percent, postJson, zone,
-} from '../student/results.js';
+import { instant, moment as when, percent, zone } from '../results/format.js';
+import { getJson, postJson } from '../results/http.js';
+import { element, fillTable, link } from '../results/render.js';
 
 const root = byId('course-setup');
 const { course } = root.dataset;

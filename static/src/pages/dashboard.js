@@ -11,9 +11,9 @@ import { BarChart } from 'echarts/charts';
 import * as echarts from 'echarts/core';
 import { byId } from '../controls.js';
 import { Plot, colours } from '../plots.js';
-import {
-  element, fillTable, getJson, instant, lateness, link, moment, percent, postJson, renderSubmission, zone,
-} from '../student/results.js';
+import { instant, lateness, moment, percent, zone } from '../results/format.js';
+import { getJson, postJson } from '../results/http.js';
+import { element, fillTable, link, renderSubmission } from '../results/render.js';
 
 // The plots module draws lines and points; the class's pictures are bars.
 echarts.use([BarChart]);

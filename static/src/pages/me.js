@@ -1,7 +1,9 @@
 // The signed-in person's page: times in the reader's own time zone, and the latest
 // submission's result in full, as the workbench shows a server's result (waiting for its
 // grade when it is not graded yet).
-import { element, getJson, percent, pollSubmission, renderSubmission } from '../student/results.js';
+import { percent } from '../results/format.js';
+import { getJson, pollSubmission } from '../results/http.js';
+import { element, renderSubmission } from '../results/render.js';
 
 function localize(root) {
   for (const time of root.querySelectorAll('time[datetime]')) {
