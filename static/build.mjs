@@ -1,7 +1,10 @@
-// Bundles the page scripts (each page's of static/pages.json) and the styles with esbuild into content-hashed files, and the
-// Web Worker that runs students' code as a classic script of its own; writes manifest.json
-// (the style, each page's script and what it preloads, the worker) for the server, and precompresses every text
-// asset with brotli and gzip so that the server can send the smaller one.
+// Bundles the page scripts (each page's of static/pages.json) and the styles with esbuild
+// into content-hashed files, with what every exercise's folder (labs/src/exercises/*/web/)
+// holds for the browser: its view of a run for the workbench, and its loop for the Web
+// Worker that runs students' code as a classic script of its own. Writes manifest.json
+// (the style, each page's script and what it preloads, the worker) for the server, and
+// precompresses every text asset with brotli and gzip so that the server can send the
+// smaller one.
 //
 //   node build.mjs PKG_DIR OUT_DIR
 import * as esbuild from 'esbuild';
@@ -14,6 +17,34 @@ const [pkg, out] = process.argv.slice(2);
 // workbench's, which every exercise's workbench page runs.
 const registry = JSON.parse(readFileSync(new URL('pages.json', import.meta.url), 'utf8'));
 const pages = [...new Set([...registry.pages.map((page) => page.script), 'code'])];
+
+// Every exercise's folder, by its name (`labs::Exercise::folder`), with the file of it
+// that `name` is (`workbench.js`, `loop.js`) where it has one.
+const exercises = new URL('../labs/src/exercises/', import.meta.url).pathname;
+function exerciseFiles(name) {
+  return readdirSync(exercises, { withFileTypes: true })
+    .filter((entry) => entry.isDirectory())
+    .map((entry) => [entry.name, join(exercises, entry.name, 'web', name)])
+    .filter(([, file]) => existsSync(file))
+    .sort(([a], [b]) => a.localeCompare(b));
+}
+
+/**
+ * `estlab:workbenches`, the workbench's way to every exercise's view of its runs: a
+ * function per folder that loads the folder's `web/workbench.js` (a chunk of its own).
+ */
+const workbenches = {
+  name: 'workbenches',
+  setup(build) {
+    build.onResolve({ filter: /^estlab:workbenches$/ }, (args) => ({ path: args.path, namespace: 'workbenches' }));
+    build.onLoad({ filter: /.*/, namespace: 'workbenches' }, () => ({
+      contents: 'export default {\n' + exerciseFiles('workbench.js')
+        .map(([folder, file]) => `  ${JSON.stringify(folder)}: () => import(${JSON.stringify(file)}),\n`)
+        .join('') + '};\n',
+      resolveDir: exercises,
+    }));
+  },
+};
 
 rmSync(out, { recursive: true, force: true });
 const result = await esbuild.build({
@@ -30,21 +61,18 @@ const result = await esbuild.build({
   chunkNames: 'chunks/[name]-[hash]',
   assetNames: 'assets/[name]-[hash]',
   publicPath: '/static/',
-  alias: { 'estlab-wasm': pkg },
+  // The exercises' scripts name the site's modules as `estlab/...` (`static/src/...`).
+  alias: { 'estlab-wasm': pkg, estlab: new URL('src', import.meta.url).pathname },
+  nodePaths: [new URL('node_modules', import.meta.url).pathname],
+  plugins: [workbenches],
   loader: { '.wasm': 'file', '.woff2': 'file', '.woff': 'file', '.ttf': 'file' },
   metafile: true,
   logLevel: 'warning',
 });
 
 // A classic script, so that it starts in every browser, with the harness and every
-// exercise's loop (`labs/src/exercises/*/web/loop.js`) the very files the server's
-// sandbox runs.
-const exercises = new URL('../labs/src/exercises/', import.meta.url);
-const loops = readdirSync(exercises, { withFileTypes: true })
-  .filter((entry) => entry.isDirectory())
-  .map((entry) => join(exercises.pathname, entry.name, 'web', 'loop.js'))
-  .filter((file) => existsSync(file))
-  .sort();
+// exercise's loop (`web/loop.js`) the very files the server's sandbox runs.
+const loops = exerciseFiles('loop.js').map(([, file]) => file);
 const worker = await esbuild.build({
   stdin: {
     contents: ['./src/sandbox/worker.js', ...loops].map((file) => `import ${JSON.stringify(file)};`).join('\n'),

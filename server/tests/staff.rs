@@ -287,7 +287,7 @@ async fn an_extension_moves_one_students_dates() {
         (
             json!({ "student": "nobody", "due": "2030-01-01T00:00Z" }),
             StatusCode::NOT_FOUND,
-            "no student",
+            "has nobody with the id or email \"nobody\"",
         ),
         (
             json!({ "student": "late", "due": "2030-01-01T00:00" }),

@@ -99,10 +99,13 @@ async function firstLoads() {
   say();
   say('| page | requests | transferred on first load |');
   say('| --- | ---: | ---: |');
-  // Every page of the registry that anyone may open (no sign-in, no path parameters).
-  const registry = JSON.parse(readFileSync(new URL('../../static/pages.json', import.meta.url), 'utf8'));
-  const open = registry.pages.filter((page) => !page.path.includes('{') && !['signin', 'me'].includes(page.name));
-  for (const { path } of open) {
+  // The home page and every page its navigation links to (the registry's pages that
+  // anyone may open, the exercises' workbenches among them).
+  const home = await browser.newPage();
+  await home.goto(server.url + '/');
+  const linked = await home.$$eval('header.site nav a', (links) => links.map((a) => new URL(a.href).pathname));
+  await home.close();
+  for (const path of ['/', ...linked]) {
     const context = await browser.newContext();
     const fresh = await context.newPage();
     const cdp = await context.newCDPSession(fresh);

@@ -33,6 +33,14 @@ macro_rules! registry {
             /// Every graded exercise, in the registry's order.
             pub const ALL: &'static [Exercise] = &[$(Exercise::$variant),+];
 
+            /// The exercise's folder under `labs/src/exercises/` (its module), by which
+            /// the asset build knows its scripts.
+            pub fn folder(self) -> &'static str {
+                match self {
+                    $(Exercise::$variant => stringify!($module),)+
+                }
+            }
+
             /// Calls `visitor` with the exercise's [`Graded`] type.
             pub fn visit<V: Visit>(self, visitor: V) -> V::Output {
                 match self {

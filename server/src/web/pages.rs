@@ -94,6 +94,11 @@ pub struct Nav {
 }
 
 impl Nav {
+    /// The site's facts for the pages' scripts (JSON).
+    pub fn site(&self) -> &'static str {
+        registry::site()
+    }
+
     pub async fn of(state: &AppState, viewer: &Viewer) -> Result<Nav, Error> {
         if let Some(member) = viewer.member() {
             let name = if member.name.is_empty() {

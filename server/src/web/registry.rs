@@ -6,7 +6,9 @@
 //! name, in `web::router`), and a test checks that each has a handler.
 
 use labs::Exercise;
-use serde::Deserialize;
+use labs::grading::DEFAULT_COURSE;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
 use std::sync::LazyLock;
 
 const REGISTRY: &str = include_str!("../../../static/pages.json");
@@ -128,6 +130,51 @@ static GROUPS: LazyLock<Vec<Group>> = LazyLock::new(|| {
     }
     groups
 });
+
+/// What the pages' scripts learn from the server rather than repeat: the course a variant
+/// belongs to unless another is named, and every exercise's texts. Each page carries it
+/// (`base.html`, read by `static/src/site.js`).
+#[derive(Serialize)]
+struct Site {
+    course: &'static str,
+    exercises: BTreeMap<&'static str, ExerciseTexts>,
+}
+
+#[derive(Serialize)]
+struct ExerciseTexts {
+    title: &'static str,
+    /// Its workbench's path.
+    workbench: &'static str,
+    /// What the server's runs did, with `{whose}` for whose code it ran.
+    hidden_runs: &'static str,
+}
+
+static SITE: LazyLock<String> = LazyLock::new(|| {
+    let site = Site {
+        course: DEFAULT_COURSE,
+        exercises: Exercise::ALL
+            .iter()
+            .map(|exercise| {
+                let declared = exercise.declaration();
+                let texts = ExerciseTexts {
+                    title: declared.title,
+                    workbench: declared.workbench.path,
+                    hidden_runs: declared.runs.hidden,
+                };
+                (declared.name, texts)
+            })
+            .collect(),
+    };
+    // Inside a script element: no "</" can end it early.
+    serde_json::to_string(&site)
+        .expect("the site serialises")
+        .replace('<', "\\u003c")
+});
+
+/// The site's facts for the pages' scripts, as JSON to put in a script element.
+pub fn site() -> &'static str {
+    &SITE
+}
 
 /// Every page in its group, in the order of the navigation and the home page.
 pub fn groups() -> &'static [Group] {

@@ -1,14 +1,13 @@
-// The student's workbench of an exercise (the page's `data-lab`: the EKF localization's,
-// odometry's): an editor that keeps the file in this browser, the tests (the student's
+// The student's workbench of an exercise (the page's `data-lab`, its folder
+// `data-folder`): an editor that keeps the file in this browser, the tests (the student's
 // functions run in a Web Worker, the wasm build of `labs` makes the cases and judges the
-// outputs, exactly as the server does), the runs of the exercise's loop with their views
-// (the EKF's data sets with the lab's views, odometry's paths over the reference's), and
+// outputs, exactly as the server does), the runs of the exercise's loop with the
+// exercise's own views of them (its folder's `web/workbench.js`), and
 // the submission to the server: as the signed-in student once the server runs courses,
 // under any id on a server without. With `?submission=ID` it shows an earlier submission,
 // read-only, beside its result. The parts live in ../workbench/; this page wires them.
+import workbenches from 'estlab:workbenches';
 import { byId } from '../controls.js';
-import { datasetRuns } from '../ekf/workbench.js';
-import { pathRuns } from '../odometry/workbench.js';
 import { loadEstlab } from '../wasm.js';
 import { Editor } from '../workbench/editor.js';
 import { Identity, whoAmI } from '../workbench/identity.js';
@@ -21,10 +20,12 @@ const workbench = byId('workbench').dataset;
 const LAB = workbench.lab;
 /** Every exercise's workbench path, by the exercise's name. */
 const WORKBENCHES = JSON.parse(workbench.workbenches);
-/** How this exercise's runs are collected from the harness's outputs, and drawn. */
-const RUNS = { 'ekf-localization': datasetRuns, odometry: pathRuns }[LAB];
 
-const [estlab, me] = await Promise.all([loadEstlab(), whoAmI()]);
+// How this exercise's runs are collected from the harness's outputs, and drawn: its
+// folder's `web/workbench.js`.
+const [estlab, me, { runs: RUNS }] = await Promise.all([
+  loadEstlab(), whoAmI(), workbenches[workbench.folder](),
+]);
 const ui = {
   who: byId('who'),
   studentField: byId('student-field'),

@@ -4,6 +4,7 @@
 // graded, with its score, late penalty, hidden cases and regrades. The workbench and the
 // student's page (/me) both show a server's result with `renderSubmission`.
 import { fmt } from '../format.js';
+import { site } from '../site.js';
 import { moment, percent, scoreOf, span } from './format.js';
 
 /** Failing cases shown in detail per test, and differing elements per case. */
@@ -161,11 +162,6 @@ function failureView(failure) {
 // ---------------------------------------------------------------------------------------
 // A submission as the server has it.
 
-/** What the server ran the student's code on beyond what the browser knows, by exercise. */
-const hiddenRuns = {
-  'ekf-localization': (whose, who) => `ran ${whose} filter on data sets ${who} not seen`,
-  odometry: (whose, who) => `drove ${whose} functions along paths ${who} not seen`,
-};
 
 /**
  * Fills `box` with the server's account of `submission`: while it waits, that it waits;
@@ -204,7 +200,8 @@ export function renderSubmission(box, submission, { comparison = '', open = fals
     const hidden = result.tests.flatMap((test) => (test.failures ?? []).filter((f) => f.hidden));
     // Said to the student, or about them to their course's staff.
     const [whose, who] = reader === 'staff' ? ["the student's", 'they have'] : ['your', 'you have'];
-    const runs = hiddenRuns[result.lab]?.(whose, who) ?? `ran ${whose} code on data ${who} not seen`;
+    // What the server ran the student's code on beyond what the browser knows.
+    const runs = `${site.exercises[result.lab].hidden_runs.replace('{whose}', whose)} ${who} not seen`;
     let note = `The server also graded hidden cases of every function and ${runs}, which ${whose} browser cannot: ` +
       'a function earns the smaller of its pass rates on the shown and the hidden cases.';
     for (const failure of hidden) {

@@ -5,9 +5,10 @@
 import { localTime, percent, span } from '../results/format.js';
 import { getJson } from '../results/http.js';
 import { element, link } from '../results/render.js';
+import { site } from '../site.js';
 
-/** The course of a typed student id: its variant's, and its submission's. */
-export const COURSE = 'el2320';
+/** The course of a typed student id: its variant's, and its submission's (the server's default). */
+export const COURSE = site.course;
 /** The seed of the variant graded without a student id, as `estlab grade` without --seed. */
 const PUBLIC_VARIANT = 1;
 /** Where the student id is saved: once for all exercises. */

@@ -1,10 +1,11 @@
-// The EKF workbench's runs on the data sets (static/src/pages/code.js): each drawn with
-// the experiment page's views (runview.js), beside what part of the data set grading
+// The EKF workbench's runs on the data sets (the workbench, static/src/pages/code.js,
+// loads this view of the exercise's runs): each drawn with the experiment page's views
+// (static/src/ekf/runview.js), beside what part of the data set grading
 // runs through and a link to the whole of it on the experiment page.
-import { byId } from '../controls.js';
-import { fmt } from '../format.js';
-import { link } from '../student/results.js';
-import { RunView, collect } from './runview.js';
+import { byId } from 'estlab/controls.js';
+import { RunView, collect } from 'estlab/ekf/runview.js';
+import { fmt } from 'estlab/format.js';
+import { link } from 'estlab/results/render.js';
 
 /**
  * Everything the views need from the student's run `output` of `phase`, taken out of wasm
@@ -40,7 +41,7 @@ function prefixNote({ phase, dataSeed }) {
   ];
 }
 
-/** The runs section (the markup of ekf_plots.html in `root`) showing one run at a time. */
+/** The runs section (the markup of web/run_view.html in `root`) showing one run at a time. */
 class DatasetRunView {
   constructor(root) {
     this.view = new RunView(root, 'code');
@@ -54,4 +55,4 @@ class DatasetRunView {
 }
 
 /** The EKF workbench's runs: each one's views from the harness's output, and where they are drawn. */
-export const datasetRuns = { collect: collectRun, View: DatasetRunView };
+export const runs = { collect: collectRun, View: DatasetRunView };

@@ -1,13 +1,14 @@
-// The odometry workbench's runs along the grader's paths (static/src/pages/code.js): the
+// The odometry workbench's runs along the grader's paths (the workbench,
+// static/src/pages/code.js, loads this view of the exercise's runs): the
 // poses and 3σ ellipses the student's functions propagated, drawn over the reference's
 // (both from the wasm build of the plan), a summary line in words and a table of the last
 // step, and a link to the odometry page.
-import { byId, setText } from '../controls.js';
-import { fmt } from '../format.js';
+import { byId, setText } from 'estlab/controls.js';
+import { fmt } from 'estlab/format.js';
 import {
   colours, dashes, ellipseAxes, ellipseSpacing, line, markers, outlineSeries, outlineXY, outlines, plane, plotsIn, styled,
-} from '../plots.js';
-import { element, link } from '../student/results.js';
+} from 'estlab/plots.js';
+import { element, link } from 'estlab/results/render.js';
 
 const degrees = Math.PI / 180;
 /** A pose's number (metres, radians, degrees) with `digits` significant digits, and 0 for what is zero but for rounding. */
@@ -162,4 +163,4 @@ class PathRunView {
 }
 
 /** The odometry workbench's runs: each one's views from the harness's output, and where they are drawn. */
-export const pathRuns = { collect: collectRun, View: PathRunView };
+export const runs = { collect: collectRun, View: PathRunView };
