@@ -2,12 +2,12 @@
 //! workers: students take turns (checked as the order of grading, never as times), and a
 //! sandbox that cannot start leaves its submission waiting until it can, never "not
 //! gradable". The rule itself, charges and lanes included, is tested in
-//! `submissions::fair`.
+//! `grading::fair`.
 
 use estlab::clock::{Clock, FixedClock};
+use estlab::grading::{Grader, Policy, Secret, Work};
 use estlab::sandbox::Sandbox;
 use estlab::store::{Error, NewSubmission, Status, Store};
-use estlab::submissions::{Grader, Policy, Secret, Work};
 use jiff::Timestamp;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;

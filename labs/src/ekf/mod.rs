@@ -3,17 +3,18 @@
 //! fixtures fix, and the filter loop over a whole data set.
 
 mod association;
+mod encoders;
 mod filter;
 mod geometry;
 mod map;
 mod observation;
-mod odometry;
 mod predict;
 mod update;
 
 pub use association::{
     Association, Candidate, Match, associate, batch_associate, lambda_m, most_likely,
 };
+pub use encoders::{Robot, calculate_odometry};
 pub use filter::{
     Decision, ReadingOutcome, Run, Settings, StepEstimate, Summary, UpdateMode, assemble,
     increments, run,
@@ -21,7 +22,6 @@ pub use filter::{
 pub use geometry::{covariance_ellipse, reading_position};
 pub use map::{Landmark, Map};
 pub use observation::{jacobian_observation_model, observation_model};
-pub use odometry::{Robot, calculate_odometry};
 pub use predict::{motion_jacobian, predict};
 pub use update::{batch_update, update};
 

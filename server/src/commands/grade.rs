@@ -2,9 +2,9 @@
 
 use super::{print, read};
 use crate::error::Error;
+use crate::grading::{Secret, grader_version};
 use crate::platforms::{GradescopeResults, PrairieLearnResults};
 use crate::sandbox::{Sandbox, check_size, cores};
-use crate::submissions::{Secret, grader_version};
 use labs::Exercise;
 use labs::grading::{DEFAULT_COURSE, GradeResult, student_seed};
 use std::path::PathBuf;

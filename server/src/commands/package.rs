@@ -2,8 +2,8 @@
 
 use super::VERSION;
 use crate::error::Error;
+use crate::grading::Secret;
 use crate::platforms::{Settings, elf, gradescope, prairielearn};
-use crate::submissions::Secret;
 use labs::Exercise;
 use labs::grading::DEFAULT_COURSE;
 use std::path::{Path, PathBuf};

@@ -2,9 +2,9 @@
 
 use crate::clock::{Clock, SystemClock};
 use crate::error::Error;
+use crate::grading::{Grader, Secret};
 use crate::sandbox::{Sandbox, cores};
 use crate::store::Store;
-use crate::submissions::{Grader, Secret};
 use crate::web::connections::{self, Limits, raise_descriptor_limit};
 use crate::web::{self, AppState, Assets, SignInLimiter};
 use std::net::SocketAddr;

@@ -14,8 +14,8 @@ mod results;
 mod submitted;
 
 use crate::error::Error;
+use crate::grading::{Secret, grader_version};
 use crate::sandbox::{Sandbox, check_length, cores};
-use crate::submissions::{Secret, grader_version};
 use labs::Exercise;
 use labs::grading::GradeResult;
 use serde::{Deserialize, Serialize};

@@ -16,6 +16,7 @@ mod registry;
 mod setup;
 mod signin;
 mod staff;
+mod submit;
 mod viewer;
 
 pub use assets::Assets;
@@ -25,8 +26,8 @@ pub use limiter::SignInLimiter;
 pub use viewer::SESSION_COOKIE;
 
 use crate::clock::Clock;
+use crate::grading::Grader;
 use crate::store::{self, Store};
-use crate::submissions::Grader;
 use axum::Router;
 use axum::extract::{DefaultBodyLimit, MatchedPath, Request};
 use axum::handler::Handler;

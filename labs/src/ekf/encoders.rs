@@ -1,3 +1,7 @@
+//! The control of a step from the wheel encoders: the distance each wheel rolled from its
+//! ticks, and the pose increment they make (the lab's `calculate_odometry`; the model of
+//! odometry and its error growth is [`crate::odometry`]).
+
 use crate::angle::wrap;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
