@@ -139,7 +139,7 @@ fn build(dir: &Path) -> Store {
     store
         .assign(
             COURSE,
-            Exercise::EkfLocalization.name(),
+            Exercise::EkfLocalization,
             &Policy {
                 due,
                 cutoff: due + SignedDuration::from_hours(24 * 7),
@@ -184,7 +184,7 @@ fn build(dir: &Path) -> Store {
                     course: COURSE,
                     student: &member.login,
                     member: Some(member.id),
-                    lab: Exercise::EkfLocalization.name(),
+                    lab: Exercise::EkfLocalization,
                     seed,
                     source: &source,
                     submitted_at,
@@ -206,7 +206,7 @@ fn build(dir: &Path) -> Store {
             .grant_extension(
                 COURSE,
                 &NewExtension {
-                    lab: Exercise::EkfLocalization.name(),
+                    lab: Exercise::EkfLocalization,
                     student: &member.login,
                     due: due + SignedDuration::from_hours(72),
                     cutoff: due + SignedDuration::from_hours(72),
@@ -241,7 +241,7 @@ fn build(dir: &Path) -> Store {
 #[derive(Serialize)]
 struct ClassAnswer {
     course: String,
-    lab: String,
+    lab: Exercise,
     policy: Policy,
     grader: String,
     #[serde(flatten)]
@@ -253,21 +253,21 @@ struct ClassAnswer {
 /// course's regrades of the exercise, the JSON.
 fn dashboard(store: &Store) -> Vec<u8> {
     let assignment = store
-        .assignment(COURSE, Exercise::EkfLocalization.name())
+        .assignment(COURSE, Exercise::EkfLocalization)
         .unwrap()
         .expect("assigned");
-    let view = class::load(store, COURSE, Exercise::EkfLocalization.name())
+    let view = class::load(store, COURSE, Exercise::EkfLocalization)
         .unwrap()
         .expect("assigned");
     let regrades = store
         .regrades(COURSE)
         .unwrap()
         .into_iter()
-        .filter(|r| r.lab == Exercise::EkfLocalization.name())
+        .filter(|r| r.lab == Exercise::EkfLocalization)
         .collect();
     serde_json::to_vec(&ClassAnswer {
         course: COURSE.into(),
-        lab: Exercise::EkfLocalization.name().into(),
+        lab: Exercise::EkfLocalization,
         policy: assignment.policy,
         grader: "estlab 0.1.0 plan bench".into(),
         view,
@@ -281,7 +281,7 @@ fn class(c: &mut Criterion) {
     let store = build(dir.path());
 
     // Once, outside the timing: the view covers the whole class.
-    let view = class::load(&store, COURSE, Exercise::EkfLocalization.name())
+    let view = class::load(&store, COURSE, Exercise::EkfLocalization)
         .unwrap()
         .unwrap();
     assert_eq!(view.students.len(), STUDENTS);
@@ -289,27 +289,17 @@ fn class(c: &mut Criterion) {
     assert_eq!(view.distribution.iter().sum::<usize>(), STUDENTS);
     assert!(!view.mistakes.is_empty(), "no classic mistake in the class");
     let answer = dashboard(&store);
-    let csv = export::make(
-        &store,
-        COURSE,
-        Exercise::EkfLocalization.name(),
-        Format::Csv,
-    )
-    .unwrap()
-    .unwrap();
+    let csv = export::make(&store, COURSE, Exercise::EkfLocalization, Format::Csv)
+        .unwrap()
+        .unwrap();
     assert_eq!(csv.iter().filter(|&&b| b == b'\n').count(), STUDENTS + 1);
-    let sources = export::make(
-        &store,
-        COURSE,
-        Exercise::EkfLocalization.name(),
-        Format::Sources,
-    )
-    .unwrap()
-    .unwrap();
+    let sources = export::make(&store, COURSE, Exercise::EkfLocalization, Format::Sources)
+        .unwrap()
+        .unwrap();
     let gradescope = export::make(
         &store,
         COURSE,
-        Exercise::EkfLocalization.name(),
+        Exercise::EkfLocalization,
         Format::Gradescope,
     )
     .unwrap()
@@ -330,13 +320,13 @@ fn class(c: &mut Criterion) {
         b.iter(|| dashboard(&store))
     });
     group.bench_function("class::load alone", |b| {
-        b.iter(|| class::load(&store, COURSE, Exercise::EkfLocalization.name()).unwrap())
+        b.iter(|| class::load(&store, COURSE, Exercise::EkfLocalization).unwrap())
     });
     // Its parts: the submissions' rows, and the stored results of the counting ones.
     group.bench_function("part: Store::course_submissions", |b| {
         b.iter(|| {
             store
-                .course_submissions(COURSE, Exercise::EkfLocalization.name())
+                .course_submissions(COURSE, Exercise::EkfLocalization)
                 .unwrap()
         })
     });
@@ -354,9 +344,7 @@ fn class(c: &mut Criterion) {
         ("export: Gradescope results zip", Format::Gradescope),
     ] {
         group.bench_function(name, |b| {
-            b.iter(|| {
-                export::make(&store, COURSE, Exercise::EkfLocalization.name(), format).unwrap()
-            })
+            b.iter(|| export::make(&store, COURSE, Exercise::EkfLocalization, format).unwrap())
         });
     }
     group.finish();

@@ -165,14 +165,10 @@ async fn access_matrix() {
         )
         .unwrap();
     store
-        .assign(
-            "el2320",
-            Exercise::EkfLocalization.name(),
-            &open_policy(now),
-        )
+        .assign("el2320", Exercise::EkfLocalization, &open_policy(now))
         .unwrap();
     store
-        .assign("other", Exercise::EkfLocalization.name(), &open_policy(now))
+        .assign("other", Exercise::EkfLocalization, &open_policy(now))
         .unwrap();
     let student_a = store.member("el2320", A_ID).unwrap();
     let student_b = store.member("el2320", B_ID).unwrap();
@@ -668,7 +664,7 @@ async fn deadlines_penalties_and_the_roster() {
     store
         .assign(
             "el2320",
-            Exercise::EkfLocalization.name(),
+            Exercise::EkfLocalization,
             &Policy {
                 due,
                 cutoff,

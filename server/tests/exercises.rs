@@ -60,7 +60,7 @@ async fn both_exercises_are_graded_side_by_side_each_with_its_own_tests() {
     let app = App::new();
     app.open_course("el2320");
     app.store()
-        .assign("el2320", Exercise::Odometry.name(), &open_policy(app.now()))
+        .assign("el2320", Exercise::Odometry, &open_policy(app.now()))
         .unwrap();
     let ada = app.enrol("el2320", "ada");
     let who = app.signed_in(&ada).await;

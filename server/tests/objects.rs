@@ -343,14 +343,18 @@ async fn course(app: &App, name: &'static str, tag: &str, student: &str, extende
 /// What a course holds that the other course's staff must leave alone: its extensions,
 /// regrades, audit log, submissions and the results regrades replaced.
 fn state_of(store: &Store, course: &str) -> String {
-    let submissions = store.course_submissions(course, LAB).unwrap();
+    let submissions = store
+        .course_submissions(course, labs::Exercise::EkfLocalization)
+        .unwrap();
     let earlier: Vec<usize> = submissions
         .iter()
         .map(|s| store.earlier_results(s.id).unwrap().len())
         .collect();
     format!(
         "{:?}\n{:?}\n{:?}\n{:?}\n{earlier:?}",
-        store.extensions(course, LAB).unwrap(),
+        store
+            .extensions(course, labs::Exercise::EkfLocalization)
+            .unwrap(),
         store.regrades(course).unwrap(),
         store.audit_log(course).unwrap(),
         submissions,

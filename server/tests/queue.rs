@@ -9,6 +9,7 @@ use estlab::grading::{Grader, Policy, Secret, Work};
 use estlab::sandbox::Sandbox;
 use estlab::store::{Error, NewSubmission, Status, Store};
 use jiff::Timestamp;
+use labs::Exercise;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -27,7 +28,7 @@ fn quick(marker: &str) -> String {
     format!("function init(){{ throw new Error(\"not implemented\") }} // {marker}\n")
 }
 
-fn submission<'a>(student: &'a str, lab: &'a str, source: &'a str) -> NewSubmission<'a> {
+fn submission<'a>(student: &'a str, lab: Exercise, source: &'a str) -> NewSubmission<'a> {
     NewSubmission {
         course: "el2320",
         student,
@@ -80,15 +81,15 @@ async fn another_students_submission_is_graded_before_a_flooders_second() {
     let ids: Vec<i64> = {
         let store = Store::open(dir.path()).unwrap();
         [
-            ("mallory", "ekf-localization"),
-            ("mallory", "odometry"),
-            ("ada", "ekf-localization"),
-            ("grace", "odometry"),
+            ("mallory", Exercise::EkfLocalization),
+            ("mallory", Exercise::Odometry),
+            ("ada", Exercise::EkfLocalization),
+            ("grace", Exercise::Odometry),
         ]
         .iter()
         .map(|(student, lab)| {
             let source = quick(student);
-            store.insert(&submission(student, lab, &source)).unwrap()
+            store.insert(&submission(student, *lab, &source)).unwrap()
         })
         .collect()
     };
@@ -137,7 +138,7 @@ async fn a_sandbox_that_cannot_start_leaves_the_submission_waiting_until_it_can(
     grader.resume().unwrap();
     let source = quick("waiting");
     let id = grader
-        .submit(&submission("ada", "ekf-localization", &source))
+        .submit(&submission("ada", Exercise::EkfLocalization, &source))
         .unwrap();
 
     // Tried, failed, tried again: still waiting, not "not gradable".
@@ -163,7 +164,7 @@ async fn a_sandbox_that_cannot_start_leaves_the_submission_waiting_until_it_can(
     assert!(matches!(
         grader
             .store()
-            .insert(&submission("ada", "ekf-localization", "// again")),
+            .insert(&submission("ada", Exercise::EkfLocalization, "// again")),
         Err(Error::Busy(busy)) if busy == id
     ));
 

@@ -226,7 +226,7 @@ async fn an_instructor_sets_the_course_up_on_the_web() {
     assert_eq!(opened.status, StatusCode::OK, "{}", opened.body);
     let stored = app
         .store()
-        .assignment(COURSE, Exercise::Odometry.name())
+        .assignment(COURSE, Exercise::Odometry)
         .unwrap()
         .unwrap();
     assert_eq!(stored.policy.due, at("2026-12-15T22:59Z"));

@@ -239,7 +239,7 @@ async fn a_regrade_cut_off_by_a_stop_resumes_at_the_next_start() {
         .store()
         .start_regrade(
             "el2320",
-            Exercise::EkfLocalization.name(),
+            Exercise::EkfLocalization,
             &Scope::Assignment,
             "teacher",
             &grader,

@@ -8,7 +8,7 @@ import { join } from 'node:path';
 import { test } from 'node:test';
 import {
   bounded, browserPoints, correct, estlab, loopingInPredict, openPage, root, runAndWait, savedFile as saved, submission,
-  submit, tempDir, testStatus, typeInEditor as type, waitForSubmission, withMistake as mistaken, withServerAndBrowser,
+  starterOf, submit, tempDir, testStatus, typeInEditor as type, waitForSubmission, withMistake as mistaken, withServerAndBrowser,
 } from './harness.mjs';
 
 const mistakes = JSON.parse(readFileSync(join(root, 'tests', 'student', 'mistakes.json'), 'utf8'));
@@ -27,7 +27,7 @@ test('the starter file: every test fails with "not implemented", and reset asks 
   const page = await openPage(browser, `${server.url}/ekf/code`);
   assert.deepEqual(page.problems, []);
   await runAndWait(page, '#run-tests');
-  const starter = readFileSync(join(root, 'static', 'src', 'ekf', 'starter.js'), 'utf8').split('\n');
+  const starter = readFileSync(starterOf('ekf_localization'), 'utf8').split('\n');
   for (const key of ['calculate_odometry', 'predict', 'batch_update']) {
     assert.equal(await testStatus(page, key), 'failed', key);
     const line = starter.findIndex((text) => text.includes(`${key}: not implemented`)) + 1;

@@ -15,11 +15,18 @@ export const estlabBinary = process.env.ESTLAB_BIN ?? join(root, 'target', 'debu
 export const webDir = process.env.ESTLAB_WEB ?? join(root, 'target', 'web');
 export const staticDir = join(webDir, 'dist');
 export const chromiumPath = process.env.CHROMIUM ?? '/usr/bin/chromium';
+/** The exercises' folders. */
+export const exercisesDir = join(root, 'labs', 'src', 'exercises');
 
 /** The reference solution of the EKF exercise, as a student would write it. */
 export const correct = readFileSync(join(root, 'tests', 'student', 'correct.js'), 'utf8');
 /** The starter file: every function throws "not implemented", so it grades in milliseconds. */
-export const starter = readFileSync(join(root, 'static', 'src', 'ekf', 'starter.js'), 'utf8');
+export const starter = readFileSync(starterOf('ekf_localization'), 'utf8');
+
+/** The starter file of the exercise in `folder` (`labs/src/exercises/<folder>/`). */
+export function starterOf(folder) {
+  return join(exercisesDir, folder, 'web', 'starter.js');
+}
 
 /**
  * `file` with the mistake called `name` of `mistakes` (a tests/student mistakes.json) made:

@@ -12,14 +12,14 @@ import { join } from 'node:path';
 import { test } from 'node:test';
 import {
   bounded, browserPoints, correct as ekfCorrect, estlab, laptop, openPage, phone, root, runAndWait, savedFile, setUpCourse,
-  signIn, submit, tempDir, testStatus, typeInEditor as type, waitForSubmission, withMistake, withServerAndBrowser,
+  signIn, starterOf, submit, tempDir, testStatus, typeInEditor as type, waitForSubmission, withMistake, withServerAndBrowser,
 } from './harness.mjs';
 
 const LAB = 'odometry';
 const student = (file) => readFileSync(join(root, 'tests', 'student', 'odometry', file), 'utf8');
 const correct = student('correct.js');
 const mistakes = JSON.parse(student('mistakes.json'));
-const starter = readFileSync(join(root, 'static', 'src', 'odometry', 'starter.js'), 'utf8');
+const starter = readFileSync(starterOf('odometry'), 'utf8');
 const FUNCTIONS = ['odometry_step', 'pose_jacobian', 'increment_jacobian', 'wheel_noise', 'propagate'];
 const PATHS = ['square', 'figure-eight'];
 

@@ -9,11 +9,12 @@
 // stale run's plots keep their text legible; the result panels have no empty headers or
 // skipped heading levels.
 import assert from 'node:assert/strict';
-import { readFileSync } from 'node:fs';
+import { readdirSync, readFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { test } from 'node:test';
 import {
-  bounded, laptop, openPage, phone, root, runAndWait, setUpCourse, signIn, startServer, typeInEditor, withServerAndBrowser,
+  bounded, exercisesDir, laptop, openPage, phone, root, runAndWait, setUpCourse, signIn, startServer, starterOf,
+  typeInEditor, withServerAndBrowser,
 } from './harness.mjs';
 
 let server;
@@ -163,13 +164,14 @@ for (const [size, viewport] of sizes) {
 
 /** The lines of a starter file longer than 80 columns. */
 function longLines(file) {
-  return readFileSync(join(root, 'static', 'src', file), 'utf8').split('\n')
+  return readFileSync(file, 'utf8').split('\n')
     .map((line, i) => [i + 1, line.length]).filter(([, length]) => length > 80);
 }
 
-test('the starters fit 80 columns', () => {
-  assert.deepEqual(longLines('ekf/starter.js'), []);
-  assert.deepEqual(longLines('odometry/starter.js'), []);
+test('every exercise\'s starter fits 80 columns', () => {
+  const folders = readdirSync(exercisesDir, { withFileTypes: true }).filter((entry) => entry.isDirectory());
+  assert.ok(folders.length >= 2);
+  for (const { name } of folders) assert.deepEqual(longLines(starterOf(name)), [], name);
 });
 
 for (const [size, viewport] of sizes) {

@@ -282,7 +282,7 @@ pub fn run(args: &Args) -> Result<(), Error> {
                     out.display()
                 )));
             }
-            let bytes = crate::courses::export::make(&store, course, lab.name(), *format)?.ok_or_else(|| {
+            let bytes = crate::courses::export::make(&store, course, *lab, *format)?.ok_or_else(|| {
                 Error::Invalid(format!(
                     "{course} has not opened {lab} (estlab course assign {course} {lab} --due ...)"
                 ))
@@ -395,7 +395,7 @@ fn show(store: &Store, course: &str) -> Result<String, Error> {
         lines.push("  none (estlab course assign)".into());
     }
     for a in &assignments {
-        let submissions = store.course_submissions(course, &a.lab)?;
+        let submissions = store.course_submissions(course, a.lab)?;
         lines.push(format!(
             "  {}: due {}, cutoff {}, {:.0} %/day late, counts {}; {} submission(s)",
             a.lab,

@@ -4,6 +4,7 @@
 
 use super::deadline::Policy;
 use crate::store::{self, Extension, Member, Store, SubmissionSummary};
+use labs::Exercise;
 use labs::grading::{GradeResult, HintKind, Status as TestStatus};
 use serde::Serialize;
 use std::collections::{BTreeMap, HashMap};
@@ -194,7 +195,7 @@ pub fn class_view<E>(
 
 /// A course's exercise at a glance, from the database; `None` when the course has not
 /// opened the exercise.
-pub fn load(store: &Store, course: &str, lab: &str) -> Result<Option<ClassView>, store::Error> {
+pub fn load(store: &Store, course: &str, lab: Exercise) -> Result<Option<ClassView>, store::Error> {
     let Some(assignment) = store.assignment(course, lab)? else {
         return Ok(None);
     };

@@ -249,7 +249,7 @@ impl Setup<'_> {
                 policy.cutoff, policy.due
             )));
         }
-        self.store.assign(self.course, exercise.name(), policy)?;
+        self.store.assign(self.course, exercise, policy)?;
         self.audit(
             "assign",
             &format!(

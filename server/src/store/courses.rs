@@ -1,10 +1,11 @@
 //! Courses, their people (students of the roster and staff) and their assignments.
 
 use super::timestamp;
-use super::{Error, Store};
+use super::{Error, Store, exercise};
 use crate::courses::deadline::{Counts, Policy};
 use crate::courses::roster;
 use jiff::Timestamp;
+use labs::Exercise;
 use rusqlite::{Connection, OptionalExtension, Row, params};
 use serde::{Deserialize, Serialize};
 
@@ -87,7 +88,7 @@ pub struct RosterChange {
 #[derive(Clone, Debug, Serialize)]
 pub struct Assignment {
     pub course: String,
-    pub lab: String,
+    pub lab: Exercise,
     #[serde(flatten)]
     pub policy: Policy,
 }
@@ -108,7 +109,7 @@ fn member(row: &Row) -> rusqlite::Result<Member> {
 fn assignment(row: &Row) -> rusqlite::Result<Assignment> {
     Ok(Assignment {
         course: row.get(0)?,
-        lab: row.get(1)?,
+        lab: exercise(row, 1)?,
         policy: Policy {
             due: timestamp(row.get(2)?),
             cutoff: timestamp(row.get(3)?),
@@ -355,14 +356,14 @@ impl Store {
     }
 
     /// Opens an exercise for a course, or changes its dates and policy.
-    pub fn assign(&self, course: &str, lab: &str, policy: &Policy) -> Result<(), Error> {
+    pub fn assign(&self, course: &str, lab: Exercise, policy: &Policy) -> Result<(), Error> {
         self.connection().execute(
             "INSERT INTO assignments (course, lab, due, cutoff, late_penalty, counts)
              VALUES (?1, ?2, ?3, ?4, ?5, ?6)
              ON CONFLICT (course, lab) DO UPDATE SET due = ?3, cutoff = ?4, late_penalty = ?5, counts = ?6",
             params![
                 course,
-                lab,
+                lab.name(),
                 policy.due.as_second(),
                 policy.cutoff.as_second(),
                 policy.penalty_per_day,
@@ -372,26 +373,35 @@ impl Store {
         Ok(())
     }
 
-    /// A course's assignments, by due date.
+    /// A course's assignments of the exercises this release grades (a database of a later
+    /// release may hold others, which are left out), by due date.
     pub fn assignments(&self, course: &str) -> Result<Vec<Assignment>, Error> {
         let connection = self.connection();
+        let known = Exercise::names();
         let mut statement = connection.prepare(&format!(
             "SELECT {ASSIGNMENT_COLUMNS} FROM assignments WHERE course = ?1 ORDER BY due, lab"
         ))?;
         let assignments = statement
-            .query_map([course], assignment)?
+            .query_map([course], |row| {
+                let lab: String = row.get(1)?;
+                known
+                    .contains(&lab.as_str())
+                    .then(|| assignment(row))
+                    .transpose()
+            })?
+            .filter_map(Result::transpose)
             .collect::<Result<_, _>>()?;
         Ok(assignments)
     }
 
-    pub fn assignment(&self, course: &str, lab: &str) -> Result<Option<Assignment>, Error> {
+    pub fn assignment(&self, course: &str, lab: Exercise) -> Result<Option<Assignment>, Error> {
         Ok(self
             .connection()
             .query_row(
                 &format!(
                     "SELECT {ASSIGNMENT_COLUMNS} FROM assignments WHERE course = ?1 AND lab = ?2"
                 ),
-                params![course, lab],
+                params![course, lab.name()],
                 assignment,
             )
             .optional()?)

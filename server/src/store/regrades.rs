@@ -4,8 +4,9 @@
 
 use super::submissions::{SUMMARY_COLUMNS, SUMMARY_FROM, SUMMARY_WIDTH, summary};
 use super::timestamp;
-use super::{Error, Store};
+use super::{Error, Store, exercise};
 use jiff::Timestamp;
+use labs::Exercise;
 use labs::grading::GradeResult;
 use rusqlite::{OptionalExtension, params};
 use serde::{Deserialize, Serialize};
@@ -58,7 +59,7 @@ pub struct Change {
 pub struct Regrade {
     pub id: i64,
     pub course: String,
-    pub lab: String,
+    pub lab: Exercise,
     pub scope: String,
     pub requested_by: String,
     /// The grader that regrades.
@@ -102,7 +103,7 @@ impl Store {
     pub fn start_regrade(
         &self,
         course: &str,
-        lab: &str,
+        lab: Exercise,
         scope: &Scope,
         requested_by: &str,
         grader: &str,
@@ -126,7 +127,7 @@ impl Store {
                  ORDER BY s.id"
             ))?;
             statement
-                .query_map(params![course, lab, value], |row| row.get(0))?
+                .query_map(params![course, lab.name(), value], |row| row.get(0))?
                 .collect::<Result<_, _>>()?
         };
         if ids.is_empty() {
@@ -140,7 +141,7 @@ impl Store {
              VALUES (?1, ?2, ?3, ?4, ?5, ?6)",
             params![
                 course,
-                lab,
+                lab.name(),
                 scope.describe(),
                 requested_by,
                 grader,
@@ -249,7 +250,7 @@ impl Store {
                     Ok(Regrade {
                         id: row.get(0)?,
                         course: row.get(1)?,
-                        lab: row.get(2)?,
+                        lab: exercise(row, 2)?,
                         scope: row.get(3)?,
                         requested_by: row.get(4)?,
                         grader: row.get(5)?,

@@ -6,16 +6,17 @@
 use super::courses::policy_in_force;
 use super::submissions::SubmissionSummary;
 use super::timestamp;
-use super::{Error, Store};
+use super::{Error, Store, exercise};
 use crate::courses::deadline::Policy;
 use jiff::Timestamp;
+use labs::Exercise;
 use rusqlite::{OptionalExtension, Row, params};
 use serde::Serialize;
 
 /// New dates for one student's assignment, and who granted them.
 #[derive(Debug, Serialize)]
 pub struct Extension {
-    pub lab: String,
+    pub lab: Exercise,
     pub student: String,
     pub due: Timestamp,
     pub cutoff: Timestamp,
@@ -26,7 +27,7 @@ pub struct Extension {
 /// An extension about to be granted.
 #[derive(Clone, Copy)]
 pub struct NewExtension<'a> {
-    pub lab: &'a str,
+    pub lab: Exercise,
     pub student: &'a str,
     pub due: Timestamp,
     pub cutoff: Timestamp,
@@ -141,7 +142,7 @@ pub struct NewWaiver<'a> {
 
 fn extension(row: &Row) -> rusqlite::Result<Extension> {
     Ok(Extension {
-        lab: row.get(0)?,
+        lab: exercise(row, 0)?,
         student: row.get(1)?,
         due: timestamp(row.get(2)?),
         cutoff: timestamp(row.get(3)?),
@@ -234,7 +235,7 @@ impl Store {
                  granted_by = ?6, granted_at = ?7",
             params![
                 course,
-                lab,
+                lab.name(),
                 member.id,
                 due.as_second(),
                 cutoff.as_second(),
@@ -255,7 +256,7 @@ impl Store {
         )?;
         Ok(Granted {
             extension: Extension {
-                lab: lab.to_string(),
+                lab,
                 student: student.to_string(),
                 due,
                 cutoff,
@@ -313,14 +314,14 @@ impl Store {
     }
 
     /// The extensions of a course's exercise.
-    pub fn extensions(&self, course: &str, lab: &str) -> Result<Vec<Extension>, Error> {
+    pub fn extensions(&self, course: &str, lab: Exercise) -> Result<Vec<Extension>, Error> {
         let connection = self.connection();
         let mut statement = connection.prepare(&format!(
             "SELECT {EXTENSION_COLUMNS} FROM extensions e JOIN members m ON m.id = e.member
              WHERE e.course = ?1 AND e.lab = ?2 ORDER BY m.login"
         ))?;
         let extensions = statement
-            .query_map(params![course, lab], extension)?
+            .query_map(params![course, lab.name()], extension)?
             .collect::<Result<_, _>>()?;
         Ok(extensions)
     }
@@ -329,7 +330,7 @@ impl Store {
     pub fn extension_for(
         &self,
         course: &str,
-        lab: &str,
+        lab: Exercise,
         member: i64,
     ) -> Result<Option<Extension>, Error> {
         Ok(self
@@ -339,7 +340,7 @@ impl Store {
                     "SELECT {EXTENSION_COLUMNS} FROM extensions e JOIN members m ON m.id = e.member
                      WHERE e.course = ?1 AND e.lab = ?2 AND e.member = ?3"
                 ),
-                params![course, lab, member],
+                params![course, lab.name(), member],
                 extension,
             )
             .optional()?)
@@ -350,7 +351,7 @@ impl Store {
     pub fn policy_for(
         &self,
         course: &str,
-        lab: &str,
+        lab: Exercise,
         member: i64,
     ) -> Result<Option<Policy>, Error> {
         let policy = self
@@ -360,7 +361,7 @@ impl Store {
                  FROM assignments a LEFT JOIN extensions e
                      ON e.course = a.course AND e.lab = a.lab AND e.member = ?3
                  WHERE a.course = ?1 AND a.lab = ?2",
-                params![course, lab, member],
+                params![course, lab.name(), member],
                 |row| policy_in_force(row, 0),
             )
             .optional()?;
@@ -378,7 +379,7 @@ mod tests {
             id,
             course: "el2320".into(),
             student: "s1".into(),
-            lab: "ekf-localization".into(),
+            lab: Exercise::EkfLocalization,
             status: Status::Graded,
             submitted_at: "2026-12-15T23:00:00.000Z".into(),
             late_seconds: 18,

@@ -48,7 +48,7 @@ pub struct NewSubmission<'a> {
     pub student: &'a str,
     /// The signed-in student, on a server with courses.
     pub member: Option<i64>,
-    pub lab: &'a str,
+    pub lab: Exercise,
     pub seed: u64,
     pub source: &'a str,
     pub submitted_at: Timestamp,
@@ -82,7 +82,7 @@ pub struct SubmissionSummary {
     pub id: i64,
     pub course: String,
     pub student: String,
-    pub lab: String,
+    pub lab: Exercise,
     pub status: Status,
     pub submitted_at: String,
     /// After the student's due date in force by this much (0: on time).
@@ -157,7 +157,7 @@ pub(super) fn summary(row: &Row) -> rusqlite::Result<SubmissionSummary> {
         id: row.get(0)?,
         course: row.get(1)?,
         student: row.get(2)?,
-        lab: row.get(3)?,
+        lab: exercise(row, 3)?,
         status: Status::parse(&row.get::<_, String>(4)?),
         submitted_at,
         late_seconds: lateness.seconds,
@@ -177,7 +177,7 @@ impl Store {
             .query_row(
                 "SELECT id FROM submissions WHERE course = ?1 AND student = ?2 AND lab = ?3
                  AND status != 'graded' ORDER BY id LIMIT 1",
-                params![new.course, new.student, new.lab],
+                params![new.course, new.student, new.lab.name()],
                 |row| row.get(0),
             )
             .optional()?;
@@ -192,7 +192,7 @@ impl Store {
                 new.course,
                 new.student,
                 new.member,
-                new.lab,
+                new.lab.name(),
                 new.seed as i64,
                 new.source,
                 moment(new.submitted_at),
@@ -345,26 +345,26 @@ impl Store {
     pub fn submitted_since(
         &self,
         member: i64,
-        lab: &str,
+        lab: Exercise,
         since: Timestamp,
     ) -> Result<usize, Error> {
         let count: i64 = self.connection().query_row(
             "SELECT count(*) FROM submissions WHERE member = ?1 AND lab = ?2 AND submitted_at >= ?3",
-            params![member, lab, moment(since)],
+            params![member, lab.name(), moment(since)],
             |row| row.get(0),
         )?;
         Ok(count as usize)
     }
 
     /// A student's own submissions to an exercise, oldest first.
-    pub fn history(&self, member: i64, lab: &str) -> Result<Vec<SubmissionSummary>, Error> {
+    pub fn history(&self, member: i64, lab: Exercise) -> Result<Vec<SubmissionSummary>, Error> {
         let connection = self.connection();
         let mut statement = connection.prepare(&format!(
             "SELECT {SUMMARY_COLUMNS} FROM {SUMMARY_FROM} WHERE s.member = ?1 AND s.lab = ?2
              ORDER BY s.id"
         ))?;
         let list = statement
-            .query_map(params![member, lab], summary)?
+            .query_map(params![member, lab.name()], summary)?
             .collect::<Result<_, _>>()?;
         Ok(list)
     }
@@ -373,7 +373,7 @@ impl Store {
     pub fn course_submissions(
         &self,
         course: &str,
-        lab: &str,
+        lab: Exercise,
     ) -> Result<Vec<SubmissionSummary>, Error> {
         let connection = self.connection();
         let mut statement = connection.prepare(&format!(
@@ -382,7 +382,7 @@ impl Store {
              ORDER BY s.student, s.id"
         ))?;
         let list = statement
-            .query_map(params![course, lab], summary)?
+            .query_map(params![course, lab.name()], summary)?
             .collect::<Result<_, _>>()?;
         Ok(list)
     }
@@ -436,7 +436,7 @@ mod tests {
             course: "el2320",
             student,
             member: None,
-            lab: "ekf-localization",
+            lab: Exercise::EkfLocalization,
             seed: 7,
             source,
             submitted_at: Timestamp::UNIX_EPOCH,

@@ -132,9 +132,6 @@ pub async fn course_submissions(
 ) -> Result<Response, Error> {
     viewer.staff_of(&name)?;
     let lab = lab_field(&query.lab)?;
-    let list = blocking(&state, move |store| {
-        store.course_submissions(&name, lab.name())
-    })
-    .await?;
+    let list = blocking(&state, move |store| store.course_submissions(&name, lab)).await?;
     Ok(Json(list).into_response())
 }

@@ -371,7 +371,7 @@ pub async fn assign(
         setup.assign(exercise, &policy)?;
         Ok(Assignment {
             course,
-            lab: exercise.name().to_owned(),
+            lab: exercise,
             policy,
         })
     })

@@ -32,7 +32,7 @@ fn known_lab(lab: &str) -> Result<Exercise, Error> {
 #[derive(Serialize)]
 pub struct ClassAnswer {
     pub course: String,
-    pub lab: String,
+    pub lab: Exercise,
     pub policy: Policy,
     /// The grader that grades now (a regrade uses it).
     pub grader: String,
@@ -47,23 +47,22 @@ async fn class_answer(
     exercise: Exercise,
 ) -> Result<ClassAnswer, Error> {
     let grader = state.grader.version(exercise).to_string();
-    let lab = exercise.name();
     blocking(state, move |store| {
-        let Some(assignment) = store.assignment(&course, lab)? else {
+        let Some(assignment) = store.assignment(&course, exercise)? else {
             return Ok(None);
         };
-        let Some(view) = class::load(store, &course, lab)? else {
+        let Some(view) = class::load(store, &course, exercise)? else {
             return Ok(None);
         };
         let regrades = store
             .regrades(&course)?
             .into_iter()
-            .filter(|r| r.lab == lab)
+            .filter(|r| r.lab == exercise)
             .collect();
         Ok(Some(ClassAnswer {
             course,
             policy: assignment.policy,
-            lab: lab.to_owned(),
+            lab: exercise,
             grader,
             view,
             regrades,
@@ -98,7 +97,7 @@ pub async fn student(
     Path((course, lab, student)): Path<(String, String, String)>,
 ) -> Result<Response, Error> {
     viewer.staff_of(&course)?;
-    known_lab(&lab)?;
+    let lab = known_lab(&lab)?;
     let missing = Error::NotFound(format!("{course} has no student {student:?}"));
     let answer = blocking(&state, move |store| {
         let Ok(member) = store.member(&course, &student) else {
@@ -107,12 +106,12 @@ pub async fn student(
         if member.role.is_staff() {
             return Ok(None);
         }
-        let Some(policy) = store.policy_for(&course, &lab, member.id)? else {
+        let Some(policy) = store.policy_for(&course, lab, member.id)? else {
             return Ok(None);
         };
-        let extension = store.extension_for(&course, &lab, member.id)?;
+        let extension = store.extension_for(&course, lab, member.id)?;
         Ok(Some(StudentAnswer {
-            submissions: store.history(member.id, &lab)?,
+            submissions: store.history(member.id, lab)?,
             member,
             policy,
             extension,
@@ -155,8 +154,7 @@ pub async fn start_regrade(
     let grader = state.grader.version(exercise).to_string();
     let url_course = course.clone();
     let (id, total) = blocking(&state, move |store| {
-        let started =
-            store.start_regrade(&course, &request.lab, &request.scope, &who, &grader, now)?;
+        let started = store.start_regrade(&course, exercise, &request.scope, &who, &grader, now)?;
         store.audit(
             &course,
             &who,
@@ -230,7 +228,7 @@ pub async fn extend(
 ) -> Result<Response, Error> {
     viewer.staff_of(&course)?;
     let request: ExtensionRequest = body.json(&viewer, "the extension request").await?;
-    lab_field(&request.lab)?;
+    let exercise = lab_field(&request.lab)?;
     let due =
         parse_moment(&request.due).map_err(|e| Error::BadRequest(format!("field `due`: {e}")))?;
     let cutoff = match &request.cutoff {
@@ -248,7 +246,7 @@ pub async fn extend(
     let now = state.clock.now();
     let granted = blocking(&state, move |store| {
         let grant = NewExtension {
-            lab: &request.lab,
+            lab: exercise,
             student: &request.student,
             due,
             cutoff,
@@ -330,10 +328,10 @@ pub async fn export(
     Query(query): Query<ExportQuery>,
 ) -> Result<Response, Error> {
     viewer.staff_of(&course)?;
-    known_lab(&lab)?;
+    let exercise = known_lab(&lab)?;
     let name = query.format.file_name(&course, &lab);
     let bytes = blocking(&state, move |store| {
-        export::make(store, &course, &lab, query.format)
+        export::make(store, &course, exercise, query.format)
     })
     .await?
     .ok_or_else(|| Error::NotFound("the course has not opened this exercise".into()))?;

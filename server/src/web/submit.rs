@@ -78,7 +78,7 @@ pub async fn accept(
             course: &submitter.course,
             student: &submitter.student,
             member: submitter.member,
-            lab: exercise.name(),
+            lab: exercise,
             seed,
             source: &source,
             submitted_at: now,
@@ -115,7 +115,7 @@ async fn as_member(
             )));
         }
     }
-    let lab = exercise.name();
+    let lab = exercise;
     let course = member.course.clone();
     let id = member.id;
     let hour_ago = now - jiff::SignedDuration::from_hours(1);

@@ -186,7 +186,7 @@ impl App {
             .create_course(course, "Applied Estimation", now)
             .unwrap();
         self.store()
-            .assign(course, Exercise::EkfLocalization.name(), &open_policy(now))
+            .assign(course, Exercise::EkfLocalization, &open_policy(now))
             .unwrap();
     }
 
@@ -253,9 +253,7 @@ impl App {
 
     /// Opens `exercise` for `course` with `policy` (again: new dates).
     pub fn assign(&self, course: &str, exercise: Exercise, policy: &Policy) {
-        self.store()
-            .assign(course, exercise.name(), policy)
-            .unwrap();
+        self.store().assign(course, exercise, policy).unwrap();
     }
 
     /// Submits `source` to `exercise` as `who`; the answer, whatever it is (nothing waits

@@ -120,7 +120,7 @@ pub fn sources(view: &ClassView, sources: &HashMap<i64, String>) -> Vec<u8> {
 pub fn make(
     store: &Store,
     course: &str,
-    lab: &str,
+    lab: labs::Exercise,
     format: Format,
 ) -> Result<Option<Vec<u8>>, store::Error> {
     let Some(view) = class::load(store, course, lab)? else {
