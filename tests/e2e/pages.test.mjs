@@ -428,10 +428,19 @@ test('on a phone every page fits the screen: the settings fold above the plots, 
   }
 });
 
-test('the home page leads to every exercise; plots\' save buttons name their plot; no rejection reads as ∞', bounded, async () => {
+test('the home page and the navigation lead to every exercise, its workbench beside its experiments; plots\' save buttons name their plot; no rejection reads as ∞', bounded, async () => {
   const home = await openPage(browser, `${server.url}/`);
-  assert.deepEqual(await home.locator('.exercises h2 a').evaluateAll((links) => links.map((a) => a.getAttribute('href'))),
-    ['/car', '/ekf', '/ekf/code', '/odometry', '/odometry/code']);
+  const links = (selector) => home.locator(selector).evaluateAll((found) => found.map((a) => a.getAttribute('href')));
+  // A card per page on its own or per exercise, the workbench's under its experiments'.
+  assert.deepEqual(await links('.exercises > li > h2 a'), ['/car', '/ekf', '/odometry']);
+  assert.deepEqual(await links('.exercises > li > h3 a'), ['/ekf/code', '/odometry/code']);
+  assert.deepEqual(await home.locator('.exercises > li').evaluateAll((cards) => cards.map((card) =>
+    [...card.querySelectorAll('a')].map((a) => a.getAttribute('href')))),
+  [['/car'], ['/ekf', '/ekf/code'], ['/odometry', '/odometry/code']]);
+  // The navigation groups them alike.
+  assert.deepEqual(await home.locator('header.site nav .group').evaluateAll((groups) => groups.map((group) =>
+    [...group.querySelectorAll('a')].map((a) => a.getAttribute('href')))),
+  [['/car'], ['/ekf', '/ekf/code'], ['/odometry', '/odometry/code']]);
   await home.close();
   const page = await openPage(browser, `${server.url}/ekf`);
   assert.equal(await page.locator('figure[data-name="map"] .save button').first().getAttribute('aria-label'),
@@ -442,6 +451,27 @@ test('the home page leads to every exercise; plots\' save buttons name their plo
   await page.locator('#dataset-kind').selectOption('files');
   assert.equal(await page.locator('#dataset-seed').isVisible(), false, 'uploaded files have no seed');
   assert.deepEqual(page.problems.filter((p) => !p.includes('Choose a map file')), []);
+  await page.close();
+});
+
+test('on a phone the navigation is one row that scrolls sideways, its last link within reach', bounded, async () => {
+  const page = await browser.newPage({ viewport: { width: 360, height: 844 } });
+  await page.goto(`${server.url}/`);
+  const nav = page.locator('header.site nav');
+  // One row: every link's top within the height of the smallest (the workbenches' are
+  // set smaller, on the same baseline).
+  const boxes = await nav.locator('a').evaluateAll((links) => links.map((a) => a.getBoundingClientRect().toJSON()));
+  const tops = boxes.map((box) => box.top);
+  assert.ok(Math.max(...tops) - Math.min(...tops) < Math.min(...boxes.map((box) => box.height)), `one row: ${tops}`);
+  const box = await nav.boundingBox();
+  assert.ok(box.x >= 0 && box.x + box.width <= 360, 'the row fits the screen');
+  assert.equal(await page.evaluate(() => document.documentElement.scrollWidth), 360, 'the page does not scroll sideways');
+  const last = nav.locator('a').last();
+  await last.scrollIntoViewIfNeeded();
+  const reached = await last.boundingBox();
+  assert.ok(reached.x >= 0 && reached.x + reached.width <= 360, 'the last link scrolls into view');
+  await last.click();
+  await page.waitForURL(/\/odometry\/code$/);
   await page.close();
 });
 

@@ -9,8 +9,7 @@ use axum::extract::State;
 use axum::http::{StatusCode, Uri, header};
 use axum::response::{Html, IntoResponse, Response};
 use labs::Exercise;
-use labs::exercises::ekf_localization::EkfLocalization;
-use labs::exercises::{Declaration, Graded};
+use labs::exercises::{Declaration, ekf_localization};
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
@@ -161,7 +160,7 @@ pub async fn ekf(State(state): State<Arc<AppState>>, viewer: Viewer) -> Result<R
         page: "ekf",
         assets: state.assets.page("ekf"),
         nav: Nav::of(&state, &viewer).await?,
-        plots: EkfLocalization::DECLARATION.workbench.run_view,
+        plots: ekf_localization::RUN_PLOTS,
     })
 }
 

@@ -137,7 +137,7 @@ function describeMap(map, v) {
 }
 
 /**
- * The views of one run at a time in `root` (the markup of the EKF exercise's `web/run_view.html`): the map with
+ * The views of one run at a time in `root` (the markup of the EKF exercise's `web/plots.html`): the map with
  * its zoom and ellipse tools, the time slider under it with its buttons and caption, and
  * the plots over time.
  */

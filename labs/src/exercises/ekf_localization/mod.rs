@@ -24,6 +24,10 @@ pub type Case = crate::grading::Case<Call>;
 
 use crate::exercises::{Declaration, Graded, Runs, Workbench};
 
+/// The views of a whole run (`static/src/ekf/runview.js` draws them), on the workbench
+/// and on the experiment page alike.
+pub const RUN_PLOTS: &str = include_str!("web/plots.html");
+
 /// The exercise, as the registry knows it.
 pub struct EkfLocalization;
 
@@ -50,7 +54,10 @@ impl Graded for EkfLocalization {
             run_button: "Run data sets",
             runs_heading: "Your filter on the data sets",
             run_choice: "Run",
-            run_view: include_str!("web/run_view.html"),
+            run_view: concat!(
+                "  <pre class=\"summary\" id=\"summary\"></pre>\n",
+                include_str!("web/plots.html")
+            ),
             experiments: "/ekf",
         },
         functions: "the odometry, the prediction, the observation model and its Jacobian, the \

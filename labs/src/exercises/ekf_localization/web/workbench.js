@@ -41,7 +41,7 @@ function prefixNote({ phase, dataSeed }) {
   ];
 }
 
-/** The runs section (the markup of web/run_view.html in `root`) showing one run at a time. */
+/** The runs section (the markup of `web/plots.html` in `root`, after the summary) showing one run at a time. */
 class DatasetRunView {
   constructor(root) {
     this.view = new RunView(root, 'code');
