@@ -374,6 +374,16 @@ fn a_path_that_departs_fails_at_the_step_and_the_element_where_it_does() {
         "{}",
         short.message
     );
+    // A record the student's code spoiled fails the path with the reason.
+    let spoiled = graded_with(&plan, |run| run.recorded = Some(json!({ "poses": "x" })));
+    assert_eq!(spoiled.points, 0.0);
+    assert!(
+        spoiled
+            .message
+            .contains("square: The test harness's report of this phase is unreadable"),
+        "{}",
+        spoiled.message
+    );
     let threw = graded_with(&plan, |run| {
         run.error = Some("at step 3, propagate: threw Error: not implemented".to_owned());
     });

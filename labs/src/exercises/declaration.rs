@@ -61,7 +61,9 @@ pub struct Workbench {
     pub runs_heading: &'static str,
     /// What the runs' choice is called: "Path".
     pub run_choice: &'static str,
-    /// The markup the workbench's view of a run (`web/workbench.js`) draws into (`web/runs.html`).
+    /// The markup the workbench's view of a run (`web/workbench.js`) draws into, under the
+    /// runs' choice (from `web/`: odometry's `run_view.html`, the EKF's summary and
+    /// `plots.html`).
     pub run_view: &'static str,
     /// The exercise's experiment page, which the workbench links to and the navigation
     /// groups with it: `/odometry`.

@@ -10,6 +10,7 @@ use crate::Exercise;
 use crate::exercises::{Graded, Visit};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use serde_json::Value;
+use std::sync::LazyLock;
 use strum::VariantArray;
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -70,21 +71,26 @@ impl Mistake for Common {
     }
 }
 
+/// Every mistake of every exercise, the common ones first.
+static EVERY: LazyLock<Vec<HintKind>> = LazyLock::new(|| {
+    struct Mistakes;
+    impl Visit for Mistakes {
+        type Output = Vec<HintKind>;
+        fn visit<G: Graded>(self) -> Vec<HintKind> {
+            kinds::<<G::Call as Contract>::Mistake>()
+        }
+    }
+    let mut every = kinds::<Common>();
+    for exercise in Exercise::ALL {
+        every.extend(exercise.visit(Mistakes));
+    }
+    every
+});
+
 impl HintKind {
     /// Every mistake of every exercise, the common ones first.
-    pub fn every() -> Vec<HintKind> {
-        struct Mistakes;
-        impl Visit for Mistakes {
-            type Output = Vec<HintKind>;
-            fn visit<G: Graded>(self) -> Vec<HintKind> {
-                kinds::<<G::Call as Contract>::Mistake>()
-            }
-        }
-        let mut every = kinds::<Common>();
-        for exercise in Exercise::ALL {
-            every.extend(exercise.visit(Mistakes));
-        }
-        every
+    pub fn every() -> &'static [HintKind] {
+        &EVERY
     }
 
     /// Its name, as it is stored.
@@ -118,7 +124,8 @@ impl<'de> Deserialize<'de> for HintKind {
     fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<HintKind, D::Error> {
         let name = String::deserialize(deserializer)?;
         HintKind::every()
-            .into_iter()
+            .iter()
+            .copied()
             .find(|kind| kind.name == name)
             .ok_or_else(|| {
                 serde::de::Error::custom(format!("no exercise has the mistake {name:?}"))
@@ -275,7 +282,7 @@ mod tests {
         let mut names = BTreeSet::new();
         let every = HintKind::every();
         assert!(every.len() > Common::VARIANTS.len());
-        for kind in every {
+        for &kind in every {
             let stored = serde_json::to_value(kind).unwrap();
             assert!(names.insert(stored.to_string()), "{stored} twice");
             let read: HintKind = serde_json::from_value(stored.clone()).unwrap();

@@ -3,7 +3,6 @@
 //! the exercise's loop (the data, never the ground truth), each with its time limit. Made
 //! by [`Plan::job`](super::Plan::job); the harness reads it as JSON.
 
-use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
 
@@ -40,6 +39,9 @@ pub struct RunPhase {
     pub run_loop: String,
     /// `no-odometry/batch`.
     pub name: String,
+    /// The student functions the loop calls, which the harness takes from the file (and
+    /// says which is missing) before the loop starts.
+    pub functions: Vec<String>,
     /// CPU time for the whole run.
     pub limit_ms: u32,
     /// The exercise's data of the run, as its loop reads it.
@@ -48,22 +50,25 @@ pub struct RunPhase {
 }
 
 impl RunPhase {
-    /// A run of the loop `run_loop` called `name` over `data`, an object.
-    pub fn new(run_loop: &str, name: &str, limit_ms: u32, data: &impl Serialize) -> RunPhase {
+    /// A run of the loop `run_loop` called `name`, calling `functions`, over `data` (an
+    /// object).
+    pub fn new(
+        run_loop: &str,
+        name: &str,
+        functions: &[&str],
+        limit_ms: u32,
+        data: &impl Serialize,
+    ) -> RunPhase {
         let Ok(Value::Object(data)) = serde_json::to_value(data) else {
             panic!("a run's data serialises as an object");
         };
         RunPhase {
             run_loop: run_loop.to_owned(),
             name: name.to_owned(),
+            functions: functions.iter().map(|&f| f.to_owned()).collect(),
             limit_ms,
             data,
         }
-    }
-
-    /// The exercise's data of the run, read back.
-    pub fn data<T: DeserializeOwned>(&self) -> Result<T, serde_json::Error> {
-        serde_json::from_value(Value::Object(self.data.clone()))
     }
 }
 

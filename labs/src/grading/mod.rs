@@ -10,8 +10,9 @@
 //!
 //! Shared by every exercise: the [`Contract`] its calls implement, the comparison of
 //! outputs ([`compare`]), the suites of cases and their phases ([`planned_cases`]), the
-//! tests of the functions ([`function_tests`]), hints, the job, the outputs, the result
-//! and its exports. What is an exercise's own is under [`crate::exercises`].
+//! tests of the functions ([`function_tests`]), hints, the job, the outputs and the
+//! result. What is an exercise's own is under [`crate::exercises`], and this layer names
+//! none of them.
 
 mod compare;
 mod contract;

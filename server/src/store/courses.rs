@@ -1,7 +1,7 @@
 //! Courses, their people (students of the roster and staff) and their assignments.
 
 use super::timestamp;
-use super::{Error, Store, exercise};
+use super::{Error, Store, exercise, known_exercises};
 use crate::courses::deadline::{Counts, Policy};
 use crate::courses::roster;
 use jiff::Timestamp;
@@ -377,19 +377,12 @@ impl Store {
     /// release may hold others, which are left out), by due date.
     pub fn assignments(&self, course: &str) -> Result<Vec<Assignment>, Error> {
         let connection = self.connection();
-        let known = Exercise::names();
         let mut statement = connection.prepare(&format!(
-            "SELECT {ASSIGNMENT_COLUMNS} FROM assignments WHERE course = ?1 ORDER BY due, lab"
+            "SELECT {ASSIGNMENT_COLUMNS} FROM assignments
+             WHERE course = ?1 AND lab IN (SELECT value FROM json_each(?2)) ORDER BY due, lab"
         ))?;
         let assignments = statement
-            .query_map([course], |row| {
-                let lab: String = row.get(1)?;
-                known
-                    .contains(&lab.as_str())
-                    .then(|| assignment(row))
-                    .transpose()
-            })?
-            .filter_map(Result::transpose)
+            .query_map(params![course, known_exercises()], assignment)?
             .collect::<Result<_, _>>()?;
         Ok(assignments)
     }

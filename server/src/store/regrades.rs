@@ -4,7 +4,7 @@
 
 use super::submissions::{SUMMARY_COLUMNS, SUMMARY_FROM, SUMMARY_WIDTH, summary};
 use super::timestamp;
-use super::{Error, Store, exercise};
+use super::{Error, Store, exercise, known_exercises};
 use jiff::Timestamp;
 use labs::Exercise;
 use labs::grading::GradeResult;
@@ -224,10 +224,12 @@ impl Store {
     pub fn regrades(&self, course: &str) -> Result<Vec<Regrade>, Error> {
         let ids: Vec<i64> = {
             let connection = self.connection();
-            let mut statement =
-                connection.prepare("SELECT id FROM regrades WHERE course = ?1 ORDER BY id DESC")?;
+            let mut statement = connection.prepare(
+                "SELECT id FROM regrades WHERE course = ?1
+                 AND lab IN (SELECT value FROM json_each(?2)) ORDER BY id DESC",
+            )?;
             statement
-                .query_map([course], |row| row.get(0))?
+                .query_map(params![course, known_exercises()], |row| row.get(0))?
                 .collect::<Result<_, _>>()?
         };
         ids.into_iter()

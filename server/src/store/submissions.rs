@@ -6,7 +6,7 @@
 
 use super::courses::policy_in_force;
 use super::staff::{Waiver, waiver_at};
-use super::{Error, Store, exercise};
+use super::{Error, Store, exercise, known_exercises};
 use crate::courses::deadline::Lateness;
 use jiff::Timestamp;
 use labs::Exercise;
@@ -269,14 +269,16 @@ impl Store {
     }
 
     /// The submissions whose grading has not finished (queued, or cut off by a stop),
-    /// oldest first, with whose they are.
+    /// oldest first, with whose they are: of the exercises this release grades (a later
+    /// release's are left for it).
     pub fn unfinished(&self) -> Result<Vec<Unfinished>, Error> {
         let connection = self.connection();
         let mut statement = connection.prepare(
-            "SELECT id, course, student FROM submissions WHERE status != 'graded' ORDER BY id",
+            "SELECT id, course, student FROM submissions
+             WHERE status != 'graded' AND lab IN (SELECT value FROM json_each(?1)) ORDER BY id",
         )?;
         let list = statement
-            .query_map([], |row| {
+            .query_map([known_exercises()], |row| {
                 Ok(Unfinished {
                     id: row.get(0)?,
                     course: row.get(1)?,
@@ -481,5 +483,34 @@ mod tests {
             store.get(first, true).unwrap().unwrap().source.as_deref(),
             Some("// one")
         );
+    }
+
+    /// A database a later release wrote may hold an exercise this one does not grade: its
+    /// submissions are left waiting for that release, and its assignments and regrades
+    /// are left out, while the rest reads as before.
+    #[test]
+    fn an_exercise_of_a_later_release_is_left_alone() {
+        let dir = tempfile::tempdir().unwrap();
+        let store = Store::open(dir.path()).unwrap();
+        store
+            .create_course("el2320", "Applied Estimation", Timestamp::UNIX_EPOCH)
+            .unwrap();
+        let known = store.insert(&new("ada", "// known")).unwrap();
+        store
+            .connection()
+            .execute_batch(
+                "INSERT INTO submissions (course, student, lab, seed, source, status, submitted_at,
+                     late_seconds, penalty)
+                 VALUES ('el2320', 'grace', 'particle-filter', 1, '// later', 'queued', 0, 0, 0);
+                 INSERT INTO assignments (course, lab, due, cutoff, late_penalty, counts)
+                 VALUES ('el2320', 'particle-filter', 0, 0, 0, 'best');
+                 INSERT INTO regrades (course, lab, scope, requested_by, grader, created_at)
+                 VALUES ('el2320', 'particle-filter', 'all', 'teacher', 'estlab 9', 0);",
+            )
+            .unwrap();
+        let waiting: Vec<i64> = store.unfinished().unwrap().iter().map(|u| u.id).collect();
+        assert_eq!(waiting, [known]);
+        assert!(store.assignments("el2320").unwrap().is_empty());
+        assert!(store.regrades("el2320").unwrap().is_empty());
     }
 }

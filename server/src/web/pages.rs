@@ -10,7 +10,6 @@ use axum::http::{StatusCode, Uri, header};
 use axum::response::{Html, IntoResponse, Response};
 use labs::Exercise;
 use labs::exercises::{Declaration, ekf_localization};
-use std::collections::BTreeMap;
 use std::sync::Arc;
 
 #[derive(Template)]
@@ -57,20 +56,7 @@ struct Code<'a> {
     declared: &'static Declaration,
     /// The workbench's own path, which its links go back to.
     path: &'a str,
-    /// Every exercise's workbench (JSON: the path by the exercise's name), where this one
-    /// sends a submission of another exercise.
-    workbenches: String,
     worker: &'a str,
-}
-
-/// Every exercise's workbench path by the exercise's name, as JSON.
-fn workbenches() -> String {
-    let paths: BTreeMap<&str, &str> = Exercise::ALL
-        .iter()
-        .copied()
-        .map(|exercise| (exercise.name(), super::workbench_path(exercise)))
-        .collect();
-    serde_json::to_string(&paths).expect("paths serialise")
 }
 
 #[derive(Template)]
@@ -178,7 +164,6 @@ pub async fn workbench(
         exercise,
         declared: exercise.declaration(),
         path: &page.path,
-        workbenches: workbenches(),
         worker: state.assets.worker(),
     })
 }

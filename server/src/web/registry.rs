@@ -194,7 +194,11 @@ pub fn workbench(exercise: Exercise) -> &'static Page {
     pages()
         .iter()
         .find(|page| page.exercise == Some(exercise))
-        .unwrap_or_else(|| panic!("static/pages.json has no workbench of {exercise}"))
+        .unwrap_or_else(|| {
+            panic!(
+                "no workbench of {exercise}: its experiment page is not a page of static/pages.json"
+            )
+        })
 }
 
 /// The scripts of the pages, each once.

@@ -344,8 +344,23 @@ const ROUTER_SOURCE: &str = include_str!("../../src/web/mod.rs");
 /// The site's registry of pages, which the router serves too.
 pub const PAGES: &str = include_str!("../../../static/pages.json");
 
+/// Every exercise's workbench and its starter file (`/ekf/code`, `/ekf/starter.js`), which
+/// the router serves from the exercises' declarations.
+pub fn workbench_routes() -> Vec<String> {
+    labs::Exercise::ALL
+        .iter()
+        .flat_map(|exercise| {
+            let path = exercise.declaration().workbench.path;
+            let folder = path
+                .strip_suffix("/code")
+                .expect("a workbench's path ends in /code");
+            [path.to_owned(), format!("{folder}/starter.js")]
+        })
+        .collect()
+}
+
 /// Every route the router serves, as it names them (`/api/submissions/{id}`): the
-/// literal ones of `web::router` and the pages of the registry.
+/// literal ones of `web::router`, the pages of the registry and the workbenches.
 pub fn routes() -> Vec<String> {
     let mut routes: Vec<String> = ROUTER_SOURCE
         .split(".route(")
@@ -365,6 +380,7 @@ pub fn routes() -> Vec<String> {
     }
     let registry: Registry = serde_json::from_str(PAGES).unwrap();
     routes.extend(registry.pages.into_iter().map(|p| p.path));
+    routes.extend(workbench_routes());
     assert!(
         routes.iter().any(|r| r == "/api/submissions/{id}"),
         "no routes read from web/mod.rs: {routes:?}"

@@ -18,8 +18,6 @@ import { Viewer } from '../workbench/viewing.js';
 const workbench = byId('workbench').dataset;
 /** The exercise of this workbench, by name (`labs::Exercise`). */
 const LAB = workbench.lab;
-/** Every exercise's workbench path, by the exercise's name. */
-const WORKBENCHES = JSON.parse(workbench.workbenches);
 
 // How this exercise's runs are collected from the harness's outputs, and drawn: its
 // folder's `web/workbench.js`.
@@ -96,7 +94,7 @@ new Submitter({
   runs,
   ui: { submit: ui.submit, student: ui.student, error: ui.error, submission: ui.submission },
 });
-const viewer = new Viewer({ lab: LAB, workbenches: WORKBENCHES, identity, editor, back: backToEditor });
+const viewer = new Viewer({ lab: LAB, identity, editor, back: backToEditor });
 
 /** Shows what the address asks for: a submission, or the workbench. */
 async function route() {

@@ -10,7 +10,7 @@ import { Runner } from '../sandbox/runner.js';
 /**
  * The tests and runs of the file in `editor` on the variant `identity` says. `estlab`:
  * the wasm build (the grader); `lab`: the exercise; `exerciseRuns`: how its runs are collected
- * from the harness's outputs, and drawn (`datasetRuns`, `pathRuns`); `worker`: the Web
+ * from the harness's outputs, and drawn (the `runs` of its folder's `web/workbench.js`); `worker`: the Web
  * Worker's script; `ui`: the toolbar's buttons (`runTests`, `runLoops`, `stop`, and
  * `submit`, off while a run goes on), the lines under them (`status`, `score`,
  * `runSummary`, and `error`, the page's error box), the list of tests (`tests`), the runs'

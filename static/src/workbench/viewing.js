@@ -5,18 +5,17 @@ import { byId, showError } from '../controls.js';
 import { lateness, localTime } from '../results/format.js';
 import { getJson, pollSubmission } from '../results/http.js';
 import { renderSubmission } from '../results/render.js';
+import { site } from '../site.js';
 import { editorBasics } from './editor.js';
 
 /**
- * The viewer of a submission (#viewer). `lab`: this workbench's exercise; `workbenches`:
- * every exercise's workbench path, by the exercise's name; `identity`: who reads;
+ * The viewer of a submission (#viewer). `lab`: this workbench's exercise; `identity`: who reads;
  * `editor`: the student's file, which the Load button replaces; `back()`: back to the
  * workbench.
  */
 export class Viewer {
-  constructor({ lab, workbenches, identity, editor, back }) {
+  constructor({ lab, identity, editor, back }) {
     this.lab = lab;
-    this.workbenches = workbenches;
     this.identity = identity;
     this.box = byId('viewer');
     this.title = byId('viewer-title');
@@ -77,7 +76,8 @@ export class Viewer {
       return;
     }
     if (submission.lab !== this.lab) {
-      const own = this.workbenches[submission.lab];
+      // Every exercise's workbench, from the server (`site.exercises`).
+      const own = site.exercises[submission.lab]?.workbench;
       if (own === undefined) {
         showError(this.error, `Submission ${id} is of the exercise ${submission.lab}, which this server no longer has a workbench for.`);
         return;

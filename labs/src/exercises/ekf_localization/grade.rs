@@ -447,6 +447,31 @@ mod tests {
         }
     }
 
+    /// A run whose record the student's code spoiled (a field of the wrong type) fails
+    /// its test with the reason, whatever else the run reported.
+    #[test]
+    fn an_unreadable_record_fails_its_run() {
+        let plan = Plan::new(1, None);
+        let name = &plan.runs[0].name;
+        let report = format!(
+            "{{\"name\": {name:?}, \"error\": \"at time step 3, predict: threw\", \"record\": {{\"mu\": \"x\"}}}}"
+        );
+        let outputs = Outputs {
+            functions: Vec::new(),
+            runs: vec![RunOutput::from_report(name, &report)],
+        };
+        let result = grade(&plan, &outputs);
+        let test = result.test(plan.runs[0].kind.name()).unwrap();
+        assert_eq!(test.points, 0.0);
+        assert!(
+            test.message.contains(&format!(
+                "{name}: The test harness's report of this phase is unreadable"
+            )),
+            "{}",
+            test.message
+        );
+    }
+
     #[test]
     fn hidden_cases_reveal_nothing_and_a_table_of_the_shown_cases_earns_nothing() {
         let plan = Plan::new(1, Some(77));

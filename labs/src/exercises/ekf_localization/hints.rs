@@ -118,7 +118,6 @@ impl Mistake for HintKind {
             }
         }
     }
-
 }
 
 /// The classic mistake that explains a failing output, if one does.
@@ -144,9 +143,8 @@ pub fn diagnose(
             _ => {}
         }
     }
-    let transposed = matches!(call, Call::JacobianObservationModel { .. }).then_some(
-        HintKind::JacobianTransposed.kind(),
-    );
+    let transposed = matches!(call, Call::JacobianObservationModel { .. })
+        .then_some(HintKind::JacobianTransposed.kind());
     let not_wrapped = HintKind::BearingNotWrapped.kind();
     if let Some(hint) = form_hint(call, expected, got, mismatches, transposed, not_wrapped) {
         return Some(hint);

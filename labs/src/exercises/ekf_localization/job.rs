@@ -8,8 +8,6 @@ use serde_json::Value;
 /// One run of the lab's filter loop with the student's functions.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct FilterRun {
-    /// The student functions the loop calls (`init` first).
-    pub functions: Vec<String>,
     /// What `init` is called with: `o3`, `outliers`, `no-odometry`.
     pub dataset: String,
     pub mode: Mode,

@@ -2,14 +2,14 @@
 //! cases of every student function (see [`crate::grading::planned_cases`]) and the
 //! data-set runs, and the job the JavaScript harness carries out with the student's code.
 
+use super::EkfLocalization;
 use super::contract::Call;
 use super::generate::generate;
+use super::grade::grade;
 use super::job::{FilterRun, Mode, RobotJob, StepJob};
+use crate::Exercise;
 use crate::dataset::{Dataset, Kind, simulate};
 use crate::ekf::{self, UpdateMode, increments};
-use super::grade::grade;
-use super::EkfLocalization;
-use crate::Exercise;
 use crate::exercises::Graded;
 use crate::grading::{
     ExercisePlan, GradeResult, Job, Outputs, PlannedCase, RunPhase, function_phases, planned_cases,
@@ -257,7 +257,6 @@ fn run_job(run: &RunSpec) -> RunPhase {
         ],
     };
     let data = FilterRun {
-        functions: functions.iter().map(|&f| f.to_owned()).collect(),
         dataset: run.kind.name().to_owned(),
         mode: match run.mode {
             UpdateMode::Sequential => Mode::Sequential,
@@ -278,6 +277,7 @@ fn run_job(run: &RunSpec) -> RunPhase {
     RunPhase::new(
         EkfLocalization::DECLARATION.run_loop,
         &run.name,
+        functions,
         RUN_LIMIT_MS,
         &data,
     )

@@ -8,8 +8,8 @@ use super::job::PathRecord;
 use super::plan::{PathSpec, Plan, RUN_LIMIT_MS};
 use crate::Exercise;
 use crate::grading::{
-    FunctionVerdicts, GradeResult, Outputs, RunOutput, Test, Tolerance, compare,
-    function_tests, matrix, pose,
+    FunctionVerdicts, GradeResult, Outputs, RunOutput, Test, Tolerance, compare, function_tests,
+    matrix, pose,
 };
 use serde_json::json;
 

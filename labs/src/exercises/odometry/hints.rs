@@ -5,9 +5,7 @@
 //! expected output (a sign, a term left out), and compares the student's output with it.
 
 use super::contract::{Call, matrix_of, output_shape, rows};
-use crate::grading::{
-    Hint, Mismatch, Mistake, Tolerance, compare, form_hint, negated, transpose,
-};
+use crate::grading::{Hint, Mismatch, Mistake, Tolerance, compare, form_hint, negated, transpose};
 use crate::odometry::{
     Increment, increment_jacobian, pose_jacobian, propagate_through, step, wheel_noise,
 };
@@ -157,7 +155,6 @@ impl Mistake for HintKind {
             }
         }
     }
-
 }
 
 /// The classic mistake that explains a failing output, if one does (and only one).
@@ -173,9 +170,8 @@ pub fn diagnose(
     let gives = |alternative: &Value| {
         compare(&output_shape(call), alternative, got, Tolerance::default()).is_empty()
     };
-    let transposed = matches!(call, Call::IncrementJacobian { .. }).then_some(
-        HintKind::IncrementJacobianTransposed.kind(),
-    );
+    let transposed = matches!(call, Call::IncrementJacobian { .. })
+        .then_some(HintKind::IncrementJacobianTransposed.kind());
     let not_wrapped = HintKind::HeadingNotWrapped.kind();
     if let Some(hint) = form_hint(call, expected, got, mismatches, transposed, not_wrapped) {
         return Some(hint);

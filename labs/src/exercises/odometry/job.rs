@@ -13,8 +13,6 @@ use serde::{Deserialize, Serialize};
 /// recording p and Sigma_p after the step.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PathRun {
-    /// The student functions the loop calls.
-    pub functions: Vec<String>,
     /// The pose before the first step, [x, y, theta].
     pub start: [f64; 3],
     /// The wheel base, metres.

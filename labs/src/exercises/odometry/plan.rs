@@ -3,11 +3,11 @@
 //! loop with the reference's poses and covariances along them, and the job the JavaScript
 //! harness carries out with the student's code.
 
+use super::Odometry;
 use super::contract::Call;
 use super::generate::{generate, wheel_constants};
-use super::job::PathRun;
 use super::grade::grade;
-use super::Odometry;
+use super::job::PathRun;
 use crate::Exercise;
 use crate::exercises::Graded;
 use crate::grading::{
@@ -143,7 +143,6 @@ impl PathSpec {
 
     fn job(&self) -> RunPhase {
         let data = PathRun {
-            functions: PATH_FUNCTIONS.iter().map(|&f| f.to_owned()).collect(),
             start: self.reference.path.start,
             b: self.params.wheel_base,
             k_r: self.params.k_r,
@@ -156,7 +155,13 @@ impl PathSpec {
                 .map(|increment| [increment.right, increment.left])
                 .collect(),
         };
-        RunPhase::new(Odometry::DECLARATION.run_loop, &self.name, RUN_LIMIT_MS, &data)
+        RunPhase::new(
+            Odometry::DECLARATION.run_loop,
+            &self.name,
+            &PATH_FUNCTIONS,
+            RUN_LIMIT_MS,
+            &data,
+        )
     }
 }
 

@@ -135,7 +135,7 @@ function pathSeries({ every, reference: r, student: s }) {
   ];
 }
 
-/** The runs section (the path plot of code.html in `root`) showing one path run at a time. */
+/** The runs section (the markup of `web/run_view.html` in `root`) showing one path run at a time. */
 class PathRunView {
   constructor(root) {
     this.plot = plotsIn(root, 'code').path;
