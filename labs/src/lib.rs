@@ -18,6 +18,7 @@ pub mod exercises;
 pub mod grading;
 pub mod odometry;
 pub mod rng;
+mod typescript;
 
 pub use error::Error;
 pub use exercises::{Exercise, UnknownExercise};

@@ -27,11 +27,22 @@ export class LogSlider {
   }
 }
 
-/** The element with this id, or an error that says which is missing. */
-export function byId(id) {
+/**
+ * The element with this id, of the kind given (`HTMLInputElement`; any element without),
+ * or an error that says which is missing or is not of that kind.
+ *
+ * @template {Element} [T=HTMLElement]
+ * @param {string} id
+ * @param {{ new (): T, prototype: T }} [kind]
+ * @returns {T}
+ */
+export function byId(id, kind) {
   const element = document.getElementById(id);
   if (!element) throw new Error(`the page has no element #${id}`);
-  return element;
+  if (kind && !(element instanceof kind)) {
+    throw new Error(`the page's element #${id} is not a ${kind.name}`);
+  }
+  return /** @type {T} */ (/** @type {unknown} */ (element));
 }
 
 /** Offers `data` (a Blob, or text of MIME type `type`) as a file download named `name`. */

@@ -8,6 +8,7 @@ use crate::angle::difference;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 use std::f64::consts::{PI, TAU};
+use ts_rs::TS;
 
 /// What one element of an output is, which decides how it is compared.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -112,7 +113,7 @@ pub fn heading_within_turns(heading: f64) -> bool {
 }
 
 /// One element of an output that is not what it should be.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, TS)]
 pub struct Mismatch {
     /// Where: `sigma_bar[1][2]`, `c`, `nu[3][1]`.
     pub path: String,
@@ -121,7 +122,7 @@ pub struct Mismatch {
     pub problem: Problem,
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, TS)]
 #[serde(rename_all = "snake_case")]
 pub enum Problem {
     /// Both are numbers (or indices, or flags) of the right kind, and they differ.

@@ -5,15 +5,16 @@
 
 use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
+use ts_rs::TS;
 
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, TS)]
 pub struct Job {
     pub functions: Vec<FunctionPhase>,
     pub runs: Vec<RunPhase>,
 }
 
 /// The calls of one student function (`estlabHarness.callFunction`).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, TS)]
 pub struct FunctionPhase {
     pub function: String,
     pub calls: Vec<CallJob>,
@@ -21,7 +22,7 @@ pub struct FunctionPhase {
     pub limit_ms: u32,
 }
 
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, TS)]
 pub struct CallJob {
     /// `predict/p3`.
     pub id: String,
@@ -31,8 +32,9 @@ pub struct CallJob {
 
 /// One run of an exercise's loop with the student's functions (`estlabHarness.run`): the
 /// envelope every exercise's runs share around the exercise's own data, which its loop in
-/// the harness reads.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+/// the harness reads. The browser's type is the envelope alone: a loop types its phase as
+/// `RunPhase & Data`, with its exercise's own data type.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, TS)]
 pub struct RunPhase {
     /// The harness's loop: the exercise's [`run_loop`](crate::exercises::Declaration::run_loop).
     #[serde(rename = "loop")]
@@ -46,6 +48,7 @@ pub struct RunPhase {
     pub limit_ms: u32,
     /// The exercise's data of the run, as its loop reads it.
     #[serde(flatten)]
+    #[ts(skip)]
     pub data: Map<String, Value>,
 }
 

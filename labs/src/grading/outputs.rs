@@ -7,12 +7,13 @@ use super::job::Job;
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
+use ts_rs::TS;
 
 /// Why a phase's report could not be read; the student's code can spoil what the harness
 /// writes (not what it records), so this fails the phase and leaves the rest gradable.
 const UNREADABLE: &str = "The test harness's report of this phase is unreadable, which happens when a file changes built-in objects";
 
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, TS)]
 pub struct Outputs {
     #[serde(default)]
     pub functions: Vec<FunctionOutput>,
@@ -136,7 +137,7 @@ impl PhaseOutput for RunOutput {
 }
 
 /// The calls of one function.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, TS)]
 pub struct FunctionOutput {
     pub function: String,
     /// Why none or only some of the calls were made: the file does not compile, the
@@ -165,7 +166,7 @@ impl FunctionOutput {
     }
 }
 
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, TS)]
 pub struct CallResult {
     pub id: String,
     /// What the call returned: `null` is an answer too (`Some(Value::Null)`).
@@ -183,7 +184,7 @@ fn answer<'de, D: serde::Deserializer<'de>>(output: D) -> Result<Option<Value>, 
 }
 
 /// One run of an exercise's loop with the student's functions.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, TS)]
 pub struct RunOutput {
     pub name: String,
     /// What stopped the run, naming the step and the function.
@@ -221,7 +222,7 @@ impl RunOutput {
 
 /// The host stopped the student's code: the time limit ran out, or the sandbox ran out of
 /// memory or crashed. The outputs of that phase are lost.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, TS)]
 pub struct Stopped {
     /// What was running: a case id, or a run's step.
     pub during: String,
@@ -248,7 +249,7 @@ impl Stopped {
 }
 
 /// What stopped the student's code.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, TS)]
 pub enum Cause {
     /// The phase's time limit ran out.
     #[serde(rename = "time")]

@@ -5,8 +5,9 @@ use super::hints::{Hint, HintKind, describe};
 use crate::Exercise;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
+use ts_rs::TS;
 
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, TS)]
 pub struct GradeResult {
     /// The exercise graded (`lab` on the wire, as results have always named it).
     #[serde(rename = "lab")]
@@ -31,7 +32,7 @@ pub struct GradeResult {
 /// Points of each test: a function's, a run's.
 pub const POINTS: f64 = 10.0;
 
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, TS)]
 pub struct Test {
     /// Contains the name of the function it tests (`predict`), or for a run of the
     /// exercise's loop the functions the loop calls.
@@ -79,14 +80,14 @@ impl Test {
     }
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, TS)]
 #[serde(rename_all = "snake_case")]
 pub enum Status {
     Passed,
     Failed,
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, TS)]
 #[serde(rename_all = "snake_case")]
 pub enum Visibility {
     Visible,
@@ -97,7 +98,7 @@ pub enum Visibility {
 /// One failing case: what was asked, what came back, how it differs, and why it may. A
 /// hidden case keeps only its id, its note, what it threw, how many outputs differ and the
 /// hint.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, TS)]
 pub struct Failure {
     pub case: String,
     pub note: String,
@@ -191,7 +192,7 @@ pub fn clip(text: &str, n: usize) -> String {
     }
 }
 
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, TS)]
 pub struct RunFigures {
     /// Mean absolute error in x, y and theta, one entry per run of the test.
     pub mean_absolute_error: Vec<[f64; 3]>,

@@ -8,9 +8,10 @@ use labs::Exercise;
 use labs::grading::{GradeResult, HintKind, Status as TestStatus};
 use serde::Serialize;
 use std::collections::{BTreeMap, HashMap};
+use ts_rs::TS;
 
 /// One submission as a row shows it.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, TS)]
 pub struct Shown {
     pub id: i64,
     pub submitted_at: String,
@@ -37,7 +38,7 @@ impl Shown {
 }
 
 /// A student of the roster and how they did.
-#[derive(Debug, Serialize)]
+#[derive(Debug, Serialize, TS)]
 pub struct StudentRow {
     pub id: String,
     pub name: String,
@@ -55,7 +56,7 @@ pub struct StudentRow {
 
 /// How many students pass a test (named by what it tests: the function, or the data-set
 /// run), of those with a graded submission that counts.
-#[derive(Debug, Serialize)]
+#[derive(Debug, Serialize, TS)]
 pub struct TestShare {
     pub name: String,
     pub passed: usize,
@@ -63,7 +64,7 @@ pub struct TestShare {
 }
 
 /// A classic mistake and the students whose counting submission shows it.
-#[derive(Debug, Serialize)]
+#[derive(Debug, Serialize, TS)]
 pub struct MistakeShare {
     pub kind: HintKind,
     pub text: String,
@@ -72,7 +73,7 @@ pub struct MistakeShare {
     pub students: Vec<String>,
 }
 
-#[derive(Debug, Serialize)]
+#[derive(Debug, Serialize, TS)]
 pub struct ClassView {
     pub students: Vec<StudentRow>,
     /// Counting scores in ten bins: [0, 0.1), ..., [0.9, 1].

@@ -3,9 +3,10 @@
 
 use jiff::{SignedDuration, Timestamp};
 use serde::{Deserialize, Serialize};
+use ts_rs::TS;
 
 /// Which of a student's graded submissions gives their score.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum, TS)]
 #[serde(rename_all = "snake_case")]
 pub enum Counts {
     /// The best score, after each submission's late penalty.
@@ -53,10 +54,12 @@ impl Counts {
 }
 
 /// An assignment's dates and late policy.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, TS)]
 pub struct Policy {
+    #[ts(as = "String")]
     pub due: Timestamp,
     /// The last moment a submission is taken (the due date when there is no grace).
+    #[ts(as = "String")]
     pub cutoff: Timestamp,
     /// The share of the score lost per day, or part of a day, after the due date.
     pub penalty_per_day: f64,
@@ -64,7 +67,7 @@ pub struct Policy {
 }
 
 /// How late a submission is and the share of its score that costs.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, TS)]
 pub struct Lateness {
     /// After the due date by this much (0: on time).
     pub seconds: i64,

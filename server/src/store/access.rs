@@ -7,6 +7,7 @@ use crate::courses::codes::{self, NewCode, TypedCode};
 use jiff::Timestamp;
 use rusqlite::{OptionalExtension, params};
 use serde::Serialize;
+use ts_rs::TS;
 
 /// A typed code whose selector names someone; its secret not checked yet.
 pub struct FoundCode {
@@ -27,11 +28,12 @@ pub enum CodeCheck {
 }
 
 /// An API token as listed (never the token itself).
-#[derive(Debug, Serialize)]
+#[derive(Debug, Serialize, TS)]
 pub struct TokenInfo {
     pub id: i64,
     pub course: String,
     pub role: Role,
+    #[ts(as = "String")]
     pub created_at: Timestamp,
     pub revoked: bool,
 }

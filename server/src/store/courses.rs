@@ -8,9 +8,10 @@ use jiff::Timestamp;
 use labs::Exercise;
 use rusqlite::{Connection, OptionalExtension, Row, params};
 use serde::{Deserialize, Serialize};
+use ts_rs::TS;
 
 /// A course as set up with `estlab course create`.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, TS)]
 pub struct Course {
     pub name: String,
     pub title: String,
@@ -18,7 +19,7 @@ pub struct Course {
 
 /// What someone is in a course.
 #[derive(
-    Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize, clap::ValueEnum,
+    Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize, clap::ValueEnum, TS,
 )]
 #[serde(rename_all = "snake_case")]
 pub enum Role {
@@ -52,7 +53,7 @@ impl Role {
 
 /// Someone in a course: a student of the roster (`login` is their id there) or a member
 /// of staff (`login` is their email).
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, TS)]
 pub struct Member {
     pub id: i64,
     pub course: String,
@@ -85,7 +86,7 @@ pub struct RosterChange {
 }
 
 /// An exercise opened for a course.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, TS)]
 pub struct Assignment {
     pub course: String,
     pub lab: Exercise,

@@ -10,9 +10,10 @@ use labs::Exercise;
 use labs::grading::GradeResult;
 use rusqlite::{OptionalExtension, params};
 use serde::{Deserialize, Serialize};
+use ts_rs::TS;
 
 /// What a regrade covers.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, TS)]
 #[serde(
     rename_all = "snake_case",
     tag = "kind",
@@ -42,7 +43,7 @@ impl Scope {
 }
 
 /// A score a regrade changed (or not yet: `new_score` is none until the item is done).
-#[derive(Debug, Serialize)]
+#[derive(Debug, Serialize, TS)]
 pub struct Change {
     pub submission: i64,
     pub student: String,
@@ -55,7 +56,7 @@ pub struct Change {
 }
 
 /// A regrade job and how far it has come.
-#[derive(Debug, Serialize)]
+#[derive(Debug, Serialize, TS)]
 pub struct Regrade {
     pub id: i64,
     pub course: String,
@@ -64,7 +65,9 @@ pub struct Regrade {
     pub requested_by: String,
     /// The grader that regrades.
     pub grader: String,
+    #[ts(as = "String")]
     pub created_at: Timestamp,
+    #[ts(as = "Option<String>")]
     pub finished_at: Option<Timestamp>,
     pub total: usize,
     pub done: usize,
@@ -73,7 +76,7 @@ pub struct Regrade {
 }
 
 /// A result a regrade replaced, kept.
-#[derive(Debug, Serialize)]
+#[derive(Debug, Serialize, TS)]
 pub struct EarlierResult {
     #[serde(flatten)]
     pub about: Replaced,
@@ -81,13 +84,14 @@ pub struct EarlierResult {
 }
 
 /// Which result was replaced, and by which regrade.
-#[derive(Debug, Serialize)]
+#[derive(Debug, Serialize, TS)]
 pub struct Replaced {
     pub grader: Option<String>,
     pub score: Option<f64>,
     pub graded_at: Option<String>,
     /// The regrade that replaced it: its id, when it was asked for and by whom.
     pub replaced_by: Option<i64>,
+    #[ts(as = "Option<String>")]
     pub replaced_at: Option<Timestamp>,
     pub replaced_on_request_of: Option<String>,
 }

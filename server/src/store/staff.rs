@@ -12,15 +12,19 @@ use jiff::Timestamp;
 use labs::Exercise;
 use rusqlite::{OptionalExtension, Row, params};
 use serde::Serialize;
+use ts_rs::TS;
 
 /// New dates for one student's assignment, and who granted them.
-#[derive(Debug, Serialize)]
+#[derive(Debug, Serialize, TS)]
 pub struct Extension {
     pub lab: Exercise,
     pub student: String,
+    #[ts(as = "String")]
     pub due: Timestamp,
+    #[ts(as = "String")]
     pub cutoff: Timestamp,
     pub granted_by: String,
+    #[ts(as = "String")]
     pub granted_at: Timestamp,
 }
 
@@ -34,10 +38,11 @@ pub struct NewExtension<'a> {
 }
 
 /// Staff's waiver of one submission's late penalty, and why.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, TS)]
 pub struct Waiver {
     pub reason: String,
     pub waived_by: String,
+    #[ts(as = "String")]
     pub waived_at: Timestamp,
 }
 
@@ -56,7 +61,7 @@ pub(super) fn waiver_at(row: &Row, first: usize) -> rusqlite::Result<Option<Waiv
 
 /// A submission whose late penalty an extension or a waiver changed, before and after
 /// (the final scores: the score after the penalty; none while it is not graded).
-#[derive(Debug, PartialEq, Serialize)]
+#[derive(Debug, PartialEq, Serialize, TS)]
 pub struct Rejudged {
     pub submission: i64,
     pub student: String,
@@ -118,7 +123,7 @@ fn describe(changed: &[Rejudged]) -> String {
 }
 
 /// An extension granted, with the scores of the submissions already made it changed.
-#[derive(Debug, Serialize)]
+#[derive(Debug, Serialize, TS)]
 pub struct Granted {
     #[serde(flatten)]
     pub extension: Extension,
@@ -127,7 +132,7 @@ pub struct Granted {
 
 /// A penalty waived: the submission as it counts now, and the score it changed (none
 /// when it had no penalty).
-#[derive(Debug, Serialize)]
+#[derive(Debug, Serialize, TS)]
 pub struct Waived {
     pub submission: SubmissionSummary,
     pub changed: Vec<Rejudged>,
@@ -154,9 +159,10 @@ fn extension(row: &Row) -> rusqlite::Result<Extension> {
 const EXTENSION_COLUMNS: &str = "e.lab, m.login, e.due, e.cutoff, e.granted_by, e.granted_at";
 
 /// One staff action.
-#[derive(Debug, Serialize)]
+#[derive(Debug, Serialize, TS)]
 pub struct AuditEntry {
     pub id: i64,
+    #[ts(as = "String")]
     pub at: Timestamp,
     pub actor: String,
     pub action: String,

@@ -14,10 +14,12 @@ use labs::grading::GradeResult;
 use rusqlite::{OptionalExtension, Row, params};
 use serde::Serialize;
 use std::collections::HashMap;
+use ts_rs::TS;
 
 /// Where a submission is on its way to a result.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, TS)]
 #[serde(rename_all = "snake_case")]
+#[ts(rename = "SubmissionStatus")]
 pub enum Status {
     Queued,
     Grading,
@@ -77,7 +79,7 @@ pub struct Unfinished {
 }
 
 /// A submission in a list: when, how late, how it did; no source, no result.
-#[derive(Debug, Serialize)]
+#[derive(Debug, Serialize, TS)]
 pub struct SubmissionSummary {
     pub id: i64,
     pub course: String,
@@ -98,7 +100,7 @@ pub struct SubmissionSummary {
 }
 
 /// A stored submission with its result; its source only for those who may read it.
-#[derive(Debug, Serialize)]
+#[derive(Debug, Serialize, TS)]
 pub struct Submission {
     #[serde(flatten)]
     pub summary: SubmissionSummary,

@@ -3,6 +3,7 @@ use axum::Json;
 use axum::http::StatusCode;
 use axum::response::{IntoResponse, Response};
 use serde::Serialize;
+use ts_rs::TS;
 
 /// What can go wrong while answering a request.
 #[derive(Debug, thiserror::Error)]
@@ -43,8 +44,8 @@ pub enum Error {
 const INTERNAL: &str = "estlab could not answer this request; the server log says why";
 
 /// The body of every error answer of the API.
-#[derive(Serialize)]
-struct ErrorBody {
+#[derive(Serialize, TS)]
+pub(super) struct ErrorBody {
     error: String,
 }
 

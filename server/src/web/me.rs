@@ -19,9 +19,10 @@ use labs::grading::student_seed;
 use serde::{Deserialize, Serialize};
 use std::collections::HashSet;
 use std::sync::Arc;
+use ts_rs::TS;
 
 /// Where an assignment stands at the moment of asking.
-#[derive(Serialize)]
+#[derive(Serialize, TS)]
 #[serde(rename_all = "snake_case", tag = "state")]
 pub enum Standing {
     /// Before the due date.
@@ -73,7 +74,7 @@ impl Standing {
 }
 
 /// A student's view of one assignment.
-#[derive(Serialize)]
+#[derive(Serialize, TS)]
 pub struct StudentAssignment {
     #[serde(flatten)]
     pub assignment: Assignment,
@@ -96,7 +97,7 @@ pub struct StudentAssignment {
 }
 
 /// A member of staff's view of one assignment.
-#[derive(Serialize)]
+#[derive(Serialize, TS)]
 pub struct StaffAssignment {
     #[serde(flatten)]
     pub assignment: Assignment,
@@ -109,7 +110,7 @@ pub struct StaffAssignment {
 }
 
 /// `GET /api/me`: who is signed in and what they have to do.
-#[derive(Serialize)]
+#[derive(Serialize, TS)]
 pub struct About {
     /// Whether the server has courses (without, submitting is open to anyone).
     pub courses: bool,

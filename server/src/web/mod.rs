@@ -17,6 +17,8 @@ mod setup;
 mod signin;
 mod staff;
 mod submit;
+#[cfg(test)]
+mod types;
 mod viewer;
 
 pub use assets::Assets;

@@ -10,6 +10,7 @@ use labs::grading::DEFAULT_COURSE;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::sync::LazyLock;
+use ts_rs::TS;
 
 const REGISTRY: &str = include_str!("../../../static/pages.json");
 
@@ -134,14 +135,14 @@ static GROUPS: LazyLock<Vec<Group>> = LazyLock::new(|| {
 /// What the pages' scripts learn from the server rather than repeat: the course a variant
 /// belongs to unless another is named, and every exercise's texts. Each page carries it
 /// (`base.html`, read by `static/src/site.js`).
-#[derive(Serialize)]
-struct Site {
+#[derive(Serialize, TS)]
+pub(super) struct Site {
     course: &'static str,
     exercises: BTreeMap<&'static str, ExerciseTexts>,
 }
 
-#[derive(Serialize)]
-struct ExerciseTexts {
+#[derive(Serialize, TS)]
+pub(super) struct ExerciseTexts {
     title: &'static str,
     /// Its workbench's path.
     workbench: &'static str,

@@ -21,6 +21,7 @@ use jiff::Timestamp;
 use labs::Exercise;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
+use ts_rs::TS;
 
 impl From<setup::Error> for Error {
     fn from(error: setup::Error) -> Error {
@@ -56,7 +57,7 @@ async fn change<T: Send + 'static>(
 }
 
 /// An exercise as the set-up offers it.
-#[derive(Serialize)]
+#[derive(Serialize, TS)]
 pub struct Offered {
     pub name: &'static str,
     pub title: &'static str,
@@ -65,7 +66,7 @@ pub struct Offered {
 /// `GET /api/courses/{course}`: for its staff, the course as set up: its people,
 /// assignments and API tokens (never a token itself), the exercises it may open, and
 /// whether the asker may change it.
-#[derive(Serialize)]
+#[derive(Serialize, TS)]
 pub struct CourseView {
     pub course: Course,
     pub assignments: Vec<Assignment>,
@@ -112,8 +113,8 @@ struct StaffRequest {
     role: Role,
 }
 
-#[derive(Serialize)]
-struct StaffAdded {
+#[derive(Serialize, TS)]
+pub(super) struct StaffAdded {
     email: String,
     role: Role,
     /// Their one-time sign-in link, valid for a week: shown this once.
@@ -162,16 +163,16 @@ struct RosterRequest {
 }
 
 /// A student of a roster's answer.
-#[derive(Serialize)]
-struct Listed {
+#[derive(Serialize, TS)]
+pub(super) struct Listed {
     id: String,
     name: String,
     email: String,
 }
 
 /// What a roster adds, updates and drops; `codes` once it is imported.
-#[derive(Serialize)]
-struct RosterAnswer {
+#[derive(Serialize, TS)]
+pub(super) struct RosterAnswer {
     students: usize,
     added: Vec<Listed>,
     updated: Vec<String>,
@@ -182,8 +183,8 @@ struct RosterAnswer {
 }
 
 /// New sign-in codes, as the CSV a mail merge reads: in this answer only, never stored.
-#[derive(Serialize)]
-struct CodesFile {
+#[derive(Serialize, TS)]
+pub(super) struct CodesFile {
     file_name: String,
     count: usize,
     csv: String,
@@ -391,8 +392,8 @@ struct TokenRequest {
     role: Role,
 }
 
-#[derive(Serialize)]
-struct TokenMade {
+#[derive(Serialize, TS)]
+pub(super) struct TokenMade {
     id: i64,
     role: Role,
     /// Sent as `Authorization: Bearer TOKEN`; shown this once, stored hashed.
@@ -423,8 +424,8 @@ pub async fn make_token(
         .into_response())
 }
 
-#[derive(Serialize)]
-struct Revoked {
+#[derive(Serialize, TS)]
+pub(super) struct Revoked {
     id: i64,
     revoked: bool,
 }

@@ -21,6 +21,7 @@ use axum::response::{IntoResponse, Redirect, Response};
 use labs::Exercise;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
+use ts_rs::TS;
 
 /// The exercise named in a path, which must be one graded here.
 fn known_lab(lab: &str) -> Result<Exercise, Error> {
@@ -29,7 +30,7 @@ fn known_lab(lab: &str) -> Result<Exercise, Error> {
 }
 
 /// `GET /api/courses/{course}/labs/{lab}/class`.
-#[derive(Serialize)]
+#[derive(Serialize, TS)]
 pub struct ClassAnswer {
     pub course: String,
     pub lab: Exercise,
@@ -83,7 +84,7 @@ pub async fn class(
 }
 
 /// `GET /api/courses/{course}/labs/{lab}/students/{student}`: one student's submissions.
-#[derive(Serialize)]
+#[derive(Serialize, TS)]
 pub struct StudentAnswer {
     pub member: Member,
     pub policy: Policy,
@@ -131,8 +132,8 @@ struct RegradeRequest {
     scope: Scope,
 }
 
-#[derive(Serialize)]
-struct RegradeStarted {
+#[derive(Serialize, TS)]
+pub(super) struct RegradeStarted {
     id: i64,
     total: usize,
     url: String,

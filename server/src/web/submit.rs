@@ -12,6 +12,7 @@ use labs::Exercise;
 use labs::grading::{DEFAULT_COURSE, student_seed};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
+use ts_rs::TS;
 
 /// Submissions a student may make to an exercise in an hour: plenty for work (tests run
 /// in the browser for free), and a bound on what one student takes of the grading and
@@ -34,7 +35,7 @@ pub struct Submit {
 }
 
 /// The answer to a submission taken.
-#[derive(Serialize)]
+#[derive(Serialize, TS)]
 pub struct Accepted {
     id: i64,
     seed: u64,

@@ -4,9 +4,10 @@
 
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
+use ts_rs::TS;
 
 /// One run of the lab's filter loop with the student's functions.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, TS)]
 pub struct FilterRun {
     /// What `init` is called with: `o3`, `outliers`, `no-odometry`.
     pub dataset: String,
@@ -18,7 +19,7 @@ pub struct FilterRun {
     pub steps: Vec<StepJob>,
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, TS)]
 #[serde(rename_all = "snake_case")]
 pub enum Mode {
     Sequential,
@@ -26,7 +27,7 @@ pub enum Mode {
 }
 
 /// The robot's constants, named as the contract's arguments of `calculate_odometry`.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, TS)]
 pub struct RobotJob {
     #[serde(rename = "E_T")]
     pub e_t: f64,
@@ -38,7 +39,7 @@ pub struct RobotJob {
     pub r_l: f64,
 }
 
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, TS)]
 pub struct StepJob {
     /// Seconds since the previous step (0 for the first).
     pub delta_t: f64,
@@ -51,7 +52,7 @@ pub struct StepJob {
 
 /// What the filter loop records of a run: `init`'s answer, the belief after every step,
 /// and every reading's association.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, TS)]
 pub struct FilterRecord {
     /// What `init` returned.
     #[serde(default)]

@@ -8,7 +8,7 @@ mod el2320;
 mod generate;
 mod grade;
 mod hints;
-mod job;
+pub mod job;
 mod plan;
 
 pub use contract::{Call, FUNCTIONS, Mat2, Mat2x3, Mat3, TwoRows, Vec2, Vec3};

@@ -2,6 +2,7 @@
 //! path starts and how far each wheel rolls at every step) and what it records.
 
 use serde::{Deserialize, Serialize};
+use ts_rs::TS;
 
 /// One run of the path loop with the student's functions: from `start` with Sigma_p = 0,
 /// at every step
@@ -11,7 +12,7 @@ use serde::{Deserialize, Serialize};
 /// Sigma_p = propagate(Sigma_p, F_p, F_delta, Sigma_delta), p = odometry_step(p, ds_r, ds_l, b),
 ///
 /// recording p and Sigma_p after the step.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, TS)]
 pub struct PathRun {
     /// The pose before the first step, [x, y, theta].
     pub start: [f64; 3],
@@ -25,7 +26,7 @@ pub struct PathRun {
 }
 
 /// What the path loop records of a run: the pose and its covariance after every step.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, TS)]
 pub struct PathRecord {
     #[serde(default)]
     pub poses: Vec<[f64; 3]>,

@@ -9,7 +9,7 @@ mod contract;
 mod generate;
 mod grade;
 mod hints;
-mod job;
+pub mod job;
 mod plan;
 
 pub use contract::{Call, FUNCTIONS, Mat2, Mat3, Mat3x2, Vec3};
