@@ -17,12 +17,12 @@ const controls = {
   r: new LogSlider(byId('r-scale'), byId('r-value'), (s) => `×${fmt(s, 2)}: R = diag(${scale(lab.r, s).map((row, i) => fmt(row[i], 3)).join(', ')})`),
   q: new LogSlider(byId('q-scale'), byId('q-value'), (s) => `×${fmt(s, 2)}: Q = ${fmt(lab.q * s, 3)}`),
   sigma0: new LogSlider(byId('sigma0-scale'), byId('sigma0-value'), (s) => `×${fmt(s, 2)}: Σ₀ = diag(${fmt(lab.sigma0[0][0] * s, 3)}, ${fmt(lab.sigma0[1][1] * s, 3)})`),
-  mu0Position: byId('mu0-position'),
-  mu0Velocity: byId('mu0-velocity'),
-  seed: byId('seed'),
-  steps: byId('steps'),
-  monteCarlo: byId('monte-carlo'),
-  runs: byId('runs'),
+  mu0Position: byId('mu0-position', HTMLInputElement),
+  mu0Velocity: byId('mu0-velocity', HTMLInputElement),
+  seed: byId('seed', HTMLInputElement),
+  steps: byId('steps', HTMLInputElement),
+  monteCarlo: byId('monte-carlo', HTMLInputElement),
+  runs: byId('runs', HTMLInputElement),
 };
 
 /** The parameters of a run: the lab's, with what the controls change. */
@@ -49,7 +49,7 @@ const presets = {
   'sigma0-up': { sigma0: 100 },
   'sigma0-down': { sigma0: 0.01 },
 };
-for (const button of document.querySelectorAll('[data-preset]')) {
+for (const button of /** @type {NodeListOf<HTMLButtonElement>} */ (document.querySelectorAll('button[data-preset]'))) {
   button.addEventListener('click', () => {
     const preset = presets[button.dataset.preset];
     for (const [name, value] of Object.entries(preset)) controls[name].value = value;

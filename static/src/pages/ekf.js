@@ -13,19 +13,19 @@ const views = new RunView(byId('ekf-plots'), 'ekf');
 const degrees = Math.PI / 180;
 
 const ui = {
-  kind: byId('dataset-kind'),
-  seed: byId('dataset-seed'),
+  kind: byId('dataset-kind', HTMLSelectElement),
+  seed: byId('dataset-seed', HTMLInputElement),
   files: byId('dataset-files'),
-  mapFile: byId('map-file'),
-  sensorFile: byId('sensor-file'),
-  rX: byId('r-x'),
-  rY: byId('r-y'),
-  rTheta: byId('r-theta'),
-  qRange: byId('q-range'),
-  qBearing: byId('q-bearing'),
-  deltaM: byId('delta-m'),
+  mapFile: byId('map-file', HTMLInputElement),
+  sensorFile: byId('sensor-file', HTMLInputElement),
+  rX: byId('r-x', HTMLInputElement),
+  rY: byId('r-y', HTMLInputElement),
+  rTheta: byId('r-theta', HTMLInputElement),
+  qRange: byId('q-range', HTMLInputElement),
+  qBearing: byId('q-bearing', HTMLInputElement),
+  deltaM: byId('delta-m', HTMLInputElement),
   lambda: byId('lambda-m'),
-  known: byId('known-associations'),
+  known: byId('known-associations', HTMLInputElement),
   error: byId('error'),
   summary: byId('summary'),
   command: byId('command'),
@@ -57,16 +57,36 @@ const sigmas = [
   { input: ui.qRange, of: 'q', at: 0, unit: 1, name: 'metres' },
   { input: ui.qBearing, of: 'q', at: 1, unit: degrees, name: 'degrees' },
 ];
-const modeInput = (mode) => document.querySelector(`input[name=mode][value="${CSS.escape(mode)}"]`);
+const modeInput = (mode) => /** @type {HTMLInputElement} */ (document.querySelector(`input[name=mode][value="${CSS.escape(mode)}"]`));
+/** The update the reader chose (`sequential`, `batch`). */
+const checkedMode = () => /** @type {HTMLInputElement} */ (document.querySelector('input[name=mode]:checked')).value;
+
+/**
+ * The filter's settings, as `settings()` makes them and the data set's `labSettings` gives them.
+ *
+ * @typedef {{ mode: string, known_associations: boolean, r: number[], q: number[], delta_m: number }} Settings
+ */
+
+/**
+ * A setting the reader can change: see `controls`.
+ *
+ * @typedef {object} Control
+ * @property {(reference?: Settings) => number | string | boolean} value
+ * @property {() => string} text
+ * @property {(text: string) => void} read
+ * @property {() => string | null} problem
+ */
 
 /**
  * Every setting the reader can change, by the name the address gives it (the control's
  * id; `mode` for the update): its value as the filter takes it (`value(reference)`: in
  * the settings `reference` instead), its text for the address, how a text of the address sets it, and what is
  * wrong with it (null: nothing).
+ *
+ * @type {Map<string, Control>}
  */
 const controls = new Map([
-  ...sigmas.map((sigma) => [sigma.input.id, {
+  ...sigmas.map(/** @returns {[string, Control]} */ (sigma) => [sigma.input.id, {
     value: (reference) => decimal(reference ? reference[sigma.of][sigma.at] : variance(sigma.input, sigma.unit)),
     text: () => sigma.input.value,
     read: (text) => { sigma.input.value = text; },
@@ -88,8 +108,8 @@ const controls = new Map([
     },
   }],
   ['mode', {
-    value: (reference) => (reference ? reference.mode : document.querySelector('input[name=mode]:checked').value),
-    text: () => document.querySelector('input[name=mode]:checked').value,
+    value: (reference) => (reference ? reference.mode : checkedMode()),
+    text: checkedMode,
     read: (text) => { if (modeInput(text)) modeInput(text).checked = true; },
     problem: () => null,
   }],
@@ -134,7 +154,7 @@ function showVariance(input, value, unit = 1) {
 function settings() {
   const variances = (matrix) => sigmas.filter((sigma) => sigma.of === matrix).map((sigma) => decimal(variance(sigma.input, sigma.unit)));
   return {
-    mode: document.querySelector('input[name=mode]:checked').value,
+    mode: checkedMode(),
     known_associations: ui.known.checked,
     r: variances('r'),
     q: variances('q'),
@@ -235,7 +255,7 @@ async function loadDataset() {
   ui.files.hidden = kind !== 'files';
   // A seed makes a simulated data set; uploaded files have none.
   ui.seed.closest('label').hidden = kind === 'files';
-  for (const id of ['download-map', 'download-sensor']) byId(id).disabled = kind === 'files';
+  for (const id of ['download-map', 'download-sensor']) byId(id, HTMLButtonElement).disabled = kind === 'files';
   let next;
   try {
     if (kind === 'files') {
@@ -332,7 +352,7 @@ ui.kind.addEventListener('change', loadDataset);
 ui.seed.addEventListener('change', loadDataset);
 ui.mapFile.addEventListener('change', loadDataset);
 ui.sensorFile.addEventListener('change', loadDataset);
-for (const input of document.querySelectorAll('#ekf-settings .filter input')) {
+for (const input of /** @type {NodeListOf<HTMLInputElement>} */ (document.querySelectorAll('#ekf-settings .filter input'))) {
   input.addEventListener('input', () => {
     edited.add(input.name === 'mode' ? 'mode' : input.id);
     update();

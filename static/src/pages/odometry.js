@@ -34,31 +34,31 @@ const sizes = { line: 4, circle: 2, square: 4, 'figure-eight': 1.5 };
 const sizeNames = { line: 'length', circle: 'radius', square: 'side', 'figure-eight': 'radius' };
 
 const ui = {
-  shape: byId('shape'),
-  size: byId('size'),
+  shape: byId('shape', HTMLSelectElement),
+  size: byId('size', HTMLInputElement),
   sizeName: byId('size-name'),
   sizeLabel: byId('size-label'),
-  direction: byId('direction'),
+  direction: byId('direction', HTMLSelectElement),
   directionLabel: byId('direction-label'),
   drawing: byId('drawing'),
   pointsValue: byId('points-value'),
   drawHint: byId('draw-hint'),
-  points: byId('points'),
+  points: byId('points', HTMLInputElement),
   speed: new LogSlider(byId('speed'), byId('speed-value'), (v) => `${fmt(twoDigits(v))} m per step`),
-  wheelBase: byId('wheel-base'),
+  wheelBase: byId('wheel-base', HTMLInputElement),
   kR: new LogSlider(byId('k-r'), byId('k-r-value'), (v) => `${fmt(twoDigits(v))} m: after 1 m ±${f(Math.sqrt(twoDigits(v)) * 100)} cm`),
   kL: new LogSlider(byId('k-l'), byId('k-l-value'), (v) => `${fmt(twoDigits(v))} m: after 1 m ±${f(Math.sqrt(twoDigits(v)) * 100)} cm`),
-  sigmaTheta: byId('sigma-theta'),
-  sigmaXy: byId('sigma-xy'),
-  robots: byId('robots'),
-  seed: byId('seed'),
-  ellipseEvery: byId('ellipse-every'),
-  clouds: byId('clouds'),
-  mapView: byId('map-view'),
-  eD: byId('e-d'),
-  eB: byId('e-b'),
-  side: byId('umbmark-side'),
-  runs: byId('umbmark-runs'),
+  sigmaTheta: byId('sigma-theta', HTMLInputElement),
+  sigmaXy: byId('sigma-xy', HTMLInputElement),
+  robots: byId('robots', HTMLInputElement),
+  seed: byId('seed', HTMLInputElement),
+  ellipseEvery: byId('ellipse-every', HTMLSelectElement),
+  clouds: byId('clouds', HTMLInputElement),
+  mapView: byId('map-view', HTMLSelectElement),
+  eD: byId('e-d', HTMLInputElement),
+  eB: byId('e-b', HTMLInputElement),
+  side: byId('umbmark-side', HTMLInputElement),
+  runs: byId('umbmark-runs', HTMLInputElement),
   error: byId('error'),
   command: byId('command'),
   timing: byId('timing'),
@@ -100,8 +100,8 @@ function showValues() {
   setText(ui.pointsValue, drawn.length
     ? `${drawn.length} point${drawn.length === 1 ? '' : 's'}${points < 2 ? ': at least two different ones make a path' : ''}`
     : 'No points yet: click on the plot, or type them above.');
-  byId('undo-point').disabled = drawn.length === 0;
-  byId('clear-points').disabled = drawn.length === 0;
+  byId('undo-point', HTMLButtonElement).disabled = drawn.length === 0;
+  byId('clear-points', HTMLButtonElement).disabled = drawn.length === 0;
   return points;
 }
 
@@ -226,14 +226,17 @@ ui.speed.value = defaults.speed;
 ui.wheelBase.value = String(defaults.wheel_base);
 ui.kR.value = defaults.k_r;
 ui.kL.value = defaults.k_l;
-const controls = [...document.querySelectorAll('#odometry-controls :is(input, select):not(#points)')];
-const initial = controls.map((control) => (control.type === 'checkbox' ? control.checked : control.value));
+const controls = [.../** @type {NodeListOf<HTMLInputElement | HTMLSelectElement>} */ (
+  document.querySelectorAll('#odometry-controls :is(input, select):not(#points)'))];
+/** What each control holds at first: its value, and for a checkbox whether it is checked. */
+const initial = controls.map((control) => control.value);
+const initialChecked = controls.map((control) => control instanceof HTMLInputElement && control.checked);
 const initialSizes = { ...sizes };
 
 /** Every setting back to what the page opened with (a path drawn stays, for later). */
 function setDefaults() {
   controls.forEach((control, i) => {
-    if (control.type === 'checkbox') control.checked = initial[i];
+    if (control instanceof HTMLInputElement && control.type === 'checkbox') control.checked = initialChecked[i];
     else control.value = initial[i];
   });
   Object.assign(sizes, initialSizes);
