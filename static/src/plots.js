@@ -13,6 +13,8 @@ import { CanvasRenderer, SVGRenderer } from 'echarts/renderers';
 import { download, setText } from './controls.js';
 import { fmt } from './format.js';
 
+/** @typedef {import('echarts').SeriesOption} SeriesOption */
+
 echarts.use([
   LineChart,
   LinesChart,
@@ -66,7 +68,9 @@ export class Plot {
     buttons.className = 'save';
     // The caption's own text, before the buttons join it: what a screen reader names.
     const caption = figure.querySelector('figcaption').textContent.trim();
-    for (const [label, save] of [['PNG', () => this.savePng()], ['SVG', () => this.saveSvg()]]) {
+    /** @type {[string, () => void][]} */
+    const saves = [['PNG', () => this.savePng()], ['SVG', () => this.saveSvg()]];
+    for (const [label, save] of saves) {
       const button = document.createElement('button');
       button.type = 'button';
       button.textContent = label;
@@ -179,7 +183,8 @@ export class Plot {
    */
   setData(series) {
     const byId = new Map(series.map((s) => [s.id, s]));
-    const waiting = this.pending.findLast(([, how]) => how.replaceMerge);
+    // The last whole option waiting (findLast is ES2023's; the scripts are checked against ES2022).
+    const waiting = [...this.pending].reverse().find(([, how]) => how.replaceMerge);
     if (waiting) {
       waiting[0] = { ...waiting[0], series: waiting[0].series.map((s) => (byId.has(s.id) ? { ...s, ...byId.get(s.id) } : s)) };
     } else {
@@ -242,7 +247,9 @@ export class Plot {
     this.flush();
     const above = (this.overlays ?? []).flatMap((overlay) => overlay.getOption().series ?? []);
     const covered = new Set(above.map((s) => s.id));
-    return [...this.chart.getOption().series.filter((s) => !covered.has(s.id)), ...above];
+    // getOption gives every component as an array: the series too.
+    const own = /** @type {SeriesOption[]} */ (this.chart.getOption().series);
+    return [...own.filter((s) => !covered.has(s.id)), ...above];
   }
 
   savePng() {
@@ -495,7 +502,11 @@ export function stats(ys, t = null) {
 /** The margins of a plot in the plane. */
 export const planeGrid = { left: 58, right: 16, top: 40, bottom: 44, outerBoundsMode: 'none' };
 
-/** The smallest and largest finite value of `arrays`. */
+/**
+ * The smallest and largest finite value of `arrays`.
+ *
+ * @returns {[number, number]}
+ */
 export function extent(arrays) {
   let [low, high] = [Infinity, -Infinity];
   for (const array of arrays) {

@@ -78,11 +78,19 @@ export class MapView {
     this.turned = false;
     this.runLayer = plot.addOverlay();
     this.nowLayer = plot.addOverlay();
-    /** 'auto' (enlarged until the typical ellipse is some pixels across) or a factor. */
+    /**
+     * 'auto' (enlarged until the typical ellipse is some pixels across) or a factor.
+     *
+     * @type {'auto' | number}
+     */
     this.ellipseScale = 'auto';
     /** The factor the ellipses are drawn with now. */
     this.ellipseFactor = 1;
-    /** Called with true when the reader zooms or pans, false when the zoom is reset. */
+    /**
+     * Called with true when the reader zooms or pans, false when the zoom is reset.
+     *
+     * @type {(zoomed: boolean) => void}
+     */
     this.onZoom = () => {};
     plot.chart.on('datazoom', () => this.onZoom(true));
   }

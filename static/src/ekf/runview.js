@@ -104,7 +104,7 @@ function describeOverTime(plots, v) {
   errorPlots.forEach(([name, component, unit], i) => {
     const s = stats(v.error[i], v.t);
     let inside = 0;
-    for (let k = 0; k < n; k++) inside += Math.abs(v.error[i][k]) <= 3 * v.std[i][k];
+    for (let k = 0; k < n; k++) if (Math.abs(v.error[i][k]) <= 3 * v.std[i][k]) inside++;
     plots[name].describe(
       `Error in ${component} ${span}: mean ${f(s.mean)} ${unit}, mean absolute ${f(s.meanAbs)} ${unit}, ` +
       `largest ${f(s.maxAbs)} ${unit} in size at t = ${f(s.maxAbsAt)} s; within ±3σ at ${f((100 * inside) / n)}% of the steps ` +
@@ -146,19 +146,21 @@ export class RunView {
     this.plots = plotsIn(root, prefix);
     this.map = new MapView(this.plots.map);
     this.view = null;
-    this.time = byId('time');
+    this.time = byId('time', HTMLInputElement);
     this.timeLabel = byId('time-label');
     this.time.addEventListener('input', () => this.showNow());
-    for (const [id, delta] of [['time-back', -1], ['time-forward', 1]]) {
+    /** @type {[string, number][]} */
+    const stepButtons = [['time-back', -1], ['time-forward', 1]];
+    for (const [id, delta] of stepButtons) {
       byId(id).addEventListener('click', () => {
         this.time.value = String(Math.min(Number(this.time.max), Math.max(0, Number(this.time.value) + delta)));
         this.showNow();
       });
     }
-    const reset = byId('map-reset');
+    const reset = byId('map-reset', HTMLButtonElement);
     this.map.onZoom = (zoomed) => { reset.disabled = !zoomed; };
     reset.addEventListener('click', () => this.map.resetZoom());
-    this.ellipseScale = byId('ellipse-scale');
+    this.ellipseScale = byId('ellipse-scale', HTMLSelectElement);
     this.ellipseNote = byId('ellipse-note');
     this.ellipseScale.addEventListener('change', () => {
       const value = this.ellipseScale.value;

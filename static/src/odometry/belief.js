@@ -30,7 +30,11 @@ function spread(xy, theta, nominalTheta) {
   return [sd((i) => xy[2 * i]), sd((i) => xy[2 * i + 1]), sd((i) => wrap(theta[i] - nominalTheta))];
 }
 
-/** The covariance entries shown in the table: [label, row, column, unit]. */
+/**
+ * The covariance entries shown in the table: [label, row, column].
+ *
+ * @type {[string, number, number][]}
+ */
 const entries = [
   ['Σ<sub>xx</sub> (m²)', 0, 0],
   ['Σ<sub>xy</sub> (m²)', 0, 1],
@@ -43,7 +47,7 @@ const entries = [
 const percent = (share) => `${fmt(100 * share, 4)} %`;
 
 function describeTable(b) {
-  const body = byId('covariance-table').tBodies[0];
+  const body = byId('covariance-table', HTMLTableElement).tBodies[0];
   setText(byId('robots-heading'), `${b.robots} robots`);
   const rows = [
     row('x (m)', [[f(b.finalPose[0]), b.finalPose[0]], [f(b.sampleMean[0]), b.sampleMean[0]]], 'x'),
@@ -236,6 +240,6 @@ export class BeliefView extends View {
     show(plots['position-std'], overSteps('σ (m)', series.position));
     show(plots['heading-std'], overSteps('σθ (°)', series.heading));
     for (const name of ['position-std', 'heading-std']) plots[name].describe('No path yet: draw at least two points.');
-    byId('covariance-table').tBodies[0].replaceChildren();
+    byId('covariance-table', HTMLTableElement).tBodies[0].replaceChildren();
   }
 }

@@ -15,6 +15,18 @@ function cloudSeries(id, name, xy, colour, size, opacity, z) {
  * The series of the path plot: always the same ones, empty where there is nothing to
  * draw (a series left out would leave a hole in the chart's option). The first three
  * change with the path, the rest with the noise too.
+ *
+ * @param {object} drawn what there is to draw (each part left out: none of it)
+ * @param {ArrayLike<number>} [drawn.x] the path's x at every step
+ * @param {ArrayLike<number>} [drawn.y] and its y
+ * @param {number[][]} [drawn.points] the points the reader drew, [x, y]
+ * @param {number} [drawn.every] the steps between the ellipses
+ * @param {{ coords: number[][] }[]} [drawn.ellipses] the 3σ ellipses along the path (see `outlines`)
+ * @param {ArrayLike<number>} [drawn.clouds] the robots along the way: x, y, x, y, ...
+ * @param {ArrayLike<number>} [drawn.robots] the robots at the end: x, y, x, y, ...
+ * @param {number} [drawn.count] how many robots there are
+ * @param {{ coords: number[][] }[]} [drawn.finalEllipse] the 3σ ellipse at the end
+ * @param {number[][]} [drawn.end] the odometry's end, [[x, y]]
  */
 export function pathSeries({ x = [], y = [], points = [], every = 0, ellipses = [], clouds = [], robots = [], count = 0, finalEllipse = [], end = [] }) {
   return {

@@ -66,7 +66,7 @@ export class UmbmarkView extends View {
       `Return errors (true minus odometry) of ${u.runs} runs each way. Clockwise: x from ${range(cw.errors[0])} m, y from ${range(cw.errors[1])} m. ` +
       `Counter-clockwise: x from ${range(ccw.errors[0])} m, y from ${range(ccw.errors[1])} m. ${words(cw, 0)}; ${words(ccw, 1)}; ` +
       `E_max,syst = ${f(u.eMax)} m.`);
-    const body = byId('umbmark-table').tBodies[0];
+    const body = byId('umbmark-table', HTMLTableElement).tBodies[0];
     body.replaceChildren(...u.directions.map((d, i) => row(directionNames[i], [
       [f(d.centre[0]), d.centre[0]], [f(d.centre[1]), d.centre[1]], [f(d.r), d.r],
     ], directionNames[i])));
