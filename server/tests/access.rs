@@ -952,10 +952,62 @@ fn a_database_of_estlab_0_1_0_migrates_forward() {
 
     let (version, first) = dump(&path);
     assert_eq!(version, newest, "the schema is not the newest");
+    // Each result's tests gained their subject (migration 5), and nothing else changed.
+    let mut after = original_columns(&path);
+    let subjects: Vec<serde_json::Value> = after
+        .iter_mut()
+        .map(|row| {
+            let rusqlite::types::Value::Text(text) = &row[10] else {
+                panic!("a result is text");
+            };
+            let mut result: serde_json::Value = serde_json::from_str(text).unwrap();
+            let subjects = result["tests"]
+                .as_array_mut()
+                .unwrap()
+                .iter_mut()
+                .map(|test| test.as_object_mut().unwrap().remove("subject").unwrap())
+                .collect();
+            row[10] = rusqlite::types::Value::Text(result.to_string());
+            subjects
+        })
+        .collect();
+    let as_read = |rows: Vec<Vec<rusqlite::types::Value>>| -> Vec<Vec<String>> {
+        rows.into_iter()
+            .map(|row| {
+                row.into_iter()
+                    .map(|value| match value {
+                        rusqlite::types::Value::Text(text) => {
+                            serde_json::from_str::<serde_json::Value>(&text)
+                                .map_or(text, |json| json.to_string())
+                        }
+                        other => format!("{other:?}"),
+                    })
+                    .collect()
+            })
+            .collect()
+    };
     assert_eq!(
-        original_columns(&path),
-        before,
+        as_read(after),
+        as_read(before),
         "the columns of 0.1.0 changed"
+    );
+    let function = |name: &str| json!({ "kind": "function", "name": name });
+    let run = |name: &str| json!({ "kind": "run", "name": name });
+    assert_eq!(
+        subjects[0],
+        json!([
+            function("calculate_odometry"),
+            function("predict"),
+            function("observation_model"),
+            function("jacobian_observation_model"),
+            function("associate"),
+            function("batch_associate"),
+            function("update"),
+            function("batch_update"),
+            run("o3"),
+            run("outliers"),
+            run("no-odometry"),
+        ])
     );
 
     // Opening it again changes nothing.

@@ -90,7 +90,7 @@
   try {
     defineProperty(ErrorConstructor, 'prepareStackTrace',
       { value: undefined, writable: false, configurable: false });
-  } catch (e) {
+  } catch {
     // Already fixed in place by the engine: there is no hook to take away.
   }
 
@@ -120,7 +120,7 @@
   function describeError(error) {
     try {
       return describeThrown(error);
-    } catch (e) {
+    } catch {
       return 'a value that cannot be described (reading it threw)';
     }
   }
@@ -147,7 +147,7 @@
   }
 
   function safeText(value) {
-    try { return toJson(plain(value)); } catch (e) { return typeof value; }
+    try { return toJson(plain(value)); } catch { return typeof value; }
   }
 
   /// Characters kept of a text the student's code made (a message, a string it returned).
@@ -327,6 +327,11 @@
     return value;
   }
 
+  /**
+   * @param {any} value Whatever the student's code returned.
+   * @param {number} depth
+   * @param {{ left: number }} budget
+   */
   function walk(value, depth, budget) {
     if (--budget.left < 0) {
       throw new HarnessError('returned more than ' + MAX_VALUES + ' values');
@@ -355,7 +360,9 @@
     }
     const out = [];
     if (isArray(value) || isView(value)) {
-      for (let i = 0; i < value.length; i++) put(out, i, walk(value[i], depth + 1, budget));
+      // A DataView has no length, and gives an empty array.
+      const items = /** @type {ArrayLike<unknown>} */ (value);
+      for (let i = 0; i < items.length; i++) put(out, i, walk(items[i], depth + 1, budget));
       return out;
     }
     const object = record();

@@ -183,8 +183,8 @@ export class Plot {
    */
   setData(series) {
     const byId = new Map(series.map((s) => [s.id, s]));
-    // The last whole option waiting (findLast is ES2023's; the scripts are checked against ES2022).
-    const waiting = [...this.pending].reverse().find(([, how]) => how.replaceMerge);
+    // The last whole option waiting.
+    const waiting = this.pending.findLast(([, how]) => how.replaceMerge);
     if (waiting) {
       waiting[0] = { ...waiting[0], series: waiting[0].series.map((s) => (byId.has(s.id) ? { ...s, ...byId.get(s.id) } : s)) };
     } else {

@@ -3,7 +3,5 @@
 // to unless another is named, and every exercise's texts by its name.
 const element = document.getElementById('estlab-site');
 
-/**
- * @type {{ course: string, exercises: Record<string, { title: string, workbench: string, hidden_runs: string }> }}
- */
+/** @type {import('./types/Site').Site} */
 export const site = JSON.parse(element.textContent);

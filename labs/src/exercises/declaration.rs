@@ -2,6 +2,7 @@
 //! its names and texts ([`Declaration`]) and its types ([`Graded`]).
 
 use crate::grading::{Contract, ExercisePlan, Generator};
+use ts_rs::TS;
 
 /// An exercise's names and texts, and its JavaScript: the pages, the workbench, the
 /// platforms' packages, the harness and the command line read them from here.
@@ -78,6 +79,11 @@ pub trait Graded: 'static {
     type Call: Contract;
     /// Everything one grading checks.
     type Plan: ExercisePlan;
+    /// The data of one run of its loop (in a [`RunPhase`](crate::grading::RunPhase)) and
+    /// what the loop records, which the loop in `web/loop.js` reads and writes: the browser's
+    /// scripts are checked against their TypeScript declarations.
+    type Run: TS + 'static;
+    type Record: TS + 'static;
     /// Test cases of every student function from a seed.
     const GENERATE: Generator<Self::Call>;
 

@@ -7,7 +7,7 @@ use super::compare::Tolerance;
 use super::contract::Contract;
 use super::hints::{Mistake, describe};
 use super::outputs::FunctionOutput;
-use super::result::{Failure, POINTS, Status, Test, Visibility};
+use super::result::{Failure, POINTS, Status, Subject, Test, Visibility};
 use super::suite::{FUNCTION_LIMIT_MS, PlannedCase, Suite, cases_of};
 use serde_json::Value;
 
@@ -79,8 +79,9 @@ fn function_test<C: Contract>(
 ) -> Test {
     let cases: Vec<&PlannedCase<C>> = cases_of(cases, function).collect();
     let name = format!("{function}: {} cases", cases.len());
+    let subject = Subject::Function(function.to_owned());
     let Some(output) = output else {
-        return failed(name, "not run".to_owned());
+        return Test::all_or_nothing(subject, name, false, "not run".to_owned());
     };
     let error = output.error.clone().or_else(|| {
         output
@@ -171,6 +172,7 @@ fn function_test<C: Contract>(
     failures.truncate(DETAILED_FAILURES);
     Test {
         name,
+        subject,
         points: if all { POINTS } else { POINTS * tally.share() },
         max_points: POINTS,
         status: if all { Status::Passed } else { Status::Failed },
@@ -178,7 +180,6 @@ fn function_test<C: Contract>(
         message: lines.join("\n"),
         hidden_detail: hidden_detail.join("\n"),
         failures,
-        run: None,
         hints: Vec::new(),
     }
 }
@@ -308,8 +309,4 @@ fn short(value: &Value) -> String {
     } else {
         describe(value)
     }
-}
-
-fn failed(name: String, message: String) -> Test {
-    Test::all_or_nothing(name, false, message)
 }

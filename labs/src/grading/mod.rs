@@ -37,7 +37,7 @@ pub use job::{CallJob, FunctionPhase, Job, Phase, PhaseKind, RunPhase};
 pub use outputs::{
     CallResult, Cause, FunctionOutput, Outputs, PhaseOutput, Reports, RunOutput, Stopped,
 };
-pub use result::{Failure, GradeResult, POINTS, RunFigures, Status, Test, Visibility};
+pub use result::{Failure, GradeResult, POINTS, Status, Subject, Test, Visibility};
 pub use suite::{
     CASES_PER_FUNCTION, FUNCTION_LIMIT_MS, Generator, PUBLIC_SEED, PlannedCase, Scenario, Suite,
     cases_of, function_phases, planned_cases, scenario_cases,

@@ -34,9 +34,11 @@ pub const POINTS: f64 = 10.0;
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, TS)]
 pub struct Test {
-    /// Contains the name of the function it tests (`predict`), or for a run of the
-    /// exercise's loop the functions the loop calls.
+    /// What a person reads: the function it tests and its count of cases (`predict: 12
+    /// cases`), or the run and the functions the loop calls.
     pub name: String,
+    /// What it tests, as the pages and the class's statistics tell tests apart.
+    pub subject: Subject,
     pub points: f64,
     pub max_points: f64,
     pub status: Status,
@@ -49,20 +51,37 @@ pub struct Test {
     /// The failing cases, in detail, for the browser's view.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub failures: Vec<Failure>,
-    /// An EKF data-set run's figures, for the browser's view.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub run: Option<RunFigures>,
     /// In the stored form: every classic mistake the failing cases point to, once each
     /// (the stored failures are fewer), for the class's statistics.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub hints: Vec<HintKind>,
 }
 
+/// What a test tests: one of the student's functions, or the runs of the exercise's loop
+/// that a name groups (`o3`, the EKF's runs of `o3/sequential` and `o3/batch`; `square`,
+/// an odometry path). On the wire `{"kind": "function", "name": "predict"}`.
+#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize, TS)]
+#[serde(tag = "kind", content = "name", rename_all = "snake_case")]
+pub enum Subject {
+    Function(String),
+    Run(String),
+}
+
+impl Subject {
+    /// The function's name, or the run's.
+    pub fn name(&self) -> &str {
+        match self {
+            Subject::Function(name) | Subject::Run(name) => name,
+        }
+    }
+}
+
 impl Test {
-    /// A test that earns all its points when it passed and none otherwise (a run's).
-    pub fn all_or_nothing(name: String, passed: bool, message: String) -> Test {
+    /// A test of `subject` that earns all its points when it passed and none otherwise.
+    pub fn all_or_nothing(subject: Subject, name: String, passed: bool, message: String) -> Test {
         Test {
             name,
+            subject,
             points: if passed { POINTS } else { 0.0 },
             max_points: POINTS,
             status: if passed {
@@ -74,7 +93,6 @@ impl Test {
             message,
             hidden_detail: String::new(),
             failures: Vec::new(),
-            run: None,
             hints: Vec::new(),
         }
     }
@@ -190,15 +208,6 @@ pub fn clip(text: &str, n: usize) -> String {
         Some((end, _)) => format!("{}...", &text[..end]),
         None => text.to_owned(),
     }
-}
-
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, TS)]
-pub struct RunFigures {
-    /// Mean absolute error in x, y and theta, one entry per run of the test.
-    pub mean_absolute_error: Vec<[f64; 3]>,
-    pub bound: f64,
-    pub rejected: usize,
-    pub readings: usize,
 }
 
 /// Failing cases a stored result keeps in detail per test, and differing elements per case.

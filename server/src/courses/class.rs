@@ -143,7 +143,7 @@ pub fn class_view<E>(
         for test in &result.tests {
             // By what it tests: "predict: 12 cases" and "predict: 18 cases" (results of
             // graders with other plans) are one test.
-            let name = test.name.split(':').next().unwrap_or(&test.name);
+            let name = test.subject.name();
             let share = match tests.iter_mut().find(|t| t.name == name) {
                 Some(share) => share,
                 None => {

@@ -139,6 +139,29 @@ const MIGRATIONS: &[&str] = &[
         waived_by TEXT NOT NULL,
         waived_at INTEGER NOT NULL
     );",
+    // 5: each test of a result says what it tests (`subject`: a function, or a run). A
+    // result stored before said it in its name alone: a function's test is named
+    // `predict: 12 cases`, a run's begins with the run's name (`o3 data set, ...`,
+    // `square path: ...`).
+    "CREATE TEMP TABLE tested (kept TEXT, id INTEGER, result TEXT, PRIMARY KEY (kept, id));
+    INSERT INTO tested
+    SELECT kept, id, json_set(result, '$.tests', json((
+        SELECT json_group_array(json_set(test.value, '$.subject', json_object(
+            'kind', CASE WHEN test.value ->> 'name' GLOB '*: [0-9]* cases'
+                THEN 'function' ELSE 'run' END,
+            'name', CASE WHEN test.value ->> 'name' GLOB '*: [0-9]* cases'
+                THEN substr(test.value ->> 'name', 1, instr(test.value ->> 'name', ':') - 1)
+                ELSE substr(test.value ->> 'name', 1, instr(test.value ->> 'name' || ' ', ' ') - 1)
+                END)) ORDER BY test.key)
+        FROM json_each(result, '$.tests') AS test)))
+    FROM (SELECT 'submissions' AS kept, id, result FROM submissions
+          UNION ALL SELECT 'results', id, result FROM results)
+    WHERE json_valid(result) AND json_type(result, '$.tests') = 'array';
+    UPDATE submissions SET result = (SELECT t.result FROM tested t WHERE t.kept = 'submissions' AND t.id = submissions.id)
+    WHERE id IN (SELECT id FROM tested WHERE kept = 'submissions');
+    UPDATE results SET result = (SELECT t.result FROM tested t WHERE t.kept = 'results' AND t.id = results.id)
+    WHERE id IN (SELECT id FROM tested WHERE kept = 'results');
+    DROP TABLE tested;",
 ];
 
 /// Brings the schema up to the newest version, one migration per transaction.

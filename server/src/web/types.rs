@@ -6,7 +6,8 @@
 
 use super::{error, me, registry, setup, staff, submit};
 use crate::store;
-use labs::exercises::{ekf_localization, odometry};
+use labs::Exercise;
+use labs::exercises::{Graded, Visit};
 use labs::grading::{GradeResult, Job, Outputs};
 use std::path::Path;
 use ts_rs::{Config, ExportError, TS};
@@ -21,10 +22,9 @@ pub fn export(dir: &Path) -> Result<(), ExportError> {
     Job::export_all(&cfg)?;
     Outputs::export_all(&cfg)?;
     // Each exercise's runs: what its loop reads and records.
-    ekf_localization::job::FilterRun::export_all(&cfg)?;
-    ekf_localization::job::FilterRecord::export_all(&cfg)?;
-    odometry::job::PathRun::export_all(&cfg)?;
-    odometry::job::PathRecord::export_all(&cfg)?;
+    for exercise in Exercise::ALL {
+        exercise.visit(RunTypes(&cfg))?;
+    }
     // The site, what `/api/me` says, a student's submissions.
     registry::Site::export_all(&cfg)?;
     me::About::export_all(&cfg)?;
@@ -48,6 +48,18 @@ pub fn export(dir: &Path) -> Result<(), ExportError> {
     store::Waived::export_all(&cfg)?;
     store::AuditEntry::export_all(&cfg)?;
     Ok(())
+}
+
+/// Exports an exercise's types of its runs.
+struct RunTypes<'a>(&'a Config);
+
+impl Visit for RunTypes<'_> {
+    type Output = Result<(), ExportError>;
+
+    fn visit<G: Graded>(self) -> Self::Output {
+        G::Run::export_all(self.0)?;
+        G::Record::export_all(self.0)
+    }
 }
 
 #[cfg(test)]

@@ -27,12 +27,12 @@ const [estlab, me, { runs: RUNS }] = await Promise.all([
 const ui = {
   who: byId('who'),
   studentField: byId('student-field'),
-  student: byId('student'),
+  student: byId('student', HTMLInputElement),
   seed: byId('seed'),
-  runTests: byId('run-tests'),
-  runLoops: byId('run-datasets'),
-  submit: byId('submit'),
-  stop: byId('stop'),
+  runTests: byId('run-tests', HTMLButtonElement),
+  runLoops: byId('run-datasets', HTMLButtonElement),
+  submit: byId('submit', HTMLButtonElement),
+  stop: byId('stop', HTMLButtonElement),
   saved: byId('saved'),
   status: byId('status'),
   error: byId('error'),
@@ -40,7 +40,7 @@ const ui = {
   submission: byId('submission'),
   tests: byId('tests'),
   runs: byId('runs'),
-  runChoice: byId('run-choice'),
+  runChoice: byId('run-choice', HTMLSelectElement),
   runSummary: byId('run-summary'),
   results: byId('results'),
 };
@@ -51,7 +51,7 @@ const ui = {
 const editor = new Editor({
   // The file is saved per exercise.
   key: `estlab:${LAB}:source`,
-  starter: byId('starter').value,
+  starter: byId('starter', HTMLTextAreaElement).value,
   file: workbench.file,
   saved: ui.saved,
   error: ui.error,

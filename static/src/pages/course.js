@@ -9,18 +9,32 @@ import { instant, moment as when, percent, zone } from '../results/format.js';
 import { getJson, postJson } from '../results/http.js';
 import { element, fillTable, link } from '../results/render.js';
 
+/** @typedef {import('../types/CourseView').CourseView} CourseView */
+/** @typedef {import('../types/CodesFile').CodesFile} CodesFile */
+
 const root = byId('course-setup');
 const { course } = root.dataset;
 const api = `/api/courses/${encodeURIComponent(course)}`;
 
-/** Says `text` in a status line; `error` marks it as a problem to correct. */
+/**
+ * Says `text` in a status line; `error` marks it as a problem to correct.
+ *
+ * @param {string} id
+ * @param {string} text
+ */
 function say(id, text, error = false) {
   const line = byId(id);
   line.textContent = text;
   line.classList.toggle('error', error);
 }
 
-/** Runs `work` for a form's button, saying its error (the server names the field) in `status`. */
+/**
+ * Runs `work` for a form's button, saying its error (the server names the field) in `status`.
+ *
+ * @param {string} status
+ * @param {HTMLButtonElement} button
+ * @param {() => Promise<void>} work
+ */
 async function acting(status, button, work) {
   button.disabled = true;
   say(status, 'Working…');
@@ -37,7 +51,11 @@ async function acting(status, button, work) {
 // Moments: the browser's datetime-local fields hold a wall time without a zone; the
 // server takes a moment with its zone, so the reader's zone is added and named.
 
-/** An instant as a datetime-local field's value, in the reader's zone. */
+/**
+ * An instant as a datetime-local field's value, in the reader's zone.
+ *
+ * @param {string} text
+ */
 function localValue(text) {
   const at = new Date(text);
   const pad = (n) => String(n).padStart(2, '0');
@@ -47,13 +65,18 @@ function localValue(text) {
 // ---------------------------------------------------------------------------------------
 // Files shown once: the codes of a roster's new students, or of students given new ones.
 
+/** @type {string | null} */
 let codesUrl = null;
 
-/** Offers `codes` (the server's codes file) for download, and downloads it at once. */
+/**
+ * Offers `codes` (the server's codes file) for download, and downloads it at once.
+ *
+ * @param {CodesFile} codes
+ */
 function offerCodes(codes) {
   if (codesUrl) URL.revokeObjectURL(codesUrl);
   codesUrl = URL.createObjectURL(new Blob([codes.csv], { type: 'text/csv' }));
-  const anchor = byId('codes-link');
+  const anchor = byId('codes-link', HTMLAnchorElement);
   anchor.href = codesUrl;
   anchor.download = codes.file_name;
   byId('codes-text').textContent = codes.count === 0
@@ -63,17 +86,26 @@ function offerCodes(codes) {
   if (codes.count > 0) anchor.click();
 }
 
-/** Puts `text` in a read-only field with a copy button, and selects it. */
+/**
+ * Puts `text` in a read-only field with a copy button, and selects it.
+ *
+ * @param {string} box
+ * @param {string} field
+ * @param {string} copy
+ * @param {string} text
+ */
 function showSecret(box, field, copy, text) {
-  byId(field).value = text;
+  const shown = byId(field, HTMLInputElement);
+  shown.value = text;
   byId(box).hidden = false;
   byId(copy).onclick = () => navigator.clipboard?.writeText(text);
-  byId(field).select();
+  shown.select();
 }
 
 // ---------------------------------------------------------------------------------------
 // The course as set up.
 
+/** @type {CourseView} The course as the server last said. */
 let view = null;
 
 function showAssignments() {
@@ -86,7 +118,7 @@ function showAssignments() {
   if (view.assignments.length === 0) {
     byId('assignments').replaceChildren(element('caption', null, 'No exercise is open yet.'));
   }
-  const select = byId('assign-lab');
+  const select = byId('assign-lab', HTMLSelectElement);
   const chosen = select.value;
   select.replaceChildren(...view.exercises.map((e) => {
     const option = element('option', null, e.title);
@@ -99,13 +131,13 @@ function showAssignments() {
 
 /** The form holds the chosen exercise's dates and policy when it is open already. */
 function fillAssignForm() {
-  const open = view.assignments.find((a) => a.lab === byId('assign-lab').value);
+  const open = view.assignments.find((a) => a.lab === byId('assign-lab', HTMLSelectElement).value);
   byId('assign-form').querySelector('button[type=submit]').textContent = open ? 'Change its dates and policy' : 'Open the exercise';
   if (!open) return;
-  byId('assign-due').value = localValue(open.due);
-  byId('assign-cutoff').value = open.cutoff === open.due ? '' : localValue(open.cutoff);
-  byId('assign-penalty').value = String(Math.round(open.penalty_per_day * 10000) / 100);
-  byId('assign-counts').value = open.counts;
+  byId('assign-due', HTMLInputElement).value = localValue(open.due);
+  byId('assign-cutoff', HTMLInputElement).value = open.cutoff === open.due ? '' : localValue(open.cutoff);
+  byId('assign-penalty', HTMLInputElement).value = String(Math.round(open.penalty_per_day * 10000) / 100);
+  byId('assign-counts', HTMLSelectElement).value = open.counts;
 }
 
 function showStudents() {
@@ -129,12 +161,12 @@ function showStudents() {
 }
 
 function picked() {
-  return [...byId('students').querySelectorAll('input.pick:checked')].map((box) => box.value);
+  return [...byId('students').querySelectorAll('input.pick:checked')].map((box) => /** @type {HTMLInputElement} */ (box).value);
 }
 
 function updateReissue() {
   const count = picked().length;
-  const button = byId('reissue-button');
+  const button = byId('reissue-button', HTMLButtonElement);
   button.disabled = count === 0;
   button.textContent = count ? `New codes for the ${count} selected student(s)` : 'New codes for the selected students';
 }
@@ -146,25 +178,24 @@ function showStaff() {
 
 function showTokens() {
   const rows = view.tokens.map((t) => {
-    let state = 'revoked';
-    if (!t.revoked) {
-      state = element('button', null, 'Revoke');
-      state.type = 'button';
-      state.disabled = !view.may_set_up;
-      state.setAttribute('aria-label', `revoke token ${t.id}`);
-      state.addEventListener('click', () => acting('token-status', state, async () => {
-        await postJson(`${api}/tokens/${t.id}/revoke`, null);
-        say('token-status', `Token ${t.id} is revoked: it no longer works.`);
-        await load();
-      }));
-    }
-    return [String(t.id), t.role, when(t.created_at), state];
+    if (t.revoked) return [String(t.id), t.role, when(t.created_at), 'revoked'];
+    const revoke = element('button', null, 'Revoke');
+    revoke.type = 'button';
+    revoke.disabled = !view.may_set_up;
+    revoke.setAttribute('aria-label', `revoke token ${t.id}`);
+    revoke.addEventListener('click', () => acting('token-status', revoke, async () => {
+      await postJson(`${api}/tokens/${t.id}/revoke`, null);
+      say('token-status', `Token ${t.id} is revoked: it no longer works.`);
+      await load();
+    }));
+    return [String(t.id), t.role, when(t.created_at), revoke];
   });
   fillTable(byId('tokens'), ['Token', 'Role', 'Made', 'State'], rows);
   if (view.tokens.length === 0) byId('tokens').replaceChildren(element('caption', null, 'No token yet.'));
 }
 
 async function showAudit() {
+  /** @type {import('../types/AuditEntry').AuditEntry[]} */
   const log = await getJson(`${api}/audit`);
   fillTable(byId('course-audit'), ['When', 'Who', 'What', 'Detail'],
     log.map((entry) => [when(entry.at), entry.actor, entry.action, entry.detail]));
@@ -188,41 +219,58 @@ async function load() {
 byId('assign-zone').textContent = `Dates are in your time zone, ${zone}; the server keeps them as instants, and everyone sees them in their own zone.`;
 byId('assign-lab').addEventListener('change', fillAssignForm);
 
+/**
+ * The button that sent a form: the one pressed, or the form's first.
+ *
+ * @param {SubmitEvent} event
+ * @param {string} form
+ */
+function sender(event, form) {
+  return /** @type {HTMLButtonElement} */ (event.submitter ?? byId(form).querySelector('button'));
+}
+
 byId('assign-form').addEventListener('submit', (event) => {
   event.preventDefault();
-  const button = event.submitter ?? byId('assign-form').querySelector('button');
-  const due = instant(byId('assign-due').value);
-  const cutoffField = byId('assign-cutoff').value;
-  const penalty = Number(byId('assign-penalty').value);
+  const button = sender(event, 'assign-form');
+  const due = instant(byId('assign-due', HTMLInputElement).value);
+  const cutoffField = byId('assign-cutoff', HTMLInputElement).value;
+  const penalty = Number(byId('assign-penalty', HTMLInputElement).value);
   if (!due) return say('assign-status', 'Due: give the date and time the exercise is due.', true);
   if (cutoffField && !instant(cutoffField)) return say('assign-status', 'Cutoff: a date and time, or nothing.', true);
-  if (byId('assign-penalty').value === '' || !Number.isFinite(penalty) || penalty < 0 || penalty > 100) {
+  if (byId('assign-penalty', HTMLInputElement).value === '' || !Number.isFinite(penalty) || penalty < 0 || penalty > 100) {
     return say('assign-status', 'Late penalty: a share between 0 and 100 % per day.', true);
   }
   acting('assign-status', button, async () => {
-    const lab = byId('assign-lab').value;
+    const lab = byId('assign-lab', HTMLSelectElement).value;
+    /** @type {import('../types/Assignment').Assignment} */
     const assignment = await postJson(`${api}/assignments`, {
       lab,
       due,
       cutoff: cutoffField ? instant(cutoffField) : null,
       late_penalty: `${penalty}%/day`,
-      counts: byId('assign-counts').value,
+      counts: byId('assign-counts', HTMLSelectElement).value,
     });
     await load();
-    say('assign-status', `${byId('assign-lab').selectedOptions[0].textContent} is open: due ${when(assignment.due)}, taken until ${when(assignment.cutoff)}.`);
+    say('assign-status', `${byId('assign-lab', HTMLSelectElement).selectedOptions[0].textContent} is open: due ${when(assignment.due)}, taken until ${when(assignment.cutoff)}.`);
   });
 });
 
+/** @type {{ file_name: string, csv: string } | null} The roster file previewed, as the API takes it. */
 let rosterFile = null;
 
 /** The chosen roster file's name and text, as the API takes them. */
 async function rosterBody() {
-  const file = byId('roster-file').files[0];
+  const file = byId('roster-file', HTMLInputElement).files[0];
   if (!file) throw new Error('Choose the roster file (CSV) first.');
   return { file_name: file.name, csv: await file.text() };
 }
 
-/** A list of ids under a heading, for the preview. */
+/**
+ * A list of ids under a heading, for the preview.
+ *
+ * @param {string} title
+ * @param {string[]} items
+ */
 function planList(title, items) {
   const box = element('div', 'plan-part');
   box.append(element('h4', null, `${title}: ${items.length}`));
@@ -237,9 +285,10 @@ function planList(title, items) {
 
 byId('roster-form').addEventListener('submit', (event) => {
   event.preventDefault();
-  acting('roster-status', event.submitter ?? byId('roster-form').querySelector('button'), async () => {
+  acting('roster-status', sender(event, 'roster-form'), async () => {
     byId('roster-preview').hidden = true;
     rosterFile = await rosterBody();
+    /** @type {import('../types/RosterAnswer').RosterAnswer} */
     const plan = await postJson(`${api}/roster/preview`, rosterFile);
     byId('roster-plan').replaceChildren(
       element('p', null, `${rosterFile.file_name}: ${plan.summary}. Nothing has changed yet.`),
@@ -254,11 +303,12 @@ byId('roster-form').addEventListener('submit', (event) => {
 });
 
 byId('roster-apply').addEventListener('click', () => {
-  acting('roster-status', byId('roster-apply'), async () => {
+  acting('roster-status', byId('roster-apply', HTMLButtonElement), async () => {
+    /** @type {import('../types/RosterAnswer').RosterAnswer} */
     const answer = await postJson(`${api}/roster`, rosterFile);
     byId('roster-preview').hidden = true;
     offerCodes(answer.codes);
-    byId('roster-form').reset();
+    byId('roster-form', HTMLFormElement).reset();
     await load();
     say('roster-status', `Imported ${rosterFile.file_name}: ${answer.summary}.`);
   });
@@ -273,7 +323,8 @@ byId('students').addEventListener('change', updateReissue);
 
 byId('reissue-button').addEventListener('click', () => {
   const students = picked();
-  acting('reissue-status', byId('reissue-button'), async () => {
+  acting('reissue-status', byId('reissue-button', HTMLButtonElement), async () => {
+    /** @type {CodesFile} */
     const codes = await postJson(`${api}/codes`, { students });
     offerCodes(codes);
     await load();
@@ -283,13 +334,14 @@ byId('reissue-button').addEventListener('click', () => {
 
 byId('staff-form').addEventListener('submit', (event) => {
   event.preventDefault();
-  const email = byId('staff-email').value.trim();
+  const email = byId('staff-email', HTMLInputElement).value.trim();
   if (!email) return say('staff-status', 'Email: the address they sign in with.', true);
-  acting('staff-status', event.submitter ?? byId('staff-form').querySelector('button'), async () => {
-    const added = await postJson(`${api}/staff`, { email, name: byId('staff-name').value.trim(), role: byId('staff-role').value });
+  acting('staff-status', sender(event, 'staff-form'), async () => {
+    /** @type {import('../types/StaffAdded').StaffAdded} */
+    const added = await postJson(`${api}/staff`, { email, name: byId('staff-name', HTMLInputElement).value.trim(), role: byId('staff-role', HTMLSelectElement).value });
     byId('staff-link-who').textContent = `${added.email} (${added.role})`;
     showSecret('staff-link', 'staff-link-text', 'staff-link-copy', added.link);
-    byId('staff-form').reset();
+    byId('staff-form', HTMLFormElement).reset();
     await load();
     say('staff-status', `${added.email} is ${added.role} of ${course}.`);
   });
@@ -297,8 +349,9 @@ byId('staff-form').addEventListener('submit', (event) => {
 
 byId('token-form').addEventListener('submit', (event) => {
   event.preventDefault();
-  acting('token-status', event.submitter ?? byId('token-form').querySelector('button'), async () => {
-    const made = await postJson(`${api}/tokens`, { role: byId('token-role').value });
+  acting('token-status', sender(event, 'token-form'), async () => {
+    /** @type {import('../types/TokenMade').TokenMade} */
+    const made = await postJson(`${api}/tokens`, { role: byId('token-role', HTMLSelectElement).value });
     byId('token-made-id').textContent = `${made.id} (${made.role})`;
     showSecret('token-made', 'token-text', 'token-copy', made.token);
     await load();

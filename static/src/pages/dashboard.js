@@ -15,6 +15,12 @@ import { instant, lateness, moment, percent, zone } from '../results/format.js';
 import { getJson, postJson } from '../results/http.js';
 import { element, fillTable, link, renderSubmission } from '../results/render.js';
 
+/** @typedef {import('../types/Regrade').Regrade} Regrade */
+/** @typedef {import('../types/Change').Change} Change */
+/** @typedef {import('../types/ClassAnswer').ClassAnswer} ClassAnswer */
+/** @typedef {import('../types/StudentAnswer').StudentAnswer} StudentAnswer */
+/** @typedef {import('../types/Submission').Submission} Submission */
+
 // The plots module draws lines and points; the class's pictures are bars.
 echarts.use([BarChart]);
 
@@ -32,12 +38,13 @@ const when = moment;
 // ---------------------------------------------------------------------------------------
 // Regrades: started here, followed until done, with the scores they changed.
 
+/** @param {Regrade} regrade */
 function describeRegrade(regrade) {
   const progress = regrade.finished_at
     ? `done: ${regrade.total} submission(s) regraded`
     : `${regrade.done} of ${regrade.total} regraded…`;
   const box = element('div', 'regrade');
-  box.dataset.id = regrade.id;
+  box.dataset.id = String(regrade.id);
   box.append(element('p', null,
     `Regrade ${regrade.id} of ${regrade.scope}, asked by ${regrade.requested_by} with ${regrade.grader}: ${progress}`));
   if (!regrade.finished_at) {
@@ -69,6 +76,7 @@ function describeRegrade(regrade) {
 /** Shows the regrade at `url` in `box` as it goes, until it is done; resolves to it then. */
 async function follow(url, box) {
   for (;;) {
+    /** @type {Regrade} */
     const progress = await getJson(url);
     box.replaceChildren(describeRegrade(progress));
     if (progress.finished_at) return progress;
@@ -87,6 +95,7 @@ function followInto(id, box) {
 /** Starts a regrade of `scope` and follows it in `box` (and `status`) until it is done. */
 async function regrade(scope, status, box) {
   try {
+    /** @type {import('../types/RegradeStarted').RegradeStarted} */
     const started = await postJson(`${api}/regrades`, { lab, scope });
     status.textContent = `Regrading ${started.total} submission(s) in the background…`;
     const done = await followInto(started.id, box);
@@ -97,6 +106,10 @@ async function regrade(scope, status, box) {
 }
 
 /** The scores an extension or a waiver changed, in `box`: a row per submission, before and after. */
+/**
+ * @param {HTMLElement} box
+ * @param {import('../types/Rejudged').Rejudged[]} changed
+ */
 function showRejudged(box, changed) {
   if (changed.length === 0) {
     box.replaceChildren();
@@ -117,6 +130,7 @@ function showRejudged(box, changed) {
 const folded = (text) => text.normalize('NFD').replace(/\p{M}/gu, '').toLowerCase();
 
 /** The class's rows with what the table sorts and filters on. */
+/** @param {ClassAnswer} answer */
 function classRows(answer) {
   return answer.students.map((s) => ({
     student: s,
@@ -162,9 +176,9 @@ function columns() {
 
 function drawTable() {
   const tableElement = byId('class-table');
-  const filter = byId('filter').value;
-  const below = Number(byId('below').value) / 100;
-  const find = folded(byId('find').value.trim());
+  const filter = byId('filter', HTMLSelectElement).value;
+  const below = Number(byId('below', HTMLInputElement).value) / 100;
+  const find = folded(byId('find', HTMLInputElement).value.trim());
   const shown = table.rows.filter((r) => {
     if ((filter === 'dropped') !== r.student.dropped) return false;
     if (filter === 'not-submitted' && r.student.submissions > 0) return false;
@@ -191,7 +205,7 @@ function drawTable() {
     when(r.last),
     ...table.tests.map((name) => testMark(r.student.tests[name])),
   ]));
-  tableElement.querySelectorAll('tbody tr').forEach((tr, i) => { tr.dataset.student = shown[i].student.id; });
+  tableElement.querySelectorAll('tbody tr').forEach((tr, i) => { /** @type {HTMLElement} */ (tr).dataset.student = shown[i].student.id; });
   // Each column's title sorts by it; again, the other way round (the first column selects).
   tableElement.querySelectorAll('th').forEach((th, column) => {
     if (column === 0) return;
@@ -231,13 +245,13 @@ function showSelection() {
     ? 'Select students in the table to act on several at once.'
     : `${count} ${count === 1 ? 'student' : 'students'} selected: ${[...table.selected].join(', ')}.`;
   byId('bulk-actions').hidden = count === 0;
-  byId('select-none').disabled = count === 0;
+  byId('select-none', HTMLButtonElement).disabled = count === 0;
 }
 
 /** Grants each selected student the extension the bulk form says, one after another. */
 async function extendSelected() {
-  const due = instant(byId('bulk-due').value);
-  const cutoffField = byId('bulk-cutoff').value;
+  const due = instant(byId('bulk-due', HTMLInputElement).value);
+  const cutoffField = byId('bulk-cutoff', HTMLInputElement).value;
   const cutoff = cutoffField ? instant(cutoffField) : null;
   const status = byId('bulk-status');
   if (!due) {
@@ -250,6 +264,7 @@ async function extendSelected() {
   for (const [i, student] of students.entries()) {
     status.textContent = `Granting extensions: ${i} of ${students.length}…`;
     try {
+      /** @type {import('../types/Granted').Granted} */
       const granted = await postJson(`${api}/extensions`, { lab, student, due, cutoff });
       changed += granted.changed.length;
     } catch (error) {
@@ -262,6 +277,7 @@ async function extendSelected() {
     (refused.length ? ` Not extended: ${refused.join('; ')}` : '');
 }
 
+/** @param {ClassAnswer} answer */
 function showClass(answer) {
   const policy = answer.policy;
   byId('facts').textContent =
@@ -306,9 +322,6 @@ const BINS = Array.from({ length: 10 }, (_, i) => `${10 * i}–${10 * (i + 1)} %
 /** The bins as the axis names them, short enough for a phone's width (the axis says %). */
 const BIN_LABELS = BINS.map((bin) => bin.replace(' %', ''));
 
-/** A test's name as an axis shows it: the function, or the data set and update. */
-const shortName = (name) => name.split(':')[0];
-
 function median(values) {
   const sorted = values.slice().sort((a, b) => a - b);
   const middle = Math.floor(sorted.length / 2);
@@ -320,6 +333,7 @@ function caption(id, text) {
   byId(id).textContent = text;
 }
 
+/** @param {ClassAnswer} answer */
 function drawDistribution(plot, answer) {
   const enrolled = answer.students.filter((s) => !s.dropped);
   const scores = enrolled.map((s) => s.counting?.final_score).filter((v) => v !== null && v !== undefined);
@@ -346,6 +360,7 @@ function drawDistribution(plot, answer) {
   });
 }
 
+/** @param {ClassAnswer} answer */
 function drawTests(plot, answer) {
   const tests = answer.tests;
   const most = Math.max(0, ...tests.map((t) => t.of));
@@ -357,7 +372,7 @@ function drawTests(plot, answer) {
     const hardest = tests.reduce((a, b) => (share(b) < share(a) ? b : a));
     const all = tests.filter((t) => t.passed === t.of).length;
     caption('tests-caption', `Students passing each test, of ${most} with a graded submission that counts: ` +
-      `${all} of ${tests.length} tests passed by all; fewest pass ${shortName(hardest.name)} (${hardest.passed} of ${hardest.of}, ${percent(share(hardest))}).`);
+      `${all} of ${tests.length} tests passed by all; fewest pass ${hardest.name} (${hardest.passed} of ${hardest.of}, ${percent(share(hardest))}).`);
     plot.describe(`Students passing each test: ${tests.map((t) => `${t.name}: ${t.passed} of ${t.of} (${percent(share(t))})`).join('; ')}.`);
   }
   // A bar per test, each as tall as a line of text; the names take at most 40 % of the width.
@@ -375,7 +390,7 @@ function drawTests(plot, answer) {
       },
     },
     xAxis: { type: 'value', min: 0, max: 100, name: 'students passing (%)', nameLocation: 'middle', nameGap: 28 },
-    yAxis: { type: 'category', inverse: true, data: tests.map((t) => shortName(t.name)), axisLabel: { width: names, overflow: 'truncate' } },
+    yAxis: { type: 'category', inverse: true, data: tests.map((t) => t.name), axisLabel: { width: names, overflow: 'truncate' } },
     series: [{
       id: 'passing',
       type: 'bar',
@@ -387,6 +402,7 @@ function drawTests(plot, answer) {
 }
 
 async function showAudit() {
+  /** @type {import('../types/AuditEntry').AuditEntry[]} */
   const log = await getJson(`${api}/audit`);
   fillTable(byId('audit'), ['When', 'Who', 'What', 'Detail'],
     log.map((entry) => [when(entry.at), entry.actor, entry.action, entry.detail]));
@@ -398,7 +414,9 @@ async function classPage() {
     distribution: new Plot(byId('distribution-figure'), `${course}-${lab}-scores`),
     tests: new Plot(byId('tests-figure'), `${course}-${lab}-tests`),
   };
+  /** @type {ClassAnswer | null} */
   let shown = null;
+  /** @param {ClassAnswer} answer */
   const showAll = (answer) => {
     shown = answer;
     showClass(answer);
@@ -436,7 +454,7 @@ async function classPage() {
   });
   byId('bulk-extension').addEventListener('submit', async (event) => {
     event.preventDefault();
-    const button = event.submitter;
+    const button = /** @type {HTMLButtonElement} */ (event.submitter);
     button.disabled = true;
     await extendSelected();
     button.disabled = false;
@@ -446,9 +464,9 @@ async function classPage() {
     const students = [...table.selected];
     const box = element('div', 'regrade-box');
     byId('bulk-regrade-box').replaceChildren(box);
-    byId('bulk-regrade').disabled = true;
+    byId('bulk-regrade', HTMLButtonElement).disabled = true;
     await regrade({ kind: 'students', of: students }, byId('bulk-status'), box);
-    byId('bulk-regrade').disabled = false;
+    byId('bulk-regrade', HTMLButtonElement).disabled = false;
     await refresh();
   });
   showAll(await getJson(url));
@@ -467,9 +485,9 @@ async function classPage() {
     if (!window.confirm('Regrade every submission of the assignment with the grader as it is now?')) return;
     const box = element('div', 'regrade-box');
     byId('regrades').prepend(box);
-    byId('regrade-all').disabled = true;
+    byId('regrade-all', HTMLButtonElement).disabled = true;
     await regrade({ kind: 'assignment' }, byId('regrade-status'), box);
-    byId('regrade-all').disabled = false;
+    byId('regrade-all', HTMLButtonElement).disabled = false;
     await refresh();
   });
 }
@@ -482,6 +500,11 @@ async function classPage() {
  * a count of lines added and removed, then each changed stretch with three lines of
  * context, every line numbered in both files and marked +, - or a space, so that a
  * reader who does not tell the colours apart reads the marks.
+ */
+/**
+ * @param {HTMLElement} box
+ * @param {Submission} before
+ * @param {Submission} after
  */
 function showDiff(box, before, after) {
   const patch = structuredPatch(`submission ${before.id}`, `submission ${after.id}`,
@@ -547,13 +570,18 @@ async function studentPage() {
     parent: byId('source'),
   });
   // Reachable from the page (and its tests) through the element it shows in.
-  byId('source').editor = source;
-  const choose = byId('view-submission');
-  const compare = byId('compare-submission');
-  /** Submissions read so far, by id (with their sources). */
+  Object.assign(byId('source'), { editor: source });
+  const choose = byId('view-submission', HTMLSelectElement);
+  const compare = byId('compare-submission', HTMLSelectElement);
+  /** @type {Map<string, Submission>} Submissions read so far, by id (with their sources). */
   const read = new Map();
+  /**
+   * @param {string} id
+   * @returns {Promise<Submission>}
+   */
   const fetchSubmission = async (id) => {
     if (read.has(id)) return read.get(id);
+    /** @type {Submission} */
     const submission = await getJson(`/api/submissions/${id}`);
     // A graded submission changes only at a regrade, which forgets what was read.
     if (submission.status === 'graded') read.set(id, submission);
@@ -583,6 +611,7 @@ async function studentPage() {
     byId('result').replaceChildren(element('p', 'error', `The submission could not be read: ${error.message}`));
   });
   const refresh = async () => {
+    /** @type {StudentAnswer} */
     const answer = await getJson(url);
     const { member, policy, extension } = answer;
     // Headed by the student's name; the id stays beside it in the facts.
@@ -621,7 +650,7 @@ async function studentPage() {
           waive.type = 'button';
           waive.setAttribute('aria-label', `Waive the late penalty of submission ${s.id}`);
           waive.addEventListener('click', () => {
-            byId('waiver-submission').value = String(s.id);
+            byId('waiver-submission', HTMLSelectElement).value = String(s.id);
             byId('waiver-reason').focus();
           });
           actions.append(' · ', waive);
@@ -631,29 +660,31 @@ async function studentPage() {
           lateness(s), score(s.final_score), actions,
         ];
       }));
-    byId('student-submissions').querySelectorAll('tbody tr').forEach((tr, i) => { tr.dataset.id = String(newest[i].id); });
+    byId('student-submissions').querySelectorAll('tbody tr').forEach((tr, i) => { /** @type {HTMLElement} */ (tr).dataset.id = String(newest[i].id); });
     const penalised = newest.filter((s) => s.penalty > 0);
-    const waiving = byId('waiver-submission');
+    const waiving = byId('waiver-submission', HTMLSelectElement);
     const picked = waiving.value;
-    waiving.replaceChildren(...penalised.map((s) => new Option(`submission ${s.id} (${lateness(s)})`, s.id)));
+    waiving.replaceChildren(...penalised.map((s) => new Option(`submission ${s.id} (${lateness(s)})`, String(s.id))));
     if (penalised.some((s) => String(s.id) === picked)) waiving.value = picked;
     byId('waiver-form').hidden = penalised.length === 0;
     const [shown, compared] = [choose.value, compare.value];
-    choose.replaceChildren(...newest.map((s) => new Option(`submission ${s.id} (${score(s.score)})`, s.id)));
+    choose.replaceChildren(...newest.map((s) => new Option(`submission ${s.id} (${score(s.score)})`, String(s.id))));
     compare.replaceChildren(new Option('(nothing: its source)', ''),
-      ...newest.map((s) => new Option(`submission ${s.id} (${score(s.score)})`, s.id)));
+      ...newest.map((s) => new Option(`submission ${s.id} (${score(s.score)})`, String(s.id))));
     if (newest.some((s) => String(s.id) === shown)) choose.value = shown;
     if (newest.some((s) => String(s.id) === compared)) compare.value = compared;
     if (newest.length > 0) await show();
   };
   choose.addEventListener('change', showSafely);
   compare.addEventListener('change', showSafely);
-  byId('extension-form').addEventListener('submit', async (event) => {
+  const extensionForm = byId('extension-form', HTMLFormElement);
+  extensionForm.addEventListener('submit', async (event) => {
     event.preventDefault();
-    const form = new FormData(event.target);
+    const form = new FormData(extensionForm);
     const cutoff = String(form.get('cutoff')).trim();
     byId('extension-status').textContent = '';
     try {
+      /** @type {import('../types/Granted').Granted} */
       const granted = await postJson(`${api}/extensions`, { lab, student, due: String(form.get('due')).trim(), ...(cutoff ? { cutoff } : {}) });
       read.clear();
       await refresh();
@@ -665,14 +696,16 @@ async function studentPage() {
       byId('extension-status').textContent = `Not granted: ${error.message}`;
     }
   });
-  byId('waiver-form').addEventListener('submit', async (event) => {
+  const waiverForm = byId('waiver-form', HTMLFormElement);
+  waiverForm.addEventListener('submit', async (event) => {
     event.preventDefault();
-    const form = new FormData(event.target);
+    const form = new FormData(waiverForm);
     const id = String(form.get('submission'));
     byId('waiver-status').textContent = '';
     try {
+      /** @type {import('../types/Waived').Waived} */
       const waived = await postJson(`${api}/submissions/${encodeURIComponent(id)}/waiver`, { reason: String(form.get('reason')).trim() });
-      event.target.reset();
+      waiverForm.reset();
       read.delete(id);
       await refresh();
       byId('waiver-status').textContent = `The late penalty of submission ${id} is waived.`;

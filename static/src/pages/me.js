@@ -31,6 +31,7 @@ function updateRow(section, submission) {
 /** The score that counts, once a submission that was waiting is graded. */
 async function updateCounting(section) {
   const lab = section.dataset.lab;
+  /** @type {import('../types/About').About} */
   const about = await getJson('/api/me');
   const assignment = about.assignments.find((a) => a.lab === lab);
   const counting = section.querySelector('.counting .value');
@@ -46,6 +47,7 @@ async function showLatest(box) {
   box.replaceChildren(heading, result);
   const url = `/api/submissions/${encodeURIComponent(id)}`;
   try {
+    /** @type {import('../types/Submission').Submission} */
     const submission = await getJson(url);
     renderSubmission(result, submission, { open: true });
     if (submission.status !== 'graded') {

@@ -2,6 +2,8 @@
 // time, a submission's lateness, a result's score, and moments in the reader's time zone.
 import { fmt } from '../format.js';
 
+/** @typedef {import('../types/GradeResult').GradeResult} GradeResult */
+
 /** A share as a whole percentage: `85 %`. */
 export function percent(share) {
   return `${Math.round(100 * share)} %`;
@@ -25,6 +27,8 @@ export function span(seconds) {
 /**
  * A submission's lateness by its student's dates in force, as /me writes it: `on time`,
  * `18 s late (−10 %)`, or `18 s late, penalty waived: REASON`.
+ *
+ * @param {{ late_seconds: number, penalty: number, waiver: import('../types/Waiver').Waiver | null }} submission
  */
 export function lateness(submission) {
   if (!(submission.late_seconds > 0)) return 'on time';
@@ -34,13 +38,18 @@ export function lateness(submission) {
     : `${late} (−${percent(submission.penalty)})`;
 }
 
-/** A result's score in words: `85 % (93.5 of 110 points)`, or that it was not gradable. */
+/**
+ * A result's score in words: `85 % (93.5 of 110 points)`, or that it was not gradable.
+ *
+ * @param {GradeResult | null} result
+ */
 export function scoreOf(result) {
   if (!result?.gradable) return 'not gradable';
   return `${percent(result.score)} (${fmt(result.points, 4)} of ${result.max_points} points)`;
 }
 
 /** How a moment is shown: to the minute, with the zone it is shown in (`15 Dec 2026, 23:59 CET`). */
+/** @type {Intl.DateTimeFormatOptions} */
 const MOMENT = { year: 'numeric', month: 'short', day: 'numeric', hour: '2-digit', minute: '2-digit', timeZoneName: 'short' };
 
 /**

@@ -7,9 +7,23 @@ import { fmt } from '../format.js';
 import { site } from '../site.js';
 import { moment, percent, scoreOf, span } from './format.js';
 
+/** @typedef {import('../types/GradeResult').GradeResult} GradeResult */
+/** @typedef {import('../types/Test').Test} Test */
+/** @typedef {import('../types/Submission').Submission} Submission */
+/** @typedef {import('../types/EarlierResult').EarlierResult} EarlierResult */
+
 /** Failing cases shown in detail per test, and differing elements per case. */
 const SHOWN = { failures: 2, mismatches: 12 };
 
+/**
+ * A new element `tag` of class `className` reading `text`.
+ *
+ * @template {keyof HTMLElementTagNameMap} K
+ * @param {K} tag
+ * @param {string | null} [className]
+ * @param {string} [text]
+ * @returns {HTMLElementTagNameMap[K]}
+ */
 export function element(tag, className, text) {
   const node = document.createElement(tag);
   if (className) node.className = className;
@@ -17,14 +31,25 @@ export function element(tag, className, text) {
   return node;
 }
 
-/** A link to `href` reading `text`. */
+/**
+ * A link to `href` reading `text`.
+ *
+ * @param {string} href
+ * @param {string} text
+ */
 export function link(href, text) {
   const a = element('a', null, text);
   a.href = href;
   return a;
 }
 
-/** A table's head and rows, from column titles and rows of cells (text or nodes). */
+/**
+ * A table's head and rows, from column titles and rows of cells (text or nodes).
+ *
+ * @param {HTMLElement} table
+ * @param {string[]} titles
+ * @param {Array<Array<string | number | Node>>} rows
+ */
 export function fillTable(table, titles, rows) {
   const head = element('thead');
   const tr = element('tr');
@@ -47,26 +72,28 @@ export function fillTable(table, titles, rows) {
   table.replaceChildren(head, body);
 }
 
-/** The test's key: the function it tests, or the run of a run's test (`o3`, `square`). */
-export function testKey(test) {
-  const [first] = test.name.split(/[:\s]/);
-  return first;
-}
-
-/** Whether every failing case of a function's test throws the starter file's "not implemented". */
-export function notImplemented(test, key = testKey(test)) {
+/**
+ * Whether every failing case of a function's test throws the starter file's "not implemented".
+ *
+ * @param {Test} test
+ */
+export function notImplemented(test) {
   const failures = test.failures ?? [];
-  return test.status === 'failed' && test.points === 0 && failures.length > 0 &&
-    failures.every((failure) => (failure.error ?? '').includes(`${key}: not implemented`));
+  const { kind, name } = test.subject;
+  return kind === 'function' && test.status === 'failed' && test.points === 0 && failures.length > 0 &&
+    failures.every((failure) => (failure.error ?? '').includes(`${name}: not implemented`));
 }
 
 /**
  * One test as an item of a list of tests. `ran`: whether the test was run (a test not run
  * shows its name only); `id`: the item's id; `action`: a node for the head (the
  * workbench's Run button).
+ *
+ * @param {Test} test
+ * @param {{ ran?: boolean, id?: string | null, action?: Node | null }} [how]
  */
 export function testItem(test, { ran = true, id = null, action = null } = {}) {
-  const key = testKey(test);
+  const key = test.subject.name;
   const item = element('li', 'test');
   if (id) item.id = id;
   item.dataset.key = key;
@@ -79,7 +106,7 @@ export function testItem(test, { ran = true, id = null, action = null } = {}) {
   item.append(head);
   if (!ran) return item;
   const details = element('details');
-  const todo = notImplemented(test, key);
+  const todo = notImplemented(test);
   // A function still as the starter file has it: one line, not a case-by-case account.
   details.open = test.status === 'failed' && !todo;
   details.append(element('summary', null, test.status === 'passed' ? 'passed'
@@ -118,6 +145,7 @@ function show(value) {
   return typeof value === 'number' ? fmt(value, 12) : JSON.stringify(value);
 }
 
+/** @param {import('../types/Failure').Failure} failure */
 function failureView(failure) {
   const box = element('div', 'failure');
   // A title, not a heading: the panels it appears in sit under headings of any level.
@@ -169,6 +197,10 @@ function failureView(failure) {
  * its late penalty, its hidden cases, and every test of the server's result, folded
  * unless `open`; `reader` is the student, or their course's staff (it speaks of
  * "the student's" browser). Sets `box.dataset.status` to queued, graded, not-gradable.
+ *
+ * @param {HTMLElement} box
+ * @param {Submission} submission
+ * @param {{ comparison?: string, open?: boolean, reader?: 'student' | 'staff' }} [how]
  */
 export function renderSubmission(box, submission, { comparison = '', open = false, reader = 'student' } = {}) {
   const result = submission.result;
@@ -193,6 +225,7 @@ export function renderSubmission(box, submission, { comparison = '', open = fals
   } else if (submission.late_seconds > 0) {
     line += ` Submitted ${span(submission.late_seconds)} late, which costs ${percent(submission.penalty)} of the score: it counts as ${percent(submission.final_score ?? 0)}.`;
   }
+  /** @type {HTMLElement[]} */
   const parts = [element('p', 'verdict', line)];
   if (submission.earlier?.length) parts.push(regradeNote(submission));
   if (result.hidden_cases) {
@@ -224,7 +257,12 @@ export function renderSubmission(box, submission, { comparison = '', open = fals
 // ---------------------------------------------------------------------------------------
 // A submission graded again: each regrade, when and with which grader, and what it changed.
 
-/** The tests whose points differ between two results: { name, before, after, max } each. */
+/**
+ * The tests whose points differ between two results: { name, before, after, max } each.
+ *
+ * @param {GradeResult | null} before
+ * @param {GradeResult | null} after
+ */
 function changedTests(before, after) {
   const points = (result) => new Map((result?.gradable ? result.tests : []).map((test) => [test.name, test]));
   const [old, now] = [points(before), points(after)];
@@ -241,6 +279,8 @@ function changedTests(before, after) {
  * That `submission` was graded again, once per regrade (its `earlier` results, oldest
  * first, each replaced by the next and the last by the current one): when, with which
  * grader, the score before and after, and each test whose points changed.
+ *
+ * @param {Submission} submission
  */
 function regradeNote(submission) {
   const box = element('div', 'regraded');

@@ -3,7 +3,12 @@
 // leaves behind reaches another, and a worker that outlives its limit is terminated and
 // the phase reports where it was stopped. The next worker starts while a phase runs.
 
-/** A worker that has said it is ready. */
+/**
+ * A worker that has said it is ready.
+ *
+ * @param {string} url
+ * @returns {Promise<Worker>}
+ */
 function startWorker(url) {
   return new Promise((resolve, reject) => {
     const worker = new Worker(url);
@@ -20,6 +25,9 @@ function startWorker(url) {
 /**
  * The harness's report as an object, or, when the student's code has spoiled it, the
  * phase failed with the reason (the server reads reports the same way).
+ *
+ * @param {{ function: string } | { name: string }} id
+ * @param {string} text
  */
 function readReport(id, text) {
   try {
@@ -34,10 +42,12 @@ function readReport(id, text) {
 }
 
 export class Runner {
-  /** `url`: the worker's script. */
+  /** @param {string} url The worker's script. */
   constructor(url) {
     this.url = url;
+    /** @type {Promise<Worker> | null} */
     this.spare = null;
+    /** @type {((cause: string) => void) | null} */
     this.abort = null;
   }
 
@@ -59,17 +69,25 @@ export class Runner {
    * or 'run' (phase = one data-set run). Resolves to the harness's output as an object:
    * a FunctionOutput or a RunOutput, with `stopped` set when the time limit ran out, the
    * worker died, or `cancel` was called.
+   *
+   * @param {'function' | 'run'} kind
+   * @param {string} source
+   * @param {import('../types/FunctionPhase').FunctionPhase | import('../types/RunPhase').RunPhase} phase
+   * @param {(during: string) => void} [onProgress]
+   * @returns {Promise<any>} a FunctionOutput for a function's phase, a RunOutput for a run's
    */
   async phase(kind, source, phase, onProgress = () => {}) {
     const worker = await this.take();
-    const id = kind === 'function' ? { function: phase.function } : { name: phase.name };
+    const id = 'function' in phase ? { function: phase.function } : { name: phase.name };
     let during = 'your file';
     return new Promise((resolve) => {
-      let timer = null;
+      /** @type {ReturnType<typeof setTimeout> | undefined} */
+      let timer;
       // The worker answers on a channel of this phase's own (see worker.js): messages the
       // student's code posts on the worker itself are never read.
       const channel = new MessageChannel();
       worker.onmessage = null;
+      /** @param {object} output */
       const finish = (output) => {
         clearTimeout(timer);
         this.abort = null;
@@ -77,6 +95,7 @@ export class Runner {
         worker.terminate();
         resolve(output);
       };
+      /** @param {string} cause */
       const stopped = (cause) => finish({ ...id, stopped: { during, cause } });
       this.abort = stopped;
       timer = setTimeout(() => stopped('time'), phase.limit_ms);

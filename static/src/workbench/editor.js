@@ -50,9 +50,10 @@ export class Editor {
     byId('download').addEventListener('click', () => download(file, this.source(), 'text/javascript'));
     // A real button, reachable with the keyboard, opens the file chooser.
     byId('upload-button').addEventListener('click', () => byId('upload').click());
-    byId('upload').addEventListener('change', async (event) => {
-      const upload = event.target.files[0];
-      event.target.value = '';
+    const chooser = byId('upload', HTMLInputElement);
+    chooser.addEventListener('change', async () => {
+      const upload = chooser.files[0];
+      chooser.value = '';
       if (!upload) return;
       if (upload.size > MAX_SOURCE) {
         showError(error, `${upload.name}: ${upload.size} bytes; a file may have at most ${MAX_SOURCE / 1024} KB.`);

@@ -7,6 +7,12 @@ import { getJson } from '../results/http.js';
 import { element, link } from '../results/render.js';
 import { site } from '../site.js';
 
+/**
+ * What /api/me answered, or why it did not (`problem`, with `courses` null).
+ *
+ * @typedef {Partial<import('../types/About').About> & { problem?: string }} Known
+ */
+
 /** The course of a typed student id: its variant's, and its submission's (the server's default). */
 export const COURSE = site.course;
 /** The seed of the variant graded without a student id, as `estlab grade` without --seed. */
@@ -16,7 +22,11 @@ const STORAGE = 'estlab:student';
 /** How often the standing is asked for again: it reads in minutes. */
 const REFRESH_MS = 60_000;
 
-/** Who is signed in and what they have to do (GET /api/me), or why that is not known. */
+/**
+ * Who is signed in and what they have to do (GET /api/me), or why that is not known.
+ *
+ * @returns {Promise<Known>}
+ */
 export async function whoAmI() {
   try {
     return await getJson('/api/me');
@@ -25,6 +35,7 @@ export async function whoAmI() {
   }
 }
 
+/** @param {Known} about */
 function modeOf(about) {
   if (about.courses === false) return 'open';
   if (about.courses !== true) return 'unknown';
@@ -46,16 +57,27 @@ function modeOf(about) {
  * null while there are none.
  */
 export class Identity {
+  /**
+   * @param {{
+   *   estlab: typeof import('estlab-wasm/estlab_wasm.js'),
+   *   lab: string,
+   *   ui: { who: HTMLElement, studentField: HTMLElement, student: HTMLInputElement, seed: HTMLElement },
+   *   runsLabel: string,
+   *   resultsSeed: () => number | null,
+   * }} parts
+   */
   constructor({ estlab, lab, ui, runsLabel, resultsSeed }) {
     this.estlab = estlab;
     this.lab = lab;
     this.ui = ui;
     this.runsLabel = runsLabel;
     this.resultsSeed = resultsSeed;
-    /** What /api/me last answered, once `know` has it. */
+    /** @type {Known | null} What /api/me last answered, once `know` has it. */
     this.about = null;
     this.mode = 'unknown';
+    /** @type {import('../types/StudentAssignment').StudentAssignment | null} */
     this.assignment = null;
+    /** @type {ReturnType<typeof setTimeout> | null} */
     this.refreshTimer = null;
     /**
      * A variant named by the link (`?seed=N`), as the results of estlab's Gradescope and
@@ -76,7 +98,11 @@ export class Identity {
     });
   }
 
-  /** Takes in what /api/me answered, and shows it. */
+  /**
+   * Takes in what /api/me answered, and shows it.
+   *
+   * @param {Known} about
+   */
   know(about) {
     this.about = about;
     this.mode = modeOf(about);

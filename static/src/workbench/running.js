@@ -4,8 +4,29 @@
 // runs, each with its exercise's views.
 import { showError } from '../controls.js';
 import { fmt } from '../format.js';
-import { element, notImplemented, testItem, testKey } from '../results/render.js';
+import { element, notImplemented, testItem } from '../results/render.js';
 import { Runner } from '../sandbox/runner.js';
+
+/** @typedef {import('../types/Job').Job} Job */
+/** @typedef {import('../types/RunPhase').RunPhase} RunPhase */
+/** @typedef {import('../types/FunctionPhase').FunctionPhase} FunctionPhase */
+/** @typedef {import('../types/FunctionOutput').FunctionOutput} FunctionOutput */
+/** @typedef {import('../types/RunOutput').RunOutput} RunOutput */
+/** @typedef {import('../types/GradeResult').GradeResult} GradeResult */
+/** @typedef {import('estlab-wasm/estlab_wasm.js').Grader} Grader */
+
+/**
+ * An exercise's view of its runs, the `runs` its folder's `web/workbench.js` exports:
+ * `collect` makes what a run's view shows from the grader, the run's phase (with the
+ * exercise's own data) and what the harness reported, and throws when the report is not
+ * drawable (the run's test says why); a `View` in the runs' section shows one at a time.
+ *
+ * @template [Shown=unknown]
+ * @typedef {{
+ *   collect: (grader: Grader, phase: RunPhase, output: RunOutput) => Shown,
+ *   View: new (box: HTMLElement) => { show: (shown: Shown) => void },
+ * }} ExerciseRuns
+ */
 
 /**
  * The tests and runs of the file in `editor` on the variant `identity` says. `estlab`:
@@ -17,6 +38,22 @@ import { Runner } from '../sandbox/runner.js';
  * section and its choice (`runs`, `runChoice`), and all of the results (`results`).
  */
 export class Runs {
+  /**
+   * @param {{
+   *   estlab: typeof import('estlab-wasm/estlab_wasm.js'),
+   *   lab: string,
+   *   exerciseRuns: ExerciseRuns,
+   *   worker: string,
+   *   editor: import('./editor.js').Editor,
+   *   identity: import('./identity.js').Identity,
+   *   ui: {
+   *     runTests: HTMLButtonElement, runLoops: HTMLButtonElement, submit: HTMLButtonElement,
+   *     stop: HTMLButtonElement, status: HTMLElement, score: HTMLElement, runSummary: HTMLElement,
+   *     error: HTMLElement, tests: HTMLElement, runs: HTMLElement, runChoice: HTMLSelectElement,
+   *     results: HTMLElement,
+   *   },
+   * }} parts
+   */
   constructor({ estlab, lab, exerciseRuns, worker, editor, identity, ui }) {
     this.estlab = estlab;
     this.lab = lab;
@@ -26,18 +63,24 @@ export class Runs {
     this.identity = identity;
     this.ui = ui;
     this.state = {
+      /** @type {Grader | null} */
       grader: null,
+      /** @type {Job | null} */
       job: null,
+      /** @type {number | null} */
       seed: null,
-      /** The harness's outputs so far, by function and by run name. */
+      /** @type {Map<string, FunctionOutput>} The harness's outputs so far, by function and by run name. */
       functions: new Map(),
+      /** @type {Map<string, RunOutput>} */
       runs: new Map(),
-      /** The views of the runs, by run name. */
+      /** @type {Map<string, unknown>} The views of the runs, by run name. */
       views: new Map(),
-      /** The file the outputs are of. */
+      /** @type {string | null} The file the outputs are of. */
       source: null,
+      /** @type {GradeResult | null} */
       result: null,
       busy: false,
+      /** @type {{ show: (shown: unknown) => void } | null} */
       runView: null,
     };
     ui.runTests.addEventListener('click', async () => {
@@ -99,7 +142,16 @@ export class Runs {
     ui.stop.disabled = !busy;
   }
 
-  /** Runs `phases` of `kind` on the current file, storing each output in `into`. */
+  /**
+   * Runs `phases` of `kind` on the current file, storing each output in `into`.
+   *
+   * @template {FunctionPhase | RunPhase} P
+   * @template {FunctionOutput | RunOutput} O
+   * @param {'function' | 'run'} kind
+   * @param {P[]} phases
+   * @param {Map<string, O>} into
+   * @param {(phase: P, output: O) => void} [after]
+   */
   async runPhases(kind, phases, into, after = () => {}) {
     const { state, ui } = this;
     if (state.busy) return;
@@ -115,7 +167,7 @@ export class Runs {
     this.setBusy(true);
     try {
       for (const phase of phases) {
-        const what = kind === 'function' ? phase.function : phase.name;
+        const what = 'function' in phase ? phase.function : phase.name;
         ui.status.textContent = `Running ${what}…`;
         const output = await this.runner.phase(kind, text, phase, (during) => {
           ui.status.textContent = `Running ${what}: ${during}`;
@@ -131,6 +183,7 @@ export class Runs {
     }
   }
 
+  /** @param {string[] | null} functions The functions to test, or all. */
   runTests(functions) {
     const { state } = this;
     this.useSeed();
@@ -168,11 +221,15 @@ export class Runs {
   // -------------------------------------------------------------------------------------
   // The verdict: the wasm build grades the outputs so far, as the server grades a submission.
 
-  /** Whether the test of `key` ran: a function's, or a run's (`square`; `o3` of `o3/sequential`). */
-  testRan(key) {
-    const { state } = this;
-    if (state.functions.has(key)) return true;
-    return [...state.runs.keys()].some((name) => name === key || name.startsWith(`${key}/`));
+  /**
+   * Whether `test` ran: a function's, or a run's (`square`; `o3` of `o3/sequential`).
+   *
+   * @param {import('../types/Test').Test} test
+   */
+  testRan(test) {
+    const { kind, name } = test.subject;
+    if (kind === 'function') return this.state.functions.has(name);
+    return [...this.state.runs.keys()].some((run) => run === name || run.startsWith(`${name}/`));
   }
 
   /** The browser's verdict on `text` for `seed` when every test of it ran, or null. */
@@ -180,14 +237,19 @@ export class Runs {
     const { state } = this;
     const mine = state.result;
     const complete = mine && state.source === text && state.seed === seed &&
-      mine.tests.every((test) => this.testRan(testKey(test)));
+      mine.tests.every((test) => this.testRan(test));
     return complete ? mine : null;
   }
 
-  /** The Run button of a function's test, or nothing for a run's test. */
-  runButton(key) {
+  /**
+   * The Run button of a function's test, or nothing for a run's test.
+   *
+   * @param {import('../types/Subject').Subject} subject
+   */
+  runButton(subject) {
     const { state } = this;
-    if (!state.job.functions.some((phase) => phase.function === key)) return null;
+    const key = subject.name;
+    if (subject.kind !== 'function' || !state.job.functions.some((phase) => phase.function === key)) return null;
     const button = element('button', 'run', 'Run');
     button.type = 'button';
     button.disabled = state.busy;
@@ -201,14 +263,14 @@ export class Runs {
     const { state, ui } = this;
     if (!state.grader) return;
     const outputs = { functions: [...state.functions.values()], runs: [...state.runs.values()] };
+    /** @type {GradeResult} */
     const result = JSON.parse(state.grader.grade(JSON.stringify(outputs)));
     state.result = result;
     ui.tests.classList.toggle('stale', state.source !== null && state.source !== this.editor.source());
-    ui.tests.replaceChildren(...result.tests.map((test) => {
-      const key = testKey(test);
-      return testItem(test, { ran: this.testRan(key), id: `test-${key}`, action: this.runButton(key) });
-    }));
-    const ran = result.tests.filter((test) => this.testRan(testKey(test)));
+    ui.tests.replaceChildren(...result.tests.map((test) => testItem(test, {
+      ran: this.testRan(test), id: `test-${test.subject.name}`, action: this.runButton(test.subject),
+    })));
+    const ran = result.tests.filter((test) => this.testRan(test));
     if (ran.length === 0) {
       ui.score.hidden = true;
       if (!state.busy) ui.status.textContent = 'Nothing run yet.';
@@ -216,7 +278,7 @@ export class Runs {
       ui.score.hidden = false;
       const passed = ran.filter((test) => test.status === 'passed').length;
       const notRun = result.tests.length - ran.length;
-      const todo = ran.filter((test) => notImplemented(test, testKey(test))).map(testKey);
+      const todo = ran.filter((test) => notImplemented(test)).map((test) => test.subject.name);
       ui.score.textContent = `In your browser: ${fmt(result.points, 4)} of ${result.max_points} points (${Math.round(100 * result.score)}%), ` +
         `${passed} of ${result.tests.length} tests pass` + (notRun ? `, ${notRun} not run yet.` : '.') +
         (todo.length ? ` ${todo.length === 1 ? '1 function' : `${todo.length} functions`} not implemented yet: ${todo.join(', ')}.` : '');

@@ -8,7 +8,7 @@ mod el2320;
 mod generate;
 mod grade;
 mod hints;
-pub mod job;
+mod job;
 mod plan;
 
 pub use contract::{Call, FUNCTIONS, Mat2, Mat2x3, Mat3, TwoRows, Vec2, Vec3};
@@ -68,6 +68,8 @@ impl Graded for EkfLocalization {
     };
     type Call = Call;
     type Plan = Plan;
+    type Run = job::FilterRun;
+    type Record = job::FilterRecord;
     const GENERATE: crate::grading::Generator<Call> = generate;
 
     fn plan(seed: u64, hidden: Option<u64>) -> Plan {

@@ -8,8 +8,8 @@ use super::job::PathRecord;
 use super::plan::{PathSpec, Plan, RUN_LIMIT_MS};
 use crate::Exercise;
 use crate::grading::{
-    FunctionVerdicts, GradeResult, Outputs, RunOutput, Test, Tolerance, compare, function_tests,
-    matrix, pose,
+    FunctionVerdicts, GradeResult, Outputs, RunOutput, Subject, Test, Tolerance, compare,
+    function_tests, matrix, pose,
 };
 use serde_json::json;
 
@@ -71,6 +71,7 @@ fn path_test(spec: &PathSpec, output: Option<&RunOutput>, functions: &FunctionVe
         lines.push(format!("{}: {departure}", spec.name));
     }
     Test::all_or_nothing(
+        Subject::Run(spec.name.clone()),
         format!("{} path: {}", spec.name, FUNCTIONS.join(", ")),
         passed,
         lines.join("\n"),

@@ -9,7 +9,7 @@ mod contract;
 mod generate;
 mod grade;
 mod hints;
-pub mod job;
+mod job;
 mod plan;
 
 pub use contract::{Call, FUNCTIONS, Mat2, Mat3, Mat3x2, Vec3};
@@ -61,6 +61,8 @@ impl Graded for Odometry {
     };
     type Call = Call;
     type Plan = Plan;
+    type Run = job::PathRun;
+    type Record = job::PathRecord;
     const GENERATE: crate::grading::Generator<Call> = generate;
 
     fn plan(seed: u64, hidden: Option<u64>) -> Plan {

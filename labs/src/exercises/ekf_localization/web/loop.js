@@ -8,6 +8,7 @@ estlabHarness.defineLoop('filter', (tools) => {
   const { HarnessError, put, push, copy, field, list, vector, matrix, threshold, describe } = tools;
 
   /// The filter loop over a data set, as the lab's.
+  /** @type {Loop<import('estlab/types/FilterRun').FilterRun, import('estlab/types/FilterRecord').FilterRecord>} */
   function filterLoop(run, kept, invoke, at) {
     put(kept, 'init', null);
     put(kept, 'mu', []);

@@ -55,4 +55,5 @@ class DatasetRunView {
 }
 
 /** The EKF workbench's runs: each one's views from the harness's output, and where they are drawn. */
+/** @type {import('estlab/workbench/running.js').ExerciseRuns} */
 export const runs = { collect: collectRun, View: DatasetRunView };

@@ -10,10 +10,12 @@ estlabHarness.defineLoop('path', (tools) => {
   /// (Sigma_p = 0), every step carries the pose's covariance through the step's Jacobians
   /// and adds the wheels' noise, then takes the step; the pose and its covariance after
   /// every step are recorded.
+  /** @type {Loop<import('estlab/types/PathRun').PathRun, import('estlab/types/PathRecord').PathRecord>} */
   function pathLoop(run, kept, invoke, at) {
     put(kept, 'poses', []);
     put(kept, 'covariances', []);
     const b = run.b;
+    /** @type {number[]} */
     let p = copy(run.start);
     let sigma = [[0, 0, 0], [0, 0, 0], [0, 0, 0]];
     for (let k = 0; k < run.steps.length; k++) {

@@ -163,4 +163,5 @@ class PathRunView {
 }
 
 /** The odometry workbench's runs: each one's views from the harness's output, and where they are drawn. */
+/** @type {import('estlab/workbench/running.js').ExerciseRuns} */
 export const runs = { collect: collectRun, View: PathRunView };
