@@ -12,7 +12,7 @@ fn every_original_fixture_case_is_reproduced() {
         let cases = load_fixtures(function, file, &text).unwrap();
         assert_eq!(cases.len(), 100, "{file}");
         for case in &cases {
-            let got = case.call.reference().unwrap();
+            let got = case.call.reference_output().unwrap();
             let mismatches = case.check(&got, Tolerance::default());
             assert!(mismatches.is_empty(), "{}: {mismatches:#?}", case.id);
             checked += 1;

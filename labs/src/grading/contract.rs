@@ -6,6 +6,7 @@
 use super::compare::{Mismatch, Shape, Tolerance, compare};
 use super::hints::{Hint, Mistake};
 use crate::{Error, Exercise};
+use nalgebra::SMatrix;
 use serde::de::{DeserializeOwned, Deserializer, IgnoredAny, MapAccess, Visitor};
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
@@ -18,6 +19,10 @@ pub trait Contract: Clone + Debug + PartialEq + Serialize + DeserializeOwned {
     const EXERCISE: Exercise;
     /// The student functions, in the order the exercise introduces them.
     const FUNCTIONS: &'static [&'static str];
+    /// What the functions return, typed: the reference's answer, which serialises as the
+    /// contract's output (the JSON a student's function must return) and which the hints
+    /// read.
+    type Answer: Clone + Debug + PartialEq + Serialize;
     /// The exercise's classic mistakes.
     type Mistake: Mistake;
     /// The mistake of a function that answers a call differently in a fresh copy of the
@@ -40,11 +45,23 @@ pub trait Contract: Clone + Debug + PartialEq + Serialize + DeserializeOwned {
     /// object of named fields) and its shape for this call.
     fn output_shape(&self) -> (&'static str, Shape);
 
-    /// The reference answer, in the contract's shapes.
-    fn reference(&self) -> Result<Value, Error>;
+    /// The reference answer.
+    fn reference(&self) -> Result<Self::Answer, Error>;
 
-    /// The classic mistake that explains a failing output, if one does.
-    fn diagnose(&self, expected: &Value, got: &Value, mismatches: &[Mismatch]) -> Option<Hint>;
+    /// The reference answer as its output in the contract's shapes.
+    fn reference_output(&self) -> Result<Value, Error> {
+        self.reference()
+            .map(|answer| serde_json::to_value(answer).expect("answers serialise"))
+    }
+
+    /// The classic mistake that explains a failing output `got`, if one does; `expected`
+    /// is the reference's answer.
+    fn diagnose(
+        &self,
+        expected: &Self::Answer,
+        got: &Value,
+        mismatches: &[Mismatch],
+    ) -> Option<Hint>;
 }
 
 /// One test case: a call of a student function and the output it must return.
@@ -94,4 +111,14 @@ impl<'de> Deserialize<'de> for InOrder {
         }
         deserializer.deserialize_map(Values)
     }
+}
+
+/// A matrix as the contracts write it, an array of rows.
+pub fn rows<const R: usize, const C: usize>(a: &SMatrix<f64, R, C>) -> [[f64; C]; R] {
+    std::array::from_fn(|i| std::array::from_fn(|j| a[(i, j)]))
+}
+
+/// The matrix of an array of rows.
+pub fn matrix_of<const R: usize, const C: usize>(a: &[[f64; C]; R]) -> SMatrix<f64, R, C> {
+    SMatrix::from_fn(|i, j| a[i][j])
 }

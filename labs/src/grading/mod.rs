@@ -28,7 +28,7 @@ pub use compare::{
     HEADING_TURNS, Kind, Mismatch, Problem, Shape, Tolerance, compare, heading_within_turns,
     matrix, numbers, pose, range_bearing, repeat,
 };
-pub use contract::{Case, Contract};
+pub use contract::{Case, Contract, matrix_of, rows};
 pub use functions::{FunctionVerdicts, function_tests};
 pub use hints::{
     Common, Hint, HintKind, Mistake, describe, form_hint, holds_non_finite, negated, transpose,

@@ -68,7 +68,7 @@ pub fn scenario_cases<C: Contract>(
         for k in 0..per_function {
             let (note, make) = kinds[k % kinds.len()];
             let call = make(&mut rng);
-            let expected = call.reference().expect("generated calls are valid");
+            let expected = call.reference_output().expect("generated calls are valid");
             cases.push(Case {
                 id: format!("{function}/{}", k + 1),
                 note: note.to_owned(),

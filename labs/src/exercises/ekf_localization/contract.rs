@@ -6,12 +6,12 @@
 use super::hints::{HintKind, diagnose};
 use crate::ekf::{self, Belief, Landmark, Map, Robot};
 use crate::grading::{
-    self, Contract, Hint, Kind, Mismatch, Shape, matrix, pose, range_bearing, repeat,
+    self, Contract, Hint, Kind, Mismatch, Shape, matrix, pose, range_bearing, repeat, rows,
 };
 use crate::{Error, Exercise};
 use nalgebra::{Matrix2, Matrix2x3, Matrix3, Vector2, Vector3};
 use serde::{Deserialize, Serialize};
-use serde_json::{Value, json};
+use serde_json::Value;
 
 pub type Vec2 = [f64; 2];
 pub type Vec3 = [f64; 3];
@@ -20,6 +20,70 @@ pub type Mat3 = [[f64; 3]; 3];
 pub type Mat2x3 = [[f64; 3]; 2];
 /// A 2 x n matrix: row 0 and row 1 (the landmark map `M`; the readings `z`).
 pub type TwoRows = [Vec<f64>; 2];
+
+/// What a student function returns, in the contract's shapes; as JSON the bare value.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(untagged)]
+pub enum Answer {
+    /// `calculate_odometry`'s u = [dx, dy, dtheta].
+    Odometry(Vec3),
+    /// `observation_model`'s z_hat = [range, bearing].
+    Observation(Vec2),
+    /// `jacobian_observation_model`'s H, 2 x 3.
+    Jacobian(Mat2x3),
+    Prediction(Prediction),
+    Association(Association),
+    BatchAssociation(BatchAssociation),
+    /// What `update` and `batch_update` return.
+    Posterior(Posterior),
+}
+
+/// `predict`'s belief before the readings.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Prediction {
+    pub mu_bar: Vec3,
+    pub sigma_bar: Mat3,
+}
+
+/// `associate`'s landmark for one reading, whether it is an outlier, and what every
+/// landmark predicts (its innovation, its covariance and its Jacobian).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Association {
+    pub c: usize,
+    pub outlier: bool,
+    pub nu: Vec<Vec2>,
+    #[serde(rename = "S")]
+    pub s: Vec<Mat2>,
+    #[serde(rename = "H")]
+    pub h: Vec<Mat2x3>,
+}
+
+/// `batch_associate`'s landmark and outlier flag of every reading, and the stacked
+/// innovations (2n) and Jacobians (2n x 3) of the readings' landmarks.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct BatchAssociation {
+    pub c: Vec<usize>,
+    pub outlier: Vec<bool>,
+    pub nu_bar: Vec<f64>,
+    #[serde(rename = "H_bar")]
+    pub h_bar: Vec<Vec3>,
+}
+
+/// The belief after the readings.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Posterior {
+    pub mu: Vec3,
+    pub sigma: Mat3,
+}
+
+impl Posterior {
+    fn of(belief: &Belief) -> Answer {
+        Answer::Posterior(Posterior {
+            mu: belief.mu.into(),
+            sigma: rows(&belief.sigma),
+        })
+    }
+}
 
 /// One call of a student function, arguments named and ordered as in the contract.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -118,6 +182,7 @@ pub const FUNCTIONS: &[&str] = &[
 impl Contract for Call {
     const EXERCISE: Exercise = Exercise::EkfLocalization;
     const FUNCTIONS: &'static [&'static str] = FUNCTIONS;
+    type Answer = Answer;
     type Mistake = HintKind;
     const KEEPS_STATE: HintKind = HintKind::StaleAssociation;
 
@@ -138,11 +203,11 @@ impl Contract for Call {
         output_shape(self)
     }
 
-    fn reference(&self) -> Result<Value, Error> {
+    fn reference(&self) -> Result<Answer, Error> {
         reference(self)
     }
 
-    fn diagnose(&self, expected: &Value, got: &Value, mismatches: &[Mismatch]) -> Option<Hint> {
+    fn diagnose(&self, expected: &Answer, got: &Value, mismatches: &[Mismatch]) -> Option<Hint> {
         diagnose(self, expected, got, mismatches)
     }
 }
@@ -194,7 +259,7 @@ fn output_shape(call: &Call) -> (&'static str, Shape) {
 }
 
 /// The reference answer to a call, in the contract's shapes.
-pub fn reference(call: &Call) -> Result<Value, Error> {
+pub fn reference(call: &Call) -> Result<Answer, Error> {
     Ok(match call {
         Call::CalculateOdometry {
             e_r,
@@ -213,7 +278,7 @@ pub fn reference(call: &Call) -> Result<Value, Error> {
                 left_radius: *r_l,
             };
             let u = ekf::calculate_odometry(*e_r, *e_l, &robot, *delta_t, &vector3(mu));
-            json!(u.as_slice())
+            Answer::Odometry(u.into())
         }
         Call::Predict { mu, sigma, u, r } => {
             let bar = ekf::predict(
@@ -221,16 +286,19 @@ pub fn reference(call: &Call) -> Result<Value, Error> {
                 &vector3(u),
                 &matrix3(r),
             );
-            json!({ "mu_bar": bar.mu.as_slice(), "sigma_bar": rows(&bar.sigma) })
+            Answer::Prediction(Prediction {
+                mu_bar: bar.mu.into(),
+                sigma_bar: rows(&bar.sigma),
+            })
         }
         Call::ObservationModel { x, m, j } => {
             let landmark = landmark_at(m, *j)?;
-            json!(ekf::observation_model(&vector3(x), &landmark).as_slice())
+            Answer::Observation(ekf::observation_model(&vector3(x), &landmark).into())
         }
         Call::JacobianObservationModel { x, m, j, z_hat } => {
             let landmark = landmark_at(m, *j)?;
             let h = ekf::jacobian_observation_model(&vector3(x), &landmark, &Vector2::from(*z_hat));
-            json!(rows(&h))
+            Answer::Jacobian(rows(&h))
         }
         Call::Associate {
             mu_bar,
@@ -242,14 +310,12 @@ pub fn reference(call: &Call) -> Result<Value, Error> {
         } => {
             let bar = Belief::new(vector3(mu_bar), matrix3(sigma_bar));
             let a = ekf::associate(&bar, &Vector2::from(*z_i), &map(m)?, *lambda_m, &matrix2(q));
-            let each =
-                |f: fn(&ekf::Candidate) -> Value| a.candidates.iter().map(f).collect::<Vec<_>>();
-            json!({
-                "c": a.c,
-                "outlier": a.outlier,
-                "nu": each(|cand| json!(cand.nu.as_slice())),
-                "S": each(|cand| json!(rows(&cand.s))),
-                "H": each(|cand| json!(rows(&cand.h))),
+            Answer::Association(Association {
+                c: a.c,
+                outlier: a.outlier,
+                nu: a.candidates.iter().map(|cand| cand.nu.into()).collect(),
+                s: a.candidates.iter().map(|cand| rows(&cand.s)).collect(),
+                h: a.candidates.iter().map(|cand| rows(&cand.h)).collect(),
             })
         }
         Call::BatchAssociate {
@@ -263,11 +329,14 @@ pub fn reference(call: &Call) -> Result<Value, Error> {
             let bar = Belief::new(vector3(mu_bar), matrix3(sigma_bar));
             let readings = two_rows("z", z)?;
             let matches = ekf::batch_associate(&bar, &readings, &map(m)?, *lambda_m, &matrix2(q));
-            json!({
-                "c": matches.iter().map(|m| m.c).collect::<Vec<_>>(),
-                "outlier": matches.iter().map(|m| m.outlier).collect::<Vec<_>>(),
-                "nu_bar": matches.iter().flat_map(|m| m.candidate.nu.iter().copied()).collect::<Vec<_>>(),
-                "H_bar": matches.iter().flat_map(|m| rows(&m.candidate.h)).collect::<Vec<_>>(),
+            Answer::BatchAssociation(BatchAssociation {
+                c: matches.iter().map(|m| m.c).collect(),
+                outlier: matches.iter().map(|m| m.outlier).collect(),
+                nu_bar: matches
+                    .iter()
+                    .flat_map(|m| m.candidate.nu.iter().copied())
+                    .collect(),
+                h_bar: matches.iter().flat_map(|m| rows(&m.candidate.h)).collect(),
             })
         }
         Call::Update {
@@ -281,7 +350,7 @@ pub fn reference(call: &Call) -> Result<Value, Error> {
             let h = Matrix2x3::from_fn(|i, j| h[i][j]);
             let posterior = ekf::update(&bar, &h, &matrix2(s), &Vector2::from(*nu))
                 .ok_or_else(|| Error::invalid("S", "is singular"))?;
-            posterior_json(&posterior)
+            Posterior::of(&posterior)
         }
         Call::BatchUpdate {
             mu_bar,
@@ -309,13 +378,9 @@ pub fn reference(call: &Call) -> Result<Value, Error> {
             let nu: Vec<Vector2<f64>> = nu_bar.chunks(2).map(Vector2::from_column_slice).collect();
             let posterior = ekf::batch_update(&bar, h.iter().zip(&nu), &q)
                 .ok_or_else(|| Error::invalid("Q_bar", "has a singular block"))?;
-            posterior_json(&posterior)
+            Posterior::of(&posterior)
         }
     })
-}
-
-fn posterior_json(posterior: &Belief) -> Value {
-    json!({ "mu": posterior.mu.as_slice(), "sigma": rows(&posterior.sigma) })
 }
 
 pub(crate) fn vector3(v: &Vec3) -> Vector3<f64> {
@@ -328,15 +393,6 @@ pub(crate) fn matrix3(a: &Mat3) -> Matrix3<f64> {
 
 pub(crate) fn matrix2(a: &Mat2) -> Matrix2<f64> {
     Matrix2::from_fn(|i, j| a[i][j])
-}
-
-/// A matrix as an array of rows.
-pub(crate) fn rows<R: nalgebra::Dim, C: nalgebra::Dim, S: nalgebra::RawStorage<f64, R, C>>(
-    a: &nalgebra::Matrix<f64, R, C, S>,
-) -> Vec<Vec<f64>> {
-    a.row_iter()
-        .map(|row| row.iter().copied().collect())
-        .collect()
 }
 
 /// The columns of a 2 x n matrix, both rows of the same length.

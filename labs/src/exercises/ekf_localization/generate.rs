@@ -9,10 +9,10 @@
 //! left to chance: random readings almost never tell these rules apart.
 
 use super::Case;
-use super::contract::{Call, Mat2, Mat3, TwoRows, Vec2, Vec3, matrix2, vector3};
+use super::contract::{Call, Mat2, TwoRows, Vec2, Vec3, matrix2, vector3};
 use crate::angle::wrap;
 use crate::ekf::{self, Belief, Candidate, Landmark};
-use crate::grading::{self, scenario_cases};
+use crate::grading::{self, rows, scenario_cases};
 use crate::rng::Rng;
 use nalgebra::{Matrix3, Vector2, Vector3};
 use std::f64::consts::PI;
@@ -159,10 +159,6 @@ fn covariance(rng: &mut Rng, low: f64, high: f64) -> Matrix3<f64> {
     (sigma + sigma.transpose()) * 0.5
 }
 
-fn rows3(a: &Matrix3<f64>) -> Mat3 {
-    std::array::from_fn(|i| std::array::from_fn(|j| a[(i, j)]))
-}
-
 fn diag2(a: f64, b: f64) -> Mat2 {
     [[a, 0.0], [0.0, b]]
 }
@@ -271,9 +267,9 @@ fn prediction(rng: &mut Rng, cross_pi: bool) -> Call {
     ];
     Call::Predict {
         mu: pose(rng, heading),
-        sigma: rows3(&covariance(rng, 1e-4, 1.0)),
+        sigma: rows(&covariance(rng, 1e-4, 1.0)),
         u,
-        r: rows3(&Matrix3::from_diagonal(&Vector3::from(
+        r: rows(&Matrix3::from_diagonal(&Vector3::from(
             r.map(|s: f64| s * s),
         ))),
     }
@@ -387,7 +383,7 @@ impl Scene {
     fn into_call(self, z_i: Vec2, lambda_m: f64) -> Call {
         Call::Associate {
             mu_bar: self.mu_bar,
-            sigma_bar: rows3(&self.sigma_bar),
+            sigma_bar: rows(&self.sigma_bar),
             z_i,
             m: self.m,
             lambda_m,
@@ -600,7 +596,7 @@ fn contract_map(m: &TwoRows) -> ekf::Map {
 fn threshold_boundary() -> Call {
     Call::Associate {
         mu_bar: [0.0, 0.0, 0.0],
-        sigma_bar: rows3(&(Matrix3::identity() * 0.01)),
+        sigma_bar: rows(&(Matrix3::identity() * 0.01)),
         z_i: [5.0, 0.0],
         m: [vec![5.0, -3.0, 0.0], vec![0.0, 4.0, -6.0]],
         lambda_m: 0.0,
@@ -631,7 +627,7 @@ fn batch_association(rng: &mut Rng, no_rejection: bool) -> Call {
     }
     Call::BatchAssociate {
         mu_bar: s.mu_bar,
-        sigma_bar: rows3(&s.sigma_bar),
+        sigma_bar: rows(&s.sigma_bar),
         z,
         m: s.m,
         lambda_m: if no_rejection {
@@ -657,7 +653,7 @@ fn single_update(rng: &mut Rng) -> Call {
     .candidates[j];
     Call::Update {
         mu_bar: s.mu_bar,
-        sigma_bar: rows3(&s.sigma_bar),
+        sigma_bar: rows(&s.sigma_bar),
         h: std::array::from_fn(|i| std::array::from_fn(|k| cand.h[(i, k)])),
         s: std::array::from_fn(|i| std::array::from_fn(|k| cand.s[(i, k)])),
         nu: cand.nu.into(),
@@ -700,7 +696,7 @@ fn stacked_update(rng: &mut Rng) -> Call {
         .collect();
     Call::BatchUpdate {
         mu_bar: s.mu_bar,
-        sigma_bar: rows3(&belief.sigma),
+        sigma_bar: rows(&belief.sigma),
         h_bar,
         q_bar,
         nu_bar,

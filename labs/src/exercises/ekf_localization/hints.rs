@@ -2,14 +2,15 @@
 //! mistake. Each check recomputes the reference with the mistake made (wheels swapped, an
 //! index off by one, a product transposed, ...) and compares the student's output with it.
 
-use super::contract::{Call, reference, rows};
+use super::contract::{Answer, Association, BatchAssociation, Call, reference};
 use crate::angle::wrap;
 use crate::ekf::motion_jacobian;
 use crate::grading::{
     Contract, Hint, Mismatch, Mistake, Tolerance, compare, form_hint, holds_non_finite, negated,
+    rows,
 };
 use nalgebra::{Matrix2, Matrix3, Vector2};
-use serde_json::{Value, json};
+use serde_json::Value;
 use std::f64::consts::TAU;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, strum::IntoStaticStr, strum::VariantArray)]
@@ -123,12 +124,13 @@ impl Mistake for HintKind {
 /// The classic mistake that explains a failing output, if one does.
 pub fn diagnose(
     call: &Call,
-    expected: &Value,
+    expected: &Answer,
     got: &Value,
     mismatches: &[Mismatch],
 ) -> Option<Hint> {
-    let gives = |alternative: Option<Value>| {
+    let gives = |alternative: Option<Answer>| {
         alternative.is_some_and(|alt| {
+            let alt = serde_json::to_value(alt).expect("answers serialise");
             compare(&call.output_shape(), &alt, got, Tolerance::default()).is_empty()
         })
     };
@@ -146,7 +148,15 @@ pub fn diagnose(
     let transposed = matches!(call, Call::JacobianObservationModel { .. })
         .then_some(HintKind::JacobianTransposed.kind());
     let not_wrapped = HintKind::BearingNotWrapped.kind();
-    if let Some(hint) = form_hint(call, expected, got, mismatches, transposed, not_wrapped) {
+    let expected_json = serde_json::to_value(expected).expect("answers serialise");
+    if let Some(hint) = form_hint(
+        call,
+        &expected_json,
+        got,
+        mismatches,
+        transposed,
+        not_wrapped,
+    ) {
         return Some(hint);
     }
     let kind = match call {
@@ -173,19 +183,22 @@ pub fn diagnose(
             .then_some(HintKind::JacobianSign)
         }),
         Call::Associate { lambda_m, .. } => {
+            let Answer::Association(expected) = expected else {
+                return None;
+            };
             if mismatches.iter().any(|m| m.path == "outlier")
                 && mahalanobis_of_choice(expected).is_some_and(|d| d == *lambda_m)
             {
                 Some(HintKind::ThresholdStrict)
             } else {
                 association_hint(mismatches, |rule| {
-                    gives(rule.associate(expected, *lambda_m))
+                    gives(rule.associate(expected, *lambda_m).map(Answer::Association))
                 })
             }
         }
-        Call::BatchAssociate { .. } => {
-            association_hint(mismatches, |rule| gives(rule.batch_associate(call)))
-        }
+        Call::BatchAssociate { .. } => association_hint(mismatches, |rule| {
+            gives(rule.batch_associate(call).map(Answer::BatchAssociation))
+        }),
         Call::Predict { .. } => {
             gives(transposed_prediction(call)).then_some(HintKind::PredictTransposed)
         }
@@ -234,9 +247,10 @@ fn index_plus_one(mismatches: &[Mismatch]) -> bool {
 }
 
 /// D_M of the landmark the reference chose: nu^T S^-1 nu from the expected output.
-fn mahalanobis_of_choice(expected: &Value) -> Option<f64> {
-    let c = expected["c"].as_u64()? as usize;
-    candidates(expected)?.get(c).map(|cand| cand.mahalanobis)
+fn mahalanobis_of_choice(expected: &Association) -> Option<f64> {
+    candidates(expected)?
+        .get(expected.c)
+        .map(|cand| cand.mahalanobis)
 }
 
 /// What one landmark predicts in the expected output of `associate`.
@@ -247,11 +261,11 @@ struct Predicted {
 }
 
 /// Every landmark's innovation and distance, from the expected output of `associate`.
-fn candidates(expected: &Value) -> Option<Vec<Predicted>> {
-    let nus: Vec<[f64; 2]> = serde_json::from_value(expected["nu"].clone()).ok()?;
-    let ss: Vec<[[f64; 2]; 2]> = serde_json::from_value(expected["S"].clone()).ok()?;
-    nus.iter()
-        .zip(&ss)
+fn candidates(expected: &Association) -> Option<Vec<Predicted>> {
+    expected
+        .nu
+        .iter()
+        .zip(&expected.s)
         .map(|(nu, s)| {
             let nu = Vector2::from(*nu);
             let s = Matrix2::from_fn(|i, j| s[i][j]);
@@ -305,9 +319,9 @@ impl Rule {
 
     /// What `associate` returns with the mistake made, from its expected output: the
     /// rule's c, and the outlier flag that goes with it.
-    fn associate(self, expected: &Value, lambda_m: f64) -> Option<Value> {
+    fn associate(self, expected: &Association, lambda_m: f64) -> Option<Association> {
         let cands = candidates(expected)?;
-        let c = expected["c"].as_u64()? as usize;
+        let c = expected.c;
         let first_smallest = |rank: &dyn Fn(&Predicted) -> f64| {
             (1..cands.len()).fold(0, |best, j| {
                 if rank(&cands[j]) < rank(&cands[best]) {
@@ -336,15 +350,16 @@ impl Rule {
                 },
             ),
         };
-        let mut wrong = expected.clone();
-        wrong["c"] = json!(c);
-        wrong["outlier"] = json!(outlier);
-        Some(wrong)
+        Some(Association {
+            c,
+            outlier,
+            ..expected.clone()
+        })
     }
 
     /// What `batch_associate` returns with the mistake made in the association of each
     /// reading (each reading's full association recomputed with the reference).
-    fn batch_associate(self, call: &Call) -> Option<Value> {
+    fn batch_associate(self, call: &Call) -> Option<BatchAssociation> {
         let Call::BatchAssociate {
             mu_bar,
             sigma_bar,
@@ -356,7 +371,12 @@ impl Rule {
         else {
             return None;
         };
-        let mut out = json!({ "c": [], "outlier": [], "nu_bar": [], "H_bar": [] });
+        let mut out = BatchAssociation {
+            c: Vec::new(),
+            outlier: Vec::new(),
+            nu_bar: Vec::new(),
+            h_bar: Vec::new(),
+        };
         for (&range, &bearing) in z[0].iter().zip(&z[1]) {
             let single = Call::Associate {
                 mu_bar: *mu_bar,
@@ -366,15 +386,14 @@ impl Rule {
                 lambda_m: *lambda_m,
                 q: *q,
             };
-            let wrong = self.associate(&reference(&single).ok()?, *lambda_m)?;
-            let c = wrong["c"].as_u64()? as usize;
-            let mut push = |field: &str, values: Vec<Value>| {
-                out[field].as_array_mut().map(|list| list.extend(values))
+            let Answer::Association(right) = reference(&single).ok()? else {
+                return None;
             };
-            push("c", vec![wrong["c"].clone()])?;
-            push("outlier", vec![wrong["outlier"].clone()])?;
-            push("nu_bar", wrong["nu"].get(c)?.as_array()?.clone())?;
-            push("H_bar", wrong["H"].get(c)?.as_array()?.clone())?;
+            let wrong = self.associate(&right, *lambda_m)?;
+            out.c.push(wrong.c);
+            out.outlier.push(wrong.outlier);
+            out.nu_bar.extend(wrong.nu.get(wrong.c)?);
+            out.h_bar.extend(wrong.h.get(wrong.c)?);
         }
         Some(out)
     }
@@ -402,17 +421,19 @@ fn association_hint(mismatches: &[Mismatch], explains: impl Fn(Rule) -> bool) ->
 }
 
 /// What predict returns with G^T Sigma G + R in place of G Sigma G^T + R.
-fn transposed_prediction(call: &Call) -> Option<Value> {
+fn transposed_prediction(call: &Call) -> Option<Answer> {
     let Call::Predict { sigma, u, r, .. } = call else {
         return None;
     };
-    let mut right = reference(call).ok()?;
+    let Answer::Prediction(mut right) = reference(call).ok()? else {
+        return None;
+    };
     let g = motion_jacobian(&nalgebra::Vector3::from(*u));
     let sigma = Matrix3::from_fn(|i, j| sigma[i][j]);
     let r = Matrix3::from_fn(|i, j| r[i][j]);
     let wrong = g.transpose() * sigma * g + r;
-    right["sigma_bar"] = json!(rows(&wrong));
-    Some(right)
+    right.sigma_bar = rows(&wrong);
+    Some(Answer::Prediction(right))
 }
 
 /// The batch update call with Q_bar = q I, q the range variance of Q_bar's first block.
@@ -456,11 +477,9 @@ fn heading_moved(call: &Call, k: f64) -> Call {
 }
 
 /// The odometry output with u[2] the new heading theta + omega dt instead of omega dt.
-fn absolute_heading(call: &Call, expected: &Value) -> Option<Value> {
-    let Call::CalculateOdometry { mu, .. } = call else {
+fn absolute_heading(call: &Call, expected: &Answer) -> Option<Answer> {
+    let (Call::CalculateOdometry { mu, .. }, Answer::Odometry(u)) = (call, expected) else {
         return None;
     };
-    let mut wrong = expected.clone();
-    wrong[2] = json!(wrap(mu[2] + expected[2].as_f64()?));
-    Some(wrong)
+    Some(Answer::Odometry([u[0], u[1], wrap(mu[2] + u[2])]))
 }

@@ -4,19 +4,33 @@
 //! arguments; [`reference`] answers it with the model of [`crate::odometry`].
 
 use super::hints::{HintKind, diagnose};
-use crate::grading::{Contract, Hint, Kind, Mismatch, Shape, matrix};
+use crate::grading::{Contract, Hint, Kind, Mismatch, Shape, matrix, matrix_of, rows};
 use crate::odometry::{
     Increment, increment_jacobian, pose_jacobian, propagate_through, step, wheel_noise,
 };
 use crate::{Error, Exercise};
-use nalgebra::{SMatrix, Vector3};
+use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
-use serde_json::{Value, json};
+use serde_json::Value;
 
 pub type Vec3 = [f64; 3];
 pub type Mat2 = [[f64; 2]; 2];
 pub type Mat3 = [[f64; 3]; 3];
 pub type Mat3x2 = [[f64; 2]; 3];
+
+/// What a student function returns, in the contract's shapes; as JSON the bare value.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(untagged)]
+pub enum Answer {
+    /// `odometry_step`'s p_next.
+    Pose(Vec3),
+    /// `pose_jacobian`'s F_p, `propagate`'s Sigma_p_next.
+    Matrix3(Mat3),
+    /// `increment_jacobian`'s F_delta.
+    Matrix3x2(Mat3x2),
+    /// `wheel_noise`'s Sigma_delta.
+    Matrix2(Mat2),
+}
 
 /// One call of a student function, arguments named and ordered as in the contract.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -70,6 +84,7 @@ pub const FUNCTIONS: &[&str] = &[
 impl Contract for Call {
     const EXERCISE: Exercise = Exercise::Odometry;
     const FUNCTIONS: &'static [&'static str] = FUNCTIONS;
+    type Answer = Answer;
     type Mistake = HintKind;
     const KEEPS_STATE: HintKind = HintKind::KeepsState;
 
@@ -87,11 +102,11 @@ impl Contract for Call {
         output_shape(self)
     }
 
-    fn reference(&self) -> Result<Value, Error> {
+    fn reference(&self) -> Result<Answer, Error> {
         Ok(reference(self))
     }
 
-    fn diagnose(&self, expected: &Value, got: &Value, mismatches: &[Mismatch]) -> Option<Hint> {
+    fn diagnose(&self, expected: &Answer, got: &Value, mismatches: &[Mismatch]) -> Option<Hint> {
         diagnose(self, expected, got, mismatches)
     }
 }
@@ -118,47 +133,35 @@ pub fn output_shape(call: &Call) -> (&'static str, Shape) {
 
 /// The reference answer to a call, from [`crate::odometry`], in the contract's shapes.
 /// Every call has one: the model is defined for any numbers.
-pub fn reference(call: &Call) -> Value {
+pub fn reference(call: &Call) -> Answer {
     match call {
         Call::OdometryStep { p, ds_r, ds_l, b } => {
-            json!(step(&Vector3::from(*p), Increment::new(*ds_r, *ds_l), *b).as_slice())
+            Answer::Pose(step(&Vector3::from(*p), Increment::new(*ds_r, *ds_l), *b).into())
         }
-        Call::PoseJacobian { p, ds_r, ds_l, b } => json!(rows(&pose_jacobian(
+        Call::PoseJacobian { p, ds_r, ds_l, b } => Answer::Matrix3(rows(&pose_jacobian(
             &Vector3::from(*p),
             Increment::new(*ds_r, *ds_l),
-            *b
+            *b,
         ))),
-        Call::IncrementJacobian { p, ds_r, ds_l, b } => json!(rows(&increment_jacobian(
-            &Vector3::from(*p),
-            Increment::new(*ds_r, *ds_l),
-            *b
-        ))),
+        Call::IncrementJacobian { p, ds_r, ds_l, b } => Answer::Matrix3x2(rows(
+            &increment_jacobian(&Vector3::from(*p), Increment::new(*ds_r, *ds_l), *b),
+        )),
         Call::WheelNoise {
             ds_r,
             ds_l,
             k_r,
             k_l,
-        } => json!(rows(&wheel_noise(Increment::new(*ds_r, *ds_l), *k_r, *k_l))),
+        } => Answer::Matrix2(rows(&wheel_noise(Increment::new(*ds_r, *ds_l), *k_r, *k_l))),
         Call::Propagate {
             sigma_p,
             f_p,
             f_delta,
             sigma_delta,
-        } => json!(rows(&propagate_through(
+        } => Answer::Matrix3(rows(&propagate_through(
             &matrix_of(sigma_p),
             &matrix_of(f_p),
             &matrix_of(f_delta),
             &matrix_of(sigma_delta),
         ))),
     }
-}
-
-/// The matrix of an array of rows.
-pub(crate) fn matrix_of<const R: usize, const C: usize>(a: &[[f64; C]; R]) -> SMatrix<f64, R, C> {
-    SMatrix::from_fn(|i, j| a[i][j])
-}
-
-/// A matrix as an array of rows, the contract's form of it.
-pub(crate) fn rows<const R: usize, const C: usize>(a: &SMatrix<f64, R, C>) -> [[f64; C]; R] {
-    std::array::from_fn(|i| std::array::from_fn(|j| a[(i, j)]))
 }

@@ -6,7 +6,8 @@
 //! step, and covariances that come from a drive, with unequal wheel constants throughout.
 
 use super::Case;
-use super::contract::{Call, rows};
+use super::contract::Call;
+use crate::grading::rows;
 use crate::grading::{self, scenario_cases};
 use crate::odometry::{
     Increment, increment_jacobian, pose_jacobian, propagate_covariance, wheel_noise,

@@ -4,13 +4,15 @@
 //! heading, wheel base or order of the wheels, a transposed Jacobian) or from the
 //! expected output (a sign, a term left out), and compares the student's output with it.
 
-use super::contract::{Call, matrix_of, output_shape, rows};
-use crate::grading::{Hint, Mismatch, Mistake, Tolerance, compare, form_hint, negated, transpose};
+use super::contract::{Answer, Call, output_shape};
+use crate::grading::{
+    Hint, Mismatch, Mistake, Tolerance, compare, form_hint, matrix_of, negated, rows,
+};
 use crate::odometry::{
     Increment, increment_jacobian, pose_jacobian, propagate_through, step, wheel_noise,
 };
 use nalgebra::{Matrix2, Matrix3x2, Vector3};
-use serde_json::{Value, json};
+use serde_json::Value;
 
 /// A classic mistake of the odometry exercise, named uniquely across the exercises.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, strum::IntoStaticStr, strum::VariantArray)]
@@ -160,20 +162,29 @@ impl Mistake for HintKind {
 /// The classic mistake that explains a failing output, if one does (and only one).
 pub fn diagnose(
     call: &Call,
-    expected: &Value,
+    expected: &Answer,
     got: &Value,
     mismatches: &[Mismatch],
 ) -> Option<Hint> {
     if mismatches.is_empty() {
         return None;
     }
-    let gives = |alternative: &Value| {
-        compare(&output_shape(call), alternative, got, Tolerance::default()).is_empty()
+    let gives = |alternative: &Answer| {
+        let alternative = serde_json::to_value(alternative).expect("answers serialise");
+        compare(&output_shape(call), &alternative, got, Tolerance::default()).is_empty()
     };
     let transposed = matches!(call, Call::IncrementJacobian { .. })
         .then_some(HintKind::IncrementJacobianTransposed.kind());
     let not_wrapped = HintKind::HeadingNotWrapped.kind();
-    if let Some(hint) = form_hint(call, expected, got, mismatches, transposed, not_wrapped) {
+    let expected_json = serde_json::to_value(expected).expect("answers serialise");
+    if let Some(hint) = form_hint(
+        call,
+        &expected_json,
+        got,
+        mismatches,
+        transposed,
+        not_wrapped,
+    ) {
         return Some(hint);
     }
     let mut kinds: Vec<HintKind> = mistakes(call, expected)
@@ -205,44 +216,49 @@ fn sign_flipped(call: &Call, mismatches: &[Mismatch]) -> Option<HintKind> {
 }
 
 /// What each classic mistake makes of this call's answer.
-fn mistakes(call: &Call, expected: &Value) -> Vec<(HintKind, Value)> {
-    match call {
-        Call::OdometryStep { p, ds_r, ds_l, b } => {
+fn mistakes(call: &Call, expected: &Answer) -> Vec<(HintKind, Answer)> {
+    match (call, expected) {
+        (Call::OdometryStep { p, ds_r, ds_l, b }, Answer::Pose(right)) => {
             let model = Step::new(p, *ds_r, *ds_l, *b);
             let at = |p: &Vector3<f64>, increment, b| step(p, increment, b);
             model.variants(
                 // Only x' and y' follow another heading; theta' stays.
                 |p| {
                     let q = at(p, model.increment, model.b);
-                    json!([q.x, q.y, expected[2]])
+                    Answer::Pose([q.x, q.y, right[2]])
                 },
-                |b| json!(at(&model.p, model.increment, b).as_slice()),
-                json!(at(&model.p, model.swapped(), model.b).as_slice()),
+                |b| Answer::Pose(at(&model.p, model.increment, b).into()),
+                Answer::Pose(at(&model.p, model.swapped(), model.b).into()),
             )
         }
-        Call::PoseJacobian { p, ds_r, ds_l, b } => {
+        (Call::PoseJacobian { p, ds_r, ds_l, b }, Answer::Matrix3(right)) => {
             let model = Step::new(p, *ds_r, *ds_l, *b);
-            let at = |p: &Vector3<f64>, increment, b| json!(rows(&pose_jacobian(p, increment, b)));
+            let at = |p: &Vector3<f64>, increment, b| {
+                Answer::Matrix3(rows(&pose_jacobian(p, increment, b)))
+            };
             let mut variants = model.variants(
                 |p| at(p, model.increment, model.b),
                 |b| at(&model.p, model.increment, b),
                 at(&model.p, model.swapped(), model.b),
             );
-            variants.extend(transpose(expected).map(|t| (HintKind::PoseJacobianTransposed, t)));
+            variants.push((
+                HintKind::PoseJacobianTransposed,
+                Answer::Matrix3(rows(&matrix_of(right).transpose())),
+            ));
             variants
         }
-        Call::IncrementJacobian { p, ds_r, ds_l, b } => {
+        (Call::IncrementJacobian { p, ds_r, ds_l, b }, _) => {
             let model = Step::new(p, *ds_r, *ds_l, *b);
             let at = |p: &Vector3<f64>, increment, b| increment_jacobian(p, increment, b);
             // The robot turning the other way throughout, (ds_l - ds_r) / b: the model of
             // the wheels swapped, whose first column is the derivative by ds_l.
             let reversed = at(&model.p, model.swapped(), model.b);
             let mut variants = model.variants(
-                |p| json!(rows(&at(p, model.increment, model.b))),
-                |b| json!(rows(&at(&model.p, model.increment, b))),
-                json!(rows(&Matrix3x2::from_columns(&[
+                |p| Answer::Matrix3x2(rows(&at(p, model.increment, model.b))),
+                |b| Answer::Matrix3x2(rows(&at(&model.p, model.increment, b))),
+                Answer::Matrix3x2(rows(&Matrix3x2::from_columns(&[
                     reversed.column(1),
-                    reversed.column(0)
+                    reversed.column(0),
                 ]))),
             );
             // phi held fixed: each wheel moves the pose by cos(phi)/2, sin(phi)/2 alone,
@@ -253,32 +269,39 @@ fn mistakes(call: &Call, expected: &Value) -> Vec<(HintKind, Value)> {
                 fixed[(0, j)] = mean[0];
                 fixed[(1, j)] = mean[1];
             }
-            variants.push((HintKind::IncrementJacobianTurn, json!(rows(&fixed))));
+            variants.push((
+                HintKind::IncrementJacobianTurn,
+                Answer::Matrix3x2(rows(&fixed)),
+            ));
             // The turn terms doubled: the right answer's distance from the fixed one, twice.
             let right = at(&model.p, model.increment, model.b);
             let doubled = fixed + (right - fixed) * 2.0;
             variants.push((
                 HintKind::IncrementJacobianTurnDoubled,
-                json!(rows(&doubled)),
+                Answer::Matrix3x2(rows(&doubled)),
             ));
             variants.push((
                 HintKind::IncrementJacobianColumnsSwapped,
-                json!(rows(&Matrix3x2::from_columns(&[
+                Answer::Matrix3x2(rows(&Matrix3x2::from_columns(&[
                     right.column(1),
-                    right.column(0)
+                    right.column(0),
                 ]))),
             ));
             variants
         }
-        Call::WheelNoise {
-            ds_r,
-            ds_l,
-            k_r,
-            k_l,
-        } => {
+        (
+            Call::WheelNoise {
+                ds_r,
+                ds_l,
+                k_r,
+                k_l,
+            },
+            _,
+        ) => {
             let increment = Increment::new(*ds_r, *ds_l);
             let swapped = Increment::new(*ds_l, *ds_r);
-            let noise = |increment, k_r, k_l| json!(rows(&wheel_noise(increment, k_r, k_l)));
+            let noise =
+                |increment, k_r, k_l| Answer::Matrix2(rows(&wheel_noise(increment, k_r, k_l)));
             let signed = wheel_noise(increment, *k_r, *k_l).component_mul(&Matrix2::new(
                 ds_r.signum(),
                 1.0,
@@ -287,18 +310,21 @@ fn mistakes(call: &Call, expected: &Value) -> Vec<(HintKind, Value)> {
             ));
             let variance = wheel_noise(increment, *k_r, *k_l);
             vec![
-                (HintKind::NegativeWheelVariance, json!(rows(&signed))),
+                (
+                    HintKind::NegativeWheelVariance,
+                    Answer::Matrix2(rows(&signed)),
+                ),
                 (
                     HintKind::WheelDeviation,
-                    json!(rows(&variance.map(f64::sqrt))),
+                    Answer::Matrix2(rows(&variance.map(f64::sqrt))),
                 ),
                 (
                     HintKind::WheelVarianceSquared,
-                    json!(rows(&Matrix2::new(
+                    Answer::Matrix2(rows(&Matrix2::new(
                         k_r * ds_r * ds_r,
                         0.0,
                         0.0,
-                        k_l * ds_l * ds_l
+                        k_l * ds_l * ds_l,
                     ))),
                 ),
                 (
@@ -309,12 +335,15 @@ fn mistakes(call: &Call, expected: &Value) -> Vec<(HintKind, Value)> {
                 (HintKind::WheelConstantsSwapped, noise(swapped, *k_l, *k_r)),
             ]
         }
-        Call::Propagate {
-            sigma_p,
-            f_p,
-            f_delta,
-            sigma_delta,
-        } => {
+        (
+            Call::Propagate {
+                sigma_p,
+                f_p,
+                f_delta,
+                sigma_delta,
+            },
+            _,
+        ) => {
             let (sigma_p, f_p, f_delta, sigma_delta) = (
                 matrix_of(sigma_p),
                 matrix_of(f_p),
@@ -322,11 +351,11 @@ fn mistakes(call: &Call, expected: &Value) -> Vec<(HintKind, Value)> {
                 matrix_of(sigma_delta),
             );
             let propagated = |f_p, f_delta, sigma_delta| {
-                json!(rows(&propagate_through(
+                Answer::Matrix3(rows(&propagate_through(
                     &sigma_p,
                     f_p,
                     f_delta,
-                    sigma_delta
+                    sigma_delta,
                 )))
             };
             // Sigma_delta padded with zeros: what the identity's first two columns give.
@@ -346,6 +375,8 @@ fn mistakes(call: &Call, expected: &Value) -> Vec<(HintKind, Value)> {
                 ),
             ]
         }
+        // An answer of another function's shape: no call of the exercise gives one.
+        _ => Vec::new(),
     }
 }
 
@@ -375,10 +406,10 @@ impl Step {
     /// (`wheel_base`), and its answer with the robot turning the other way (`reversed`).
     fn variants(
         &self,
-        turned: impl Fn(&Vector3<f64>) -> Value,
-        wheel_base: impl Fn(f64) -> Value,
-        reversed: Value,
-    ) -> Vec<(HintKind, Value)> {
+        turned: impl Fn(&Vector3<f64>) -> Answer,
+        wheel_base: impl Fn(f64) -> Answer,
+        reversed: Answer,
+    ) -> Vec<(HintKind, Answer)> {
         let (_, dtheta) = self.increment.displacement(self.b);
         // The heading before the step, theta, and after it, theta + dtheta, in place of
         // theta + dtheta/2.
@@ -397,12 +428,15 @@ impl Step {
 mod tests {
     use super::*;
     use crate::exercises::odometry::{Case, generate};
+    use crate::grading::{Contract, transpose};
+    use serde_json::json;
     use std::collections::BTreeSet;
     use std::f64::consts::TAU;
 
     fn diagnosed(case: &Case, got: &Value) -> Option<crate::grading::HintKind> {
         let mismatches = case.check(got, Tolerance::default());
-        diagnose(&case.call, &case.expected, got, &mismatches).map(|hint| hint.kind)
+        let expected = case.call.reference().unwrap();
+        diagnose(&case.call, &expected, got, &mismatches).map(|hint| hint.kind)
     }
 
     fn same(case: &Case, a: &Value, b: &Value) -> bool {
@@ -433,7 +467,11 @@ mod tests {
             let mut recognised = BTreeSet::new();
             for case in generate(seed, 6) {
                 assert_eq!(diagnosed(&case, &case.expected), None, "{}", case.id);
-                let variants = mistakes(&case.call, &case.expected);
+                let variants: Vec<(HintKind, Value)> =
+                    mistakes(&case.call, &case.call.reference().unwrap())
+                        .into_iter()
+                        .map(|(kind, answer)| (kind, serde_json::to_value(answer).unwrap()))
+                        .collect();
                 for (kind, wrong) in &variants {
                     if same(&case, &case.expected, wrong) {
                         continue;
