@@ -50,8 +50,19 @@ pub trait Contract: Clone + Debug + PartialEq + Serialize + DeserializeOwned {
 
     /// The reference answer as its output in the contract's shapes.
     fn reference_output(&self) -> Result<Value, Error> {
-        self.reference()
-            .map(|answer| serde_json::to_value(answer).expect("answers serialise"))
+        self.reference().map(|answer| output(&answer))
+    }
+
+    /// Whether the output `got` is `answer`, within the default tolerance: what a hint
+    /// asks of the answer a mistake gives.
+    fn answers(&self, answer: &Self::Answer, got: &Value) -> bool {
+        compare(
+            &self.output_shape(),
+            &output(answer),
+            got,
+            Tolerance::default(),
+        )
+        .is_empty()
     }
 
     /// The classic mistake that explains a failing output `got`, if one does; `expected`
@@ -62,6 +73,11 @@ pub trait Contract: Clone + Debug + PartialEq + Serialize + DeserializeOwned {
         got: &Value,
         mismatches: &[Mismatch],
     ) -> Option<Hint>;
+}
+
+/// An answer as the output a student's function returns.
+fn output(answer: &impl Serialize) -> Value {
+    serde_json::to_value(answer).expect("answers serialise")
 }
 
 /// One test case: a call of a student function and the output it must return.

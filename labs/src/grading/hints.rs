@@ -3,7 +3,7 @@
 //! contract's `diagnose`); the mistakes of any exercise's outputs are here, with what
 //! every exercise's diagnosis uses.
 
-use super::compare::{Mismatch, Problem, Tolerance, compare};
+use super::compare::{Mismatch, Problem};
 use super::contract::Contract;
 use super::infinity;
 use crate::Exercise;
@@ -140,7 +140,7 @@ impl<'de> Deserialize<'de> for HintKind {
 /// angle outside [-pi, pi) (`not_wrapped`); a covariance not exactly symmetric.
 pub fn form_hint<C: Contract>(
     call: &C,
-    expected: &Value,
+    expected: &C::Answer,
     got: &Value,
     mismatches: &[Mismatch],
     transposed: Option<HintKind>,
@@ -151,11 +151,7 @@ pub fn form_hint<C: Contract>(
         return Some(Common::NotFinite.hint());
     }
     if any(Problem::WrongShape) {
-        let right_transposed = || {
-            transpose(got).is_some_and(|t| {
-                compare(&call.output_shape(), expected, &t, Tolerance::default()).is_empty()
-            })
-        };
+        let right_transposed = || transpose(got).is_some_and(|t| call.answers(expected, &t));
         if let Some(kind) = transposed.filter(|_| right_transposed()) {
             return Some(kind.hint());
         }

@@ -6,8 +6,7 @@ use super::contract::{Answer, Association, BatchAssociation, Call, reference};
 use crate::angle::wrap;
 use crate::ekf::motion_jacobian;
 use crate::grading::{
-    Contract, Hint, Mismatch, Mistake, Tolerance, compare, form_hint, holds_non_finite, negated,
-    rows,
+    Contract, Hint, Mismatch, Mistake, form_hint, holds_non_finite, negated, rows,
 };
 use nalgebra::{Matrix2, Matrix3, Vector2};
 use serde_json::Value;
@@ -128,12 +127,8 @@ pub fn diagnose(
     got: &Value,
     mismatches: &[Mismatch],
 ) -> Option<Hint> {
-    let gives = |alternative: Option<Answer>| {
-        alternative.is_some_and(|alt| {
-            let alt = serde_json::to_value(alt).expect("answers serialise");
-            compare(&call.output_shape(), &alt, got, Tolerance::default()).is_empty()
-        })
-    };
+    let gives =
+        |alternative: Option<Answer>| alternative.is_some_and(|alt| call.answers(&alt, got));
     if holds_non_finite(got) {
         match call {
             Call::CalculateOdometry { delta_t, .. } if *delta_t == 0.0 => {
@@ -148,15 +143,7 @@ pub fn diagnose(
     let transposed = matches!(call, Call::JacobianObservationModel { .. })
         .then_some(HintKind::JacobianTransposed.kind());
     let not_wrapped = HintKind::BearingNotWrapped.kind();
-    let expected_json = serde_json::to_value(expected).expect("answers serialise");
-    if let Some(hint) = form_hint(
-        call,
-        &expected_json,
-        got,
-        mismatches,
-        transposed,
-        not_wrapped,
-    ) {
+    if let Some(hint) = form_hint(call, expected, got, mismatches, transposed, not_wrapped) {
         return Some(hint);
     }
     let kind = match call {
