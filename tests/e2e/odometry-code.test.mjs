@@ -131,7 +131,7 @@ test('the correct file scores full marks in the browser, draws each path over th
   const id = verdict.match(/submission (\d+)/)[1];
   const graded = await waitForSubmission(server, `/api/submissions/${id}`);
   assert.equal(graded.lab, LAB, 'the workbench submits as the odometry exercise');
-  assert.deepEqual(graded.result.tests.map((t) => t.name.split(/[:\s]/)[0]), [...FUNCTIONS, ...PATHS]);
+  assert.deepEqual(graded.result.tests.map((t) => t.subject.name), [...FUNCTIONS, ...PATHS]);
   assert.deepEqual(page.problems, []);
   await page.close();
 });
@@ -146,7 +146,7 @@ test('a classic mistake fails the test of the function it names, with its hint, 
   await runAndWait(page, '#run-datasets');
   const cli = cliGrade(text, 1);
   for (const t of cli.tests) {
-    const key = t.name.split(/[:\s]/)[0];
+    const key = t.subject.name;
     assert.equal(await testStatus(page, key), key === mistake.breaks || PATHS.includes(key) ? 'failed' : 'passed', key);
   }
   assert.equal(await browserPoints(page), Number(cli.points.toPrecision(4)));
@@ -248,7 +248,7 @@ test('in a course, one server grades an EKF and an odometry submission, each wit
   }
   assert.equal(graded['ekf-localization'].result.lab, 'ekf-localization');
   assert.equal(graded[LAB].result.lab, LAB);
-  const names = (lab) => graded[lab].result.result.tests.map((t) => t.name.split(/[:\s]/)[0]);
+  const names = (lab) => graded[lab].result.result.tests.map((t) => t.subject.name);
   assert.deepEqual(names(LAB), [...FUNCTIONS, ...PATHS]);
   assert.ok(names('ekf-localization').includes('predict') && !names('ekf-localization').includes('propagate'), names('ekf-localization').join());
   for (const lab of Object.keys(graded)) assert.equal(graded[lab].result.score, 1, lab);

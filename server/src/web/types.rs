@@ -9,56 +9,101 @@ use crate::store;
 use labs::Exercise;
 use labs::exercises::{Graded, Visit};
 use labs::grading::{GradeResult, Job, Outputs};
-use std::path::Path;
-use ts_rs::{Config, ExportError, TS};
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use ts_rs::{Config, ExportError, TS, TypeVisitor};
 
 /// Writes the declaration of every type the browser reads, and of the types they hold,
-/// into `dir`.
+/// into `dir`. Panics when two types would be declared in one file (the same name).
 pub fn export(dir: &Path) -> Result<(), ExportError> {
     // Integers reach the scripts as JavaScript numbers, whatever their width in Rust.
     let cfg = Config::new().with_out_dir(dir).with_large_int("number");
+    let mut declared = Declarations {
+        cfg: &cfg,
+        files: HashMap::new(),
+        error: None,
+    };
+    let d = &mut declared;
     // The grading: its result, the job the sandbox runs and what the sandbox reports.
-    GradeResult::export_all(&cfg)?;
-    Job::export_all(&cfg)?;
-    Outputs::export_all(&cfg)?;
+    d.visit::<GradeResult>();
+    d.visit::<Job>();
+    d.visit::<Outputs>();
     // Each exercise's runs: what its loop reads and records.
     for exercise in Exercise::ALL {
-        exercise.visit(RunTypes(&cfg))?;
+        exercise.visit(RunTypes(d));
     }
     // The site, what `/api/me` says, a student's submissions.
-    registry::Site::export_all(&cfg)?;
-    me::About::export_all(&cfg)?;
-    submit::Accepted::export_all(&cfg)?;
-    store::Submission::export_all(&cfg)?;
-    store::SubmissionSummary::export_all(&cfg)?;
-    error::ErrorBody::export_all(&cfg)?;
+    d.visit::<registry::Site>();
+    d.visit::<me::About>();
+    d.visit::<submit::Accepted>();
+    d.visit::<store::Submission>();
+    d.visit::<store::SubmissionSummary>();
+    d.visit::<error::ErrorBody>();
     // The staff's views and changes.
-    setup::CourseView::export_all(&cfg)?;
-    setup::StaffAdded::export_all(&cfg)?;
-    setup::RosterAnswer::export_all(&cfg)?;
-    setup::CodesFile::export_all(&cfg)?;
-    setup::TokenMade::export_all(&cfg)?;
-    setup::Revoked::export_all(&cfg)?;
-    store::Assignment::export_all(&cfg)?;
-    staff::ClassAnswer::export_all(&cfg)?;
-    staff::StudentAnswer::export_all(&cfg)?;
-    staff::RegradeStarted::export_all(&cfg)?;
-    store::Regrade::export_all(&cfg)?;
-    store::Granted::export_all(&cfg)?;
-    store::Waived::export_all(&cfg)?;
-    store::AuditEntry::export_all(&cfg)?;
-    Ok(())
+    d.visit::<setup::CourseView>();
+    d.visit::<setup::StaffAdded>();
+    d.visit::<setup::RosterAnswer>();
+    d.visit::<setup::CodesFile>();
+    d.visit::<setup::TokenMade>();
+    d.visit::<setup::Revoked>();
+    d.visit::<store::Assignment>();
+    d.visit::<staff::ClassAnswer>();
+    d.visit::<staff::StudentAnswer>();
+    d.visit::<staff::RegradeStarted>();
+    d.visit::<store::Regrade>();
+    d.visit::<store::Granted>();
+    d.visit::<store::Waived>();
+    d.visit::<store::AuditEntry>();
+    declared.error.map_or(Ok(()), Err)
 }
 
-/// Exports an exercise's types of its runs.
-struct RunTypes<'a>(&'a Config);
+/// Declares each type it visits and the types it holds, once each: a file a type, named
+/// for the type, so two types of one name (`Status` of a test and of a submission) would
+/// overwrite each other's file: one of them needs `#[ts(rename = "...")]`. (Two Rust types
+/// may share one declaration, as serde_json's `Value` and `Map` share `JsonValue`.)
+struct Declarations<'a> {
+    cfg: &'a Config,
+    files: HashMap<PathBuf, String>,
+    error: Option<ExportError>,
+}
 
-impl Visit for RunTypes<'_> {
-    type Output = Result<(), ExportError>;
+impl TypeVisitor for Declarations<'_> {
+    fn visit<T: TS + 'static + ?Sized>(&mut self) {
+        let Some(file) = T::output_path() else {
+            return; // a primitive, a list, a union of names: written where it is used
+        };
+        let text = match T::export_to_string(self.cfg) {
+            Ok(text) => text,
+            Err(error) => {
+                self.error.get_or_insert(error);
+                return;
+            }
+        };
+        if let Some(other) = self.files.get(&file) {
+            assert!(
+                *other == text,
+                "two types are declared as {}: rename one with #[ts(rename = \"...\")]",
+                file.display()
+            );
+            return;
+        }
+        self.files.insert(file, text);
+        if let Err(error) = T::export(self.cfg) {
+            self.error.get_or_insert(error);
+        }
+        T::visit_dependencies(self);
+    }
+}
 
-    fn visit<G: Graded>(self) -> Self::Output {
-        G::Run::export_all(self.0)?;
-        G::Record::export_all(self.0)
+/// Declares an exercise's types of its runs.
+struct RunTypes<'a, 'b>(&'a mut Declarations<'b>);
+
+impl Visit for RunTypes<'_, '_> {
+    type Output = ();
+
+    fn visit<G: Graded>(self) {
+        self.0.visit::<G::Run>();
+        self.0.visit::<G::Record>();
     }
 }
 

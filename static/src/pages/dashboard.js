@@ -105,8 +105,9 @@ async function regrade(scope, status, box) {
   }
 }
 
-/** The scores an extension or a waiver changed, in `box`: a row per submission, before and after. */
 /**
+ * The scores an extension or a waiver changed, in `box`: a row per submission, before and after.
+ *
  * @param {HTMLElement} box
  * @param {import('../types/Rejudged').Rejudged[]} changed
  */
@@ -129,8 +130,11 @@ function showRejudged(box, changed) {
 /** A text as search compares it: without accents, in lower case ("Björn" is "bjorn"). */
 const folded = (text) => text.normalize('NFD').replace(/\p{M}/gu, '').toLowerCase();
 
-/** The class's rows with what the table sorts and filters on. */
-/** @param {ClassAnswer} answer */
+/**
+ * The class's rows with what the table sorts and filters on.
+ *
+ * @param {ClassAnswer} answer
+ */
 function classRows(answer) {
   return answer.students.map((s) => ({
     student: s,
@@ -500,8 +504,7 @@ async function classPage() {
  * a count of lines added and removed, then each changed stretch with three lines of
  * context, every line numbered in both files and marked +, - or a space, so that a
  * reader who does not tell the colours apart reads the marks.
- */
-/**
+ *
  * @param {HTMLElement} box
  * @param {Submission} before
  * @param {Submission} after

@@ -48,8 +48,11 @@ export function scoreOf(result) {
   return `${percent(result.score)} (${fmt(result.points, 4)} of ${result.max_points} points)`;
 }
 
-/** How a moment is shown: to the minute, with the zone it is shown in (`15 Dec 2026, 23:59 CET`). */
-/** @type {Intl.DateTimeFormatOptions} */
+/**
+ * How a moment is shown: to the minute, with the zone it is shown in (`15 Dec 2026, 23:59 CET`).
+ *
+ * @type {Intl.DateTimeFormatOptions}
+ */
 const MOMENT = { year: 'numeric', month: 'short', day: 'numeric', hour: '2-digit', minute: '2-digit', timeZoneName: 'short' };
 
 /**

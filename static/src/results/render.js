@@ -264,13 +264,17 @@ export function renderSubmission(box, submission, { comparison = '', open = fals
  * @param {GradeResult | null} after
  */
 function changedTests(before, after) {
-  const points = (result) => new Map((result?.gradable ? result.tests : []).map((test) => [test.name, test]));
-  const [old, now] = [points(before), points(after)];
-  const names = [...new Set([...old.keys(), ...now.keys()])];
-  return names.flatMap((name) => {
-    const [a, b] = [old.get(name)?.points ?? 0, now.get(name)?.points ?? 0];
+  // By what they test: a grader with another plan names a function's test by another
+  // count of cases ("predict: 12 cases", "predict: 18 cases").
+  /** @param {GradeResult | null} result */
+  const bySubject = (result) => new Map((result?.gradable ? result.tests : [])
+    .map((test) => [`${test.subject.kind} ${test.subject.name}`, test]));
+  const [old, now] = [bySubject(before), bySubject(after)];
+  const subjects = [...new Set([...old.keys(), ...now.keys()])];
+  return subjects.flatMap((subject) => {
+    const [a, b] = [old.get(subject)?.points ?? 0, now.get(subject)?.points ?? 0];
     if (Math.abs(a - b) < 1e-9) return [];
-    const max = (now.get(name) ?? old.get(name)).max_points;
+    const { name, max_points: max } = now.get(subject) ?? old.get(subject);
     return [{ name, before: a, after: b, max }];
   });
 }

@@ -10,7 +10,7 @@ import { site } from '../site.js';
 /**
  * What /api/me answered, or why it did not (`problem`, with `courses` null).
  *
- * @typedef {Partial<import('../types/About').About> & { problem?: string }} Known
+ * @typedef {Omit<Partial<import('../types/About').About>, 'courses'> & { courses: boolean | null, problem?: string }} Known
  */
 
 /** The course of a typed student id: its variant's, and its submission's (the server's default). */

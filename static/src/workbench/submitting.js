@@ -40,6 +40,7 @@ export class Submitter {
     ui.submission.hidden = false;
     ui.submission.dataset.status = 'queued';
     ui.submission.replaceChildren(element('p', 'verdict', 'Sending your file…'));
+    /** @type {Partial<import('../types/Accepted').Accepted> & { error?: string }} What the server answered. */
     let answer;
     try {
       const response = await fetch('/api/submissions', {

@@ -65,6 +65,7 @@ export class Viewer {
     this.result.replaceChildren();
     showError(this.error, null);
     const url = `/api/submissions/${encodeURIComponent(id)}`;
+    /** @type {import('../types/Submission').Submission} */
     let submission;
     try {
       submission = await getJson(url);

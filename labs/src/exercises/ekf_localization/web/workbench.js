@@ -54,6 +54,9 @@ class DatasetRunView {
   }
 }
 
-/** The EKF workbench's runs: each one's views from the harness's output, and where they are drawn. */
-/** @type {import('estlab/workbench/running.js').ExerciseRuns} */
+/**
+ * The EKF workbench's runs: each one's views from the harness's output, and where they are drawn.
+ *
+ * @type {import('estlab/workbench/running.js').ExerciseRuns<ReturnType<typeof collectRun>>}
+ */
 export const runs = { collect: collectRun, View: DatasetRunView };

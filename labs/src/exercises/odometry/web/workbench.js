@@ -162,6 +162,9 @@ class PathRunView {
   }
 }
 
-/** The odometry workbench's runs: each one's views from the harness's output, and where they are drawn. */
-/** @type {import('estlab/workbench/running.js').ExerciseRuns} */
+/**
+ * The odometry workbench's runs: each one's views from the harness's output, and where they are drawn.
+ *
+ * @type {import('estlab/workbench/running.js').ExerciseRuns<ReturnType<typeof collectRun>>}
+ */
 export const runs = { collect: collectRun, View: PathRunView };
