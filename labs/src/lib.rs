@@ -15,6 +15,7 @@ pub mod dataset;
 pub mod ekf;
 mod error;
 pub mod exercises;
+pub mod fusion;
 pub mod grading;
 pub mod odometry;
 pub mod rng;
