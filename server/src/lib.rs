@@ -5,6 +5,7 @@
 pub mod clock;
 pub mod commands;
 pub mod courses;
+pub mod datasets;
 pub mod error;
 pub mod grading;
 pub mod platforms;

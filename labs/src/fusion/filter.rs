@@ -42,6 +42,7 @@ use serde::{Deserialize, Serialize};
 
 /// Everything the filter depends on.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, ts_rs::TS)]
+#[ts(rename = "FusionSettings")]
 #[serde(default)]
 pub struct Settings {
     /// `k_xy`: the standard deviation of the position per metre moved.
@@ -197,6 +198,7 @@ pub fn measurement_noise(measurement: &Measurement) -> Matrix3<f64> {
 
 /// What became of a step's reading.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, ts_rs::TS)]
+#[ts(rename = "ReadingUse")]
 #[serde(rename_all = "snake_case", tag = "kind")]
 pub enum Use {
     /// The step had none.

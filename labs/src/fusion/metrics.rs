@@ -8,6 +8,7 @@ use serde::{Deserialize, Serialize};
 
 /// Position errors against ground truth over a trial's steps, metres.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, ts_rs::TS)]
+#[ts(rename = "PositionErrors")]
 pub struct Errors {
     /// The mean distance to the truth (what the report calls its error).
     pub mean: f64,
@@ -36,6 +37,7 @@ impl Errors {
 
 /// A run of the filter over a trial, summed up.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, ts_rs::TS)]
+#[ts(rename = "FusionSummary")]
 pub struct Summary {
     pub filter: Errors,
     /// The odometry's own pose.

@@ -23,6 +23,7 @@ use serde::{Deserialize, Serialize};
 
 /// What the sensor gave at a step.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, ts_rs::TS)]
+#[ts(rename = "SensorReading")]
 #[serde(rename_all = "snake_case")]
 pub enum Reading {
     /// Both platforms, front one first.
@@ -33,6 +34,7 @@ pub enum Reading {
 
 /// One step of a trial. Poses are `[x, y, theta]`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, ts_rs::TS)]
+#[ts(rename = "TrialStep")]
 pub struct Step {
     pub t: f64,
     /// The odometry's own pose: only its increments from step to step are trusted.

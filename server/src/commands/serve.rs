@@ -1,6 +1,7 @@
 //! `estlab serve`: the web application.
 
 use crate::clock::{Clock, SystemClock};
+use crate::datasets::Datasets;
 use crate::error::Error;
 use crate::grading::{Grader, Secret};
 use crate::sandbox::{Sandbox, cores};
@@ -38,6 +39,10 @@ pub struct Args {
     /// --behind-https).
     #[arg(long, value_name = "URL")]
     public_url: Option<String>,
+    /// A folder of real data sets to offer on the pages (never shipped with estlab):
+    /// `northstar/` with the Northstar report's trial files.
+    #[arg(long, value_name = "DIR")]
+    datasets: Option<PathBuf>,
 }
 
 /// Gradings at once: one per two cores, each with two engines side by side, which keeps
@@ -58,6 +63,10 @@ pub fn run(args: &Args) -> Result<(), Error> {
 
 async fn serve(args: &Args) -> Result<(), Error> {
     let assets = Assets::load(&args.static_dir)?;
+    let datasets = match &args.datasets {
+        Some(dir) => Datasets::load(dir)?,
+        None => Datasets::default(),
+    };
     let store = Store::open(&args.data_dir)?;
     let secret = Secret::load_or_create(&args.data_dir)?;
     let parallel = args.parallel.clamp(1, cores());
@@ -92,6 +101,7 @@ async fn serve(args: &Args) -> Result<(), Error> {
         clock,
         limiter: SignInLimiter::default(),
         behind_https: args.behind_https,
+        datasets: Arc::new(datasets),
     }));
     println!(
         "estlab is serving on http://{addr}/ (submissions in {})",

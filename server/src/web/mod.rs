@@ -28,6 +28,7 @@ pub use limiter::SignInLimiter;
 pub use viewer::SESSION_COOKIE;
 
 use crate::clock::Clock;
+use crate::datasets::Datasets;
 use crate::grading::Grader;
 use crate::store::{self, Store};
 use axum::Router;
@@ -58,6 +59,8 @@ pub struct AppState {
     /// Behind a TLS reverse proxy: cookies are `Secure`, and the client's address is the
     /// last one the proxy added to `X-Forwarded-For`.
     pub behind_https: bool,
+    /// The real data sets of `--datasets DIR` (none without it).
+    pub datasets: Arc<Datasets>,
 }
 
 /// The largest sign-in form: a code is 24 characters.
@@ -80,6 +83,7 @@ fn page_route(page: &Page) -> MethodRouter<Arc<AppState>> {
         "car" => get(pages::car),
         "ekf" => get(pages::ekf),
         "odometry" => get(pages::odometry),
+        "fusion" => get(pages::fusion),
         "signin" => {
             get(signin::page).post(signin::sign_in.layer(DefaultBodyLimit::max(MAX_SIGN_IN)))
         }
@@ -141,6 +145,7 @@ pub fn router(state: Arc<AppState>) -> Router {
             post(staff::waive),
         )
         .route("/api/courses/{course}/audit", get(staff::audit))
+        .route("/api/datasets/northstar", get(pages::northstar_trials))
         .route("/healthz", get(|| async { "ok" }))
         .route("/favicon.svg", get(pages::icon))
         .route("/favicon.ico", get(pages::icon))

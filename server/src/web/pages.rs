@@ -4,7 +4,9 @@ use super::assets::PageAssets;
 use super::registry::{self, Group};
 use super::viewer::Viewer;
 use super::{AppState, Error, blocking};
+use crate::datasets::NamedTrial;
 use askama::Template;
+use axum::Json;
 use axum::extract::State;
 use axum::http::{StatusCode, Uri, header};
 use axum::response::{Html, IntoResponse, Response};
@@ -34,6 +36,16 @@ struct Odometry<'a> {
     page: &'a str,
     assets: PageAssets<'a>,
     nav: Nav,
+}
+
+#[derive(Template)]
+#[template(path = "fusion.html")]
+struct Fusion<'a> {
+    page: &'a str,
+    assets: PageAssets<'a>,
+    nav: Nav,
+    /// How many of the report's trials the server was given (`--datasets`).
+    real_trials: usize,
 }
 
 #[derive(Template)]
@@ -139,6 +151,21 @@ pub async fn odometry(
         assets: state.assets.page("odometry"),
         nav: Nav::of(&state, &viewer).await?,
     })
+}
+
+pub async fn fusion(State(state): State<Arc<AppState>>, viewer: Viewer) -> Result<Response, Error> {
+    html(&Fusion {
+        page: "fusion",
+        assets: state.assets.page("fusion"),
+        nav: Nav::of(&state, &viewer).await?,
+        real_trials: state.datasets.northstar.len(),
+    })
+}
+
+/// The Northstar report's trials the server was given, for the fusion page (none without
+/// `--datasets`). Anyone may read them: the pages that show them are public.
+pub async fn northstar_trials(State(state): State<Arc<AppState>>) -> Json<Vec<NamedTrial>> {
+    Json(state.datasets.northstar.clone())
 }
 
 pub async fn ekf(State(state): State<Arc<AppState>>, viewer: Viewer) -> Result<Response, Error> {

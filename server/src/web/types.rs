@@ -39,6 +39,11 @@ pub fn export(dir: &Path) -> Result<(), ExportError> {
     d.visit::<store::Submission>();
     d.visit::<store::SubmissionSummary>();
     d.visit::<error::ErrorBody>();
+    // The fusion page: the real trials the server offers, and what the wasm build gives.
+    d.visit::<crate::datasets::NamedTrial>();
+    d.visit::<labs::fusion::Settings>();
+    d.visit::<labs::fusion::TrialParams>();
+    d.visit::<labs::fusion::Summary>();
     // The staff's views and changes.
     d.visit::<setup::CourseView>();
     d.visit::<setup::StaffAdded>();

@@ -96,6 +96,7 @@ impl App {
             clock: Arc::clone(&clock) as Arc<dyn Clock>,
             limiter: SignInLimiter::default(),
             behind_https: false,
+            datasets: Default::default(),
         });
         let router = estlab::web::router(Arc::clone(&state));
         App {

@@ -1,0 +1,98 @@
+//! Real data sets found in a folder an instructor names (`--datasets DIR`): estlab never
+//! ships them, and the pages and commands work on generated data without them.
+//!
+//! `DIR/northstar/` holds the Northstar report's trials, each as its two files,
+//! `trialN_odometry_northstar.csv` (odometry and the sensor's pose) and
+//! `trialN_kalman_groundtruth.csv` (the report's Kalman estimate and ground truth), as
+//! `../shared/data/README.md` describes them.
+
+use crate::error::Error;
+use labs::fusion::Trial;
+use serde::Serialize;
+use std::path::Path;
+use ts_rs::TS;
+
+/// The folder of the Northstar trials within the data sets folder.
+pub const NORTHSTAR: &str = "northstar";
+const SENSOR_FILE: &str = "_odometry_northstar.csv";
+const ESTIMATE_FILE: &str = "_kalman_groundtruth.csv";
+
+/// A real trial of the Northstar report.
+#[derive(Clone, Debug, Serialize, TS)]
+pub struct NamedTrial {
+    /// The trial's name, from its files': `trial1` for `trial1_odometry_northstar.csv`.
+    pub name: String,
+    pub trial: Trial,
+}
+
+/// Everything found in the data sets folder.
+#[derive(Clone, Debug, Default, Serialize, TS)]
+pub struct Datasets {
+    /// The Northstar report's trials, by name.
+    pub northstar: Vec<NamedTrial>,
+}
+
+impl Datasets {
+    /// Reads what `dir` holds. A folder that is missing is an error (it was named on
+    /// purpose); a trial whose second file is missing or that does not parse is one too,
+    /// naming the file and line.
+    pub fn load(dir: &Path) -> Result<Datasets, Error> {
+        if !dir.is_dir() {
+            return Err(Error::Invalid(format!(
+                "--datasets {}: no such folder",
+                dir.display()
+            )));
+        }
+        Ok(Datasets {
+            northstar: northstar_trials(&dir.join(NORTHSTAR))?,
+        })
+    }
+
+    /// The Northstar trial of that name.
+    pub fn northstar_trial(&self, name: &str) -> Option<&Trial> {
+        self.northstar
+            .iter()
+            .find(|t| t.name == name)
+            .map(|t| &t.trial)
+    }
+}
+
+fn northstar_trials(dir: &Path) -> Result<Vec<NamedTrial>, Error> {
+    if !dir.is_dir() {
+        return Ok(Vec::new());
+    }
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .map_err(Error::io(dir))?
+        .filter_map(|entry| entry.ok())
+        .filter_map(|entry| {
+            let file = entry.file_name().into_string().ok()?;
+            file.strip_suffix(SENSOR_FILE).map(str::to_owned)
+        })
+        .collect();
+    names.sort();
+    names
+        .into_iter()
+        .map(|name| {
+            let sensor = dir.join(format!("{name}{SENSOR_FILE}"));
+            let estimate = dir.join(format!("{name}{ESTIMATE_FILE}"));
+            let trial = Trial::from_report(
+                (&read(&sensor)?, &sensor.display().to_string()),
+                (&read(&estimate)?, &estimate.display().to_string()),
+            )?;
+            Ok(NamedTrial { name, trial })
+        })
+        .collect()
+}
+
+/// The text of a data file, at most 64 MiB.
+fn read(path: &Path) -> Result<String, Error> {
+    const MAX_BYTES: u64 = 64 << 20;
+    let size = std::fs::metadata(path).map_err(Error::io(path))?.len();
+    if size > MAX_BYTES {
+        return Err(Error::Invalid(format!(
+            "{}: {size} bytes, more than a data file may have ({MAX_BYTES})",
+            path.display()
+        )));
+    }
+    std::fs::read_to_string(path).map_err(Error::io(path))
+}
