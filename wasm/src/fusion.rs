@@ -27,6 +27,13 @@ pub fn fusion_defaults() -> String {
     .expect("defaults serialise")
 }
 
+/// The gate on the Mahalanobis distance at probability `gate`: `chi2inv(gate, 3)`,
+/// infinite at 1, to show beside the gate's control.
+#[wasm_bindgen(js_name = fusionGateThreshold)]
+pub fn fusion_gate_threshold(gate: f64) -> f64 {
+    fusion::filter::chi2inv_3(gate)
+}
+
 /// A trial, held in wasm memory so that re-runs cost only the filter.
 #[wasm_bindgen]
 pub struct FusionTrial {

@@ -18,7 +18,7 @@ mod exercises {
 pub use car::{CarMonteCarlo, CarRun, car_defaults, car_monte_carlo, run_car};
 pub use cases::{check_case, generate_cases};
 pub use ekf::{Dataset, EkfRun, lambda_m};
-pub use fusion::{FusionRun, FusionTrial, fusion_defaults};
+pub use fusion::{FusionRun, FusionTrial, fusion_defaults, fusion_gate_threshold};
 pub use grading::{Grader, student_seed};
 pub use odometry::{
     OdometryMonteCarlo, OdometryPropagation, OdometrySystematic, OdometryUmbmark,
