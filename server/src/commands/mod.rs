@@ -5,6 +5,7 @@ pub mod backup;
 pub mod car;
 pub mod cases;
 pub mod course;
+pub mod fusion;
 pub mod grade;
 pub mod grade_class;
 pub mod odometry;
@@ -46,6 +47,7 @@ enum Command {
     Simulate(simulate::Args),
     Car(car::Args),
     Odometry(odometry::Args),
+    Fusion(fusion::Args),
     Cases(cases::Args),
     Grade(grade::Args),
     GradeClass(grade_class::Args),
@@ -73,6 +75,7 @@ pub fn main() -> ExitCode {
         Command::Simulate(args) => simulate::run(&args),
         Command::Car(args) => car::run(&args),
         Command::Odometry(args) => odometry::run(&args),
+        Command::Fusion(args) => fusion::run(&args),
         Command::Cases(args) => cases::run(&args),
         Command::Grade(args) => grade::run(&args),
         Command::GradeClass(args) => grade_class::run(&args),
