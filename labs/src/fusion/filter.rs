@@ -163,7 +163,7 @@ pub fn predict(
     let mut g = Matrix3::identity();
     g[(0, 2)] = -sin * dx - cos * dy;
     g[(1, 2)] = cos * dx - sin * dy;
-    let moved = dx.hypot(dy);
+    let moved = libm::hypot(dx, dy);
     let r = Matrix3::from_diagonal(&Vector3::new(
         (settings.process_xy * moved).powi(2),
         (settings.process_xy * moved).powi(2),

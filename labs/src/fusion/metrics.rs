@@ -23,7 +23,7 @@ impl Errors {
     /// The errors of `poses` against `truths`, pairwise; `None` when there are none.
     pub fn of(pairs: impl Iterator<Item = ([f64; 3], [f64; 3])>) -> Option<Errors> {
         let distances: Vec<f64> = pairs
-            .map(|(pose, truth)| (pose[0] - truth[0]).hypot(pose[1] - truth[1]))
+            .map(|(pose, truth)| libm::hypot(pose[0] - truth[0], pose[1] - truth[1]))
             .collect();
         let n = distances.len() as f64;
         (!distances.is_empty()).then(|| Errors {
