@@ -4,7 +4,7 @@ import assert from 'node:assert/strict';
 import { spawn, execFileSync } from 'node:child_process';
 import { existsSync, mkdtempSync, readFileSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
-import { dirname, join } from 'node:path';
+import { dirname, join, resolve } from 'node:path';
 import { after, before } from 'node:test';
 import { fileURLToPath } from 'node:url';
 import { chromium } from 'playwright-core';
@@ -15,6 +15,13 @@ export const estlabBinary = process.env.ESTLAB_BIN ?? join(root, 'target', 'debu
 export const webDir = process.env.ESTLAB_WEB ?? join(root, 'target', 'web');
 export const staticDir = join(webDir, 'dist');
 export const chromiumPath = process.env.CHROMIUM ?? '/usr/bin/chromium';
+/**
+ * The real data sets (`ESTLAB_SHARED_DATA`, default `../shared/data` beside the repository;
+ * a relative path is taken from the repository's root), as `estlab serve --datasets` reads
+ * them; `ESTLAB_REQUIRE_SHARED_DATA=1` makes a test that needs them fail where they are missing.
+ */
+export const sharedDataDir = resolve(root, process.env.ESTLAB_SHARED_DATA ?? join('..', 'shared', 'data'));
+export const requireSharedData = process.env.ESTLAB_REQUIRE_SHARED_DATA === '1';
 /** The exercises' folders. */
 export const exercisesDir = join(root, 'labs', 'src', 'exercises');
 

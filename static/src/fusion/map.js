@@ -44,14 +44,18 @@ function circle(radius, segments = 96) {
   return [{ coords }];
 }
 
-/** The series of the readings: by intensity class, or all alike where it is unknown. */
+/**
+ * The series of the readings: by intensity class where it is known, else all alike (the
+ * others empty: the map always has the same series, as a series left out would leave a
+ * hole in the chart's option).
+ */
 function readingSeries(v) {
   const read = (k) => v.use[k] !== readingUse.none;
-  if (!v.platforms) {
-    return [markers('readings', 'readings of the sensor (grey dots)', positions(v.measurement, read), colours.measurement, 'circle', 5, 3)];
-  }
-  return intensityClasses.map(({ id, name, from, to, colour, symbol }) => markers(
-    id, name, positions(v.measurement, (k) => read(k) && v.intensity[k] >= from && v.intensity[k] < to), colour, symbol, 5, 3));
+  return [
+    markers('readings', 'readings of the sensor (grey dots)', v.platforms ? [] : positions(v.measurement, read), colours.measurement, 'circle', 5, 3),
+    ...intensityClasses.map(({ id, name, from, to, colour, symbol }) => markers(id, name,
+      v.platforms ? positions(v.measurement, (k) => read(k) && v.intensity[k] >= from && v.intensity[k] < to) : [], colour, symbol, 5, 3)),
+  ];
 }
 
 /**
@@ -72,9 +76,7 @@ export function drawMap(plot, v, fieldOfView, subject) {
     ...readingSeries(v),
     styled(line('truth', v.truth[0], v.truth[1], colours.truth, { name: 'the true path (solid)', z: 4 }), dashes.truth, 2),
     styled(line('odometry', v.odometry[0], v.odometry[1], colours.odometry, { name: 'odometry (dotted)', z: 4 }), dashes.odometry, 2),
-    ...(v.report
-      ? [styled(line('report', v.report[0], v.report[1], colours.second, { name: "the report's estimate (purple, dash-dotted)", z: 5 }), [8, 3, 2, 3], 1.5)]
-      : []),
+    styled(line('report', v.report?.[0] ?? [], v.report?.[1] ?? [], colours.second, { name: "the report's estimate (purple, dash-dotted)", z: 5 }), [8, 3, 2, 3], 1.5),
     styled(line('estimate', v.estimate[0], v.estimate[1], colours.estimate, { name: 'the filter (dashed)', z: 6 }), dashes.estimate, 1.5),
     outlineSeries('ellipses', `3σ ellipses, every ${v.ellipseEvery} steps`, v.ellipses, colours.estimate, 1, 0.7, 6),
     markers('gated', 'rejected by the gate (orange diamonds)', gated, colours.outlier, 'emptyDiamond', 10, 7),
@@ -84,7 +86,9 @@ export function drawMap(plot, v, fieldOfView, subject) {
   // outside it would shrink the room to a corner.
   const paths = [v.truth, v.odometry, v.estimate, ...(v.report ? [v.report] : [])];
   const [cx, cy] = outlineXY(view);
-  plot.set(plane(plot, series, [...paths.map((p) => p[0]), ex, cx], [...paths.map((p) => p[1]), ey, cy]));
+  // The legend lists what there is: not the readings' classes of another kind of trial, nor a report's estimate the trial lacks.
+  const listed = series.filter((s) => s.data.length).map((s) => s.name);
+  plot.set(plane(plot, series, [...paths.map((p) => p[0]), ex, cx], [...paths.map((p) => p[1]), ey, cy], listed));
   plot.describe(describeMap(v, fieldOfView, subject));
 }
 
