@@ -242,7 +242,7 @@ function legends(page) {
 
 for (const [size, viewport] of sizes) {
   test(`legends at the ${size}'s size wrap above the plot, with an icon per line style`, bounded, async () => {
-    for (const path of ['/ekf', '/odometry', '/car']) {
+    for (const path of ['/ekf', '/odometry', '/car', '/fusion']) {
       const page = await openPage(browser, server.url + path, viewport);
       if (path === '/car') {
         await page.locator('#runs').fill('20');
@@ -258,7 +258,7 @@ for (const [size, viewport] of sizes) {
         assert.ok(legend.right <= legend.width, `${what}: the legend fits the chart's width`);
       }
       // A solid line and a dashed one have different icons, drawn in their style.
-      const map = shown.find((legend) => legend.plot === (path === '/car' ? 'spread' : path === '/ekf' ? 'map' : 'path'));
+      const map = shown.find((legend) => legend.plot === ({ '/car': 'spread', '/ekf': 'map', '/fusion': 'map' }[path] ?? 'path'));
       const icons = new Set(map.entries.filter((entry) => entry.icon?.startsWith('path://')).map((entry) => entry.icon));
       assert.ok(icons.size >= 2, `${path}: line styles with icons of their own: ${JSON.stringify(map.entries)}`);
       assert.deepEqual(page.problems, []);
@@ -269,7 +269,7 @@ for (const [size, viewport] of sizes) {
 
 test('at a phone\'s size an equation wider than its box shows it scrolls, and the keyboard scrolls it', bounded, async () => {
   for (const [size, viewport] of sizes) {
-    for (const path of ['/car', '/ekf', '/odometry']) {
+    for (const path of ['/car', '/ekf', '/odometry', '/fusion']) {
       const page = await openPage(browser, server.url + path, viewport);
       const boxes = await page.evaluate(() => [...document.querySelectorAll('.katex-display')].map((box) => ({
         wide: box.scrollWidth > box.clientWidth + 1,

@@ -115,7 +115,7 @@ async function loadTrial() {
     release(next);
     return;
   }
-  if (problem && fieldOf(problem)) fieldMessage(fieldOf(problem), problem, { live: false });
+  if (problem && choice === 'generated' && fieldOf(problem)) fieldMessage(fieldOf(problem), problem, { live: false });
   if (next !== current) release(current);
   current = next;
   trialProblem = problem;
