@@ -39,7 +39,7 @@ export function showErrors(summary, report) {
   const rows = [
     ['filter', 'the filter', summary.filter],
     ['odometry', 'odometry alone', summary.odometry],
-    ['sensor', 'the sensor alone (every reading)', summary.sensor],
+    ['sensor', 'the sensor alone', summary.sensor],
   ];
   if (summary.report) rows.push(['report', "the report's own filter", summary.report]);
   const body = byId('errors-table', HTMLTableElement).tBodies[0];
