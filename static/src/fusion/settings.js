@@ -5,7 +5,7 @@ import { decimal, fmt } from '../format.js';
 /** @typedef {import('../types/FusionSettings').FusionSettings} FusionSettings */
 
 /** The probabilities the gate's slider steps through; at 1 the gate rejects nothing. */
-export const gateSteps = [0.5, 0.9, 0.95, 0.99, 0.999, 0.9999, 1];
+const gateSteps = [0.5, 0.9, 0.95, 0.99, 0.999, 0.9999, 1];
 
 /**
  * A log slider's value to two significant digits (10^-1.3 is 0.05): the numbers the

@@ -17,7 +17,7 @@ const percent = (share) => `${fmt(100 * share, 4)} %`;
  *
  * @type {Record<string, { report: number, odometry: number, sensor: number }>}
  */
-export const published = {
+const published = {
   trial1: { report: 0.139, odometry: 0.292, sensor: 0.155 },
   trial2: { report: 0.057, odometry: 0.082, sensor: 0.123 },
 };

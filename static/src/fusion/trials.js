@@ -33,7 +33,7 @@ function loaded(trial, fields) {
 }
 
 /** "trial1" as people write it: "trial 1". */
-export const trialTitle = (name) => name.replace(/^trial(\d+)$/, 'trial $1');
+const trialTitle = (name) => name.replace(/^trial(\d+)$/, 'trial $1');
 
 /**
  * The trial generated from `params` (checked by the library, whose message names the

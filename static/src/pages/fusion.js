@@ -65,9 +65,10 @@ let reports = /** @type {LoadedTrial[]} */ ([]);
 let current = /** @type {LoadedTrial | null} */ (null);
 /** Why the trial the controls say did not load (shown as an error), or null. */
 let trialProblem = null;
-/** The name of the trial whose run the plots show, null before the first run. */
-let shownSubject = null;
-/** The last run drawn and its field of view, for a redraw at a new size of the window. */
+/**
+ * The run the plots show (null before the first), with its field of view and the name of
+ * its trial: what a new size of the window redraws, and whose a dimmed plot is.
+ */
 let shown = null;
 /** The loads of a trial begun: a later one supersedes an earlier one still reading its file. */
 let loads = 0;
@@ -128,10 +129,10 @@ async function loadTrial() {
  * they are current again.
  */
 function markStale(why) {
-  const stale = why !== null && shownSubject !== null;
+  const stale = why !== null && shown !== null;
   ui.runView.classList.toggle('stale', stale);
   ui.stale.hidden = !stale;
-  setText(ui.stale, stale ? `${why} The plots and tables below are still those of the last run, on ${shownSubject}, dimmed.` : '');
+  setText(ui.stale, stale ? `${why} The plots and tables below are still those of the last run, on ${shown.subject}, dimmed.` : '');
   ui.command.closest('p').hidden = why !== null;
   if (why !== null) {
     setText(ui.command, '');
@@ -190,11 +191,10 @@ function update() {
   captionErrors(current.name);
   showErrors(v.summary, current.report);
   showReadings(v.summary);
-  shownSubject = current.name;
   markStale(null);
-  const flags = [...current.flags, ...settingsFlags(s)];
-  setText(ui.command, commandText(current, settingsFlags(s)));
-  ui.command.dataset.flags = JSON.stringify(flags);
+  const flags = settingsFlags(s);
+  setText(ui.command, commandText(current, flags));
+  ui.command.dataset.flags = JSON.stringify([...current.flags, ...flags]);
   setText(ui.timing, `re-run and redraw: ${fmt(performance.now() - start, 2)} ms`);
 }
 
