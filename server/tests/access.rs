@@ -1178,7 +1178,7 @@ async fn refusals_of_the_api_are_json_naming_what_is_wrong() {
     assert_eq!(answer.status, StatusCode::BAD_REQUEST);
     assert_eq!(
         answer.error(),
-        "field `lab`: unknown exercise \"particle-filter\"; the exercises graded here: ekf-localization, odometry"
+        "field `lab`: unknown exercise \"particle-filter\"; the exercises graded here: ekf-localization, odometry, sensor-fusion"
     );
 
     // A body that is not the JSON asked for: 400, naming the line and column.

@@ -34,6 +34,8 @@ interface LoopTools {
   vector(n: number): Check<number[]>;
   matrix(rows: number, cols: number): Check<number[][]>;
   threshold: Check<number>;
+  number: Check<number>;
+  flag: Check<boolean>;
   describe(value: unknown): string;
 }
 

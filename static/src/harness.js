@@ -501,6 +501,13 @@
     return value;
   }
 
+  function flag(value, what) {
+    if (typeof value !== 'boolean') {
+      throw new HarnessError(what + ' is ' + describe(value) + ', not true or false');
+    }
+    return value;
+  }
+
   function list(n) {
     return (value, what) => {
       if (!isArray(value) || value.length !== n) {
@@ -552,6 +559,7 @@
   /// that the student's code cannot tamper with.
   const TOOLS = freeze({
     HarnessError, put, push, copy, field, list, vector, matrix, threshold, describe,
+    number: finiteNumber, flag,
   });
 
   global.estlabHarness = freeze({ callFunction: callFunction, run: run, defineLoop: defineLoop });

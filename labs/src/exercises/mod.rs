@@ -19,6 +19,7 @@ use std::str::FromStr;
 
 pub mod ekf_localization;
 pub mod odometry;
+pub mod sensor_fusion;
 
 /// The registry: every graded exercise (a module above) as its variant of [`Exercise`]
 /// and the type that declares it ([`Graded`]). The first is the default of the command
@@ -59,6 +60,9 @@ registry! {
     /// Odometry of a differential-drive robot and how its error grows: one step, its
     /// Jacobians, the wheels' noise and the propagation of the pose's covariance.
     Odometry => odometry::Odometry,
+    /// Fusing wheel odometry with an indoor positioning sensor (Northstar): the pose from
+    /// two platforms, its noise, the field of view, prediction, gate and update.
+    SensorFusion => sensor_fusion::SensorFusion,
 }
 
 impl Default for Exercise {
@@ -182,7 +186,7 @@ mod tests {
         let unknown = "particle-filter".parse::<Exercise>().unwrap_err();
         assert_eq!(
             unknown.to_string(),
-            "unknown exercise \"particle-filter\"; the exercises graded here: ekf-localization, odometry"
+            "unknown exercise \"particle-filter\"; the exercises graded here: ekf-localization, odometry, sensor-fusion"
         );
     }
 

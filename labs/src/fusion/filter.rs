@@ -224,6 +224,27 @@ pub enum Updated {
     },
 }
 
+/// The innovation `nu = z - mu`, its heading wrapped.
+pub fn innovation(mu: &Vector3<f64>, z: &Vector3<f64>) -> Vector3<f64> {
+    let mut nu = z - mu;
+    nu.z = wrap(nu.z);
+    nu
+}
+
+/// The squared Mahalanobis distance of a measurement `z` with noise `q` from the belief:
+/// `nu' S^-1 nu`, `S = Sigma + Q`; infinite when `S` has no inverse.
+pub fn mahalanobis(
+    mu: &Vector3<f64>,
+    sigma: &Matrix3<f64>,
+    z: &Vector3<f64>,
+    q: &Matrix3<f64>,
+) -> f64 {
+    let nu = innovation(mu, z);
+    (sigma + q)
+        .try_inverse()
+        .map_or(f64::INFINITY, |s_inv| (nu.transpose() * s_inv * nu)[0])
+}
+
 /// One update with a measurement `z` whose noise is `q` (module documentation); rejected
 /// when the Mahalanobis distance is beyond `gate`.
 pub fn update(
@@ -233,20 +254,13 @@ pub fn update(
     q: &Matrix3<f64>,
     gate: f64,
 ) -> Updated {
-    let mut nu = z - mu;
-    nu.z = wrap(nu.z);
-    let s = sigma + q;
-    let Some(s_inv) = s.try_inverse() else {
-        return Updated::Rejected {
-            distance: f64::INFINITY,
-        };
+    let distance = mahalanobis(mu, sigma, z, q);
+    let s_inv = match (sigma + q).try_inverse() {
+        Some(s_inv) if distance <= gate => s_inv,
+        _ => return Updated::Rejected { distance },
     };
-    let distance = (nu.transpose() * s_inv * nu)[0];
-    if distance.is_nan() || distance > gate {
-        return Updated::Rejected { distance };
-    }
     let k = sigma * s_inv;
-    let mut corrected = mu + k * nu;
+    let mut corrected = mu + k * innovation(mu, z);
     corrected.z = wrap(corrected.z);
     let posterior = (Matrix3::identity() - k) * sigma;
     Updated::Corrected {

@@ -4,7 +4,7 @@ import type { Counts } from "./Counts";
 /**
  * An exercise opened for a course.
  */
-export type Assignment = { course: string, lab: "ekf-localization" | "odometry", due: string, 
+export type Assignment = { course: string, lab: "ekf-localization" | "odometry" | "sensor-fusion", due: string, 
 /**
  * The last moment a submission is taken (the due date when there is no grace).
  */

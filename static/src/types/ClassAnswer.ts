@@ -8,7 +8,7 @@ import type { TestShare } from "./TestShare";
 /**
  * `GET /api/courses/{course}/labs/{lab}/class`.
  */
-export type ClassAnswer = { course: string, lab: "ekf-localization" | "odometry", policy: Policy, 
+export type ClassAnswer = { course: string, lab: "ekf-localization" | "odometry" | "sensor-fusion", policy: Policy, 
 /**
  * The grader that grades now (a regrade uses it).
  */

@@ -13,7 +13,7 @@ students: number,
 /**
  * Of them, those who have submitted at least once.
  */
-submitted: number, submissions: number, course: string, lab: "ekf-localization" | "odometry", due: string, 
+submitted: number, submissions: number, course: string, lab: "ekf-localization" | "odometry" | "sensor-fusion", due: string, 
 /**
  * The last moment a submission is taken (the due date when there is no grace).
  */

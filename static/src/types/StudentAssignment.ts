@@ -30,7 +30,7 @@ counting_score: number | null,
 /**
  * Their latest submission with its full result.
  */
-latest: Submission | null, course: string, lab: "ekf-localization" | "odometry", due: string, 
+latest: Submission | null, course: string, lab: "ekf-localization" | "odometry" | "sensor-fusion", due: string, 
 /**
  * The last moment a submission is taken (the due date when there is no grace).
  */

@@ -15,7 +15,7 @@ grader: string | null,
 /**
  * Results regrades replaced, oldest first (filled by whoever reads them).
  */
-earlier: Array<EarlierResult>, result: GradeResult | null, source: string | null, id: number, course: string, student: string, lab: "ekf-localization" | "odometry", status: SubmissionStatus, submitted_at: string, 
+earlier: Array<EarlierResult>, result: GradeResult | null, source: string | null, id: number, course: string, student: string, lab: "ekf-localization" | "odometry" | "sensor-fusion", status: SubmissionStatus, submitted_at: string, 
 /**
  * After the student's due date in force by this much (0: on time).
  */

@@ -5,7 +5,7 @@ import type { Waiver } from "./Waiver";
 /**
  * A submission in a list: when, how late, how it did; no source, no result.
  */
-export type SubmissionSummary = { id: number, course: string, student: string, lab: "ekf-localization" | "odometry", status: SubmissionStatus, submitted_at: string, 
+export type SubmissionSummary = { id: number, course: string, student: string, lab: "ekf-localization" | "odometry" | "sensor-fusion", status: SubmissionStatus, submitted_at: string, 
 /**
  * After the student's due date in force by this much (0: on time).
  */

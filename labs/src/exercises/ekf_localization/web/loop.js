@@ -5,7 +5,7 @@
 // sandbox alike.
 estlabHarness.defineLoop('filter', (tools) => {
   'use strict';
-  const { HarnessError, put, push, copy, field, list, vector, matrix, threshold, describe } = tools;
+  const { HarnessError, put, push, copy, field, list, vector, matrix, threshold, flag, describe } = tools;
 
   /// The filter loop over a data set, as the lab's.
   /** @type {Loop<import('estlab/types/FilterRun').FilterRun, import('estlab/types/FilterRecord').FilterRecord>} */
@@ -29,12 +29,6 @@ estlabHarness.defineLoop('filter', (tools) => {
       if (typeof value !== 'number' || value % 1 !== 0 || value < 0 || value >= landmarks) {
         throw new HarnessError(what + ' is ' + describe(value) +
           ', not a landmark index from 0 to ' + (landmarks - 1));
-      }
-      return value;
-    };
-    const flag = (value, what) => {
-      if (typeof value !== 'boolean') {
-        throw new HarnessError(what + ' is ' + describe(value) + ', not true or false');
       }
       return value;
     };

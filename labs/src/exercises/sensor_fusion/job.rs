@@ -1,0 +1,47 @@
+//! What the harness's fusion loop gets for one run (the filter's settings, where it
+//! starts, the odometry and the platforms' readings of every step) and what it records.
+
+use serde::{Deserialize, Serialize};
+use ts_rs::TS;
+
+/// One step of a trial as the loop gets it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, TS)]
+pub struct TrialStepData {
+    /// The odometry's own pose, [x, y, theta].
+    pub odom: [f64; 3],
+    /// The two platforms' readings, [x, y, I] each, front one first; null when the
+    /// detector read nothing.
+    pub platforms: Option<[[f64; 3]; 2]>,
+}
+
+/// One run of the fusion loop with the student's functions: from `mu = start` and
+/// `sigma = start_sigma`, at every step
+///
+/// (after the first) {mu_bar, sigma_bar} = predict(mu, sigma, odom_prev, odom, k_xy, k_theta);
+/// where the step has a reading: z = combine_platforms(p1, p2), and when
+/// in_field_of_view(z, field_of_view): Q = measurement_noise(p1, p2, c_xy), and when
+/// mahalanobis(mu_bar, sigma_bar, z, Q) <= lambda: {mu, sigma} = update(mu_bar, sigma_bar, z, Q),
+///
+/// recording mu and sigma after the step.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, TS)]
+pub struct TrialRun {
+    pub start: [f64; 3],
+    pub start_sigma: [[f64; 3]; 3],
+    pub k_xy: f64,
+    pub k_theta: f64,
+    pub c_xy: f64,
+    pub field_of_view: f64,
+    /// The gate on the squared Mahalanobis distance.
+    pub lambda: f64,
+    pub steps: Vec<TrialStepData>,
+}
+
+/// What the fusion loop records of a run: the belief after every step.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, TS)]
+pub struct TrialRecord {
+    #[serde(default)]
+    pub poses: Vec<[f64; 3]>,
+    /// Sigma, as an array of rows.
+    #[serde(default)]
+    pub covariances: Vec<[[f64; 3]; 3]>,
+}

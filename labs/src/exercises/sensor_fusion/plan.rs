@@ -1,0 +1,236 @@
+//! What a grading of the sensor-fusion exercise consists of, from a seed: the test cases
+//! of every student function (see [`crate::grading::planned_cases`]), two generated
+//! trials with the reference filter's beliefs along them, and the job the JavaScript
+//! harness carries out with the student's code.
+
+use super::SensorFusion;
+use super::contract::Call;
+use super::generate::generate;
+use super::grade::grade;
+use super::job::{TrialRecord, TrialRun, TrialStepData};
+use crate::Exercise;
+use crate::exercises::Graded;
+use crate::fusion::{
+    self, Detector, Estimate, NoiseModel, Reading, Settings, Trial, TrialParams, Use,
+};
+use crate::grading::{
+    ExercisePlan, GradeResult, Job, Outputs, PlannedCase, RunPhase, function_phases, planned_cases,
+};
+use crate::rng::Rng;
+
+/// How long the student's code may take over one whole run of the fusion loop.
+pub const RUN_LIMIT_MS: u32 = 5_000;
+
+/// The functions the fusion loop calls, in the order it calls them at a step.
+pub const LOOP_FUNCTIONS: [&str; 6] = [
+    "predict",
+    "combine_platforms",
+    "in_field_of_view",
+    "measurement_noise",
+    "mahalanobis",
+    "update",
+];
+
+/// The part of a seed's random numbers the trials are drawn from (ASCII "trial").
+const TRIALS: u64 = 0x74_7269_616c;
+
+/// Everything one grading checks, made from the student's seed (and, on the server, a
+/// seed of hidden cases).
+#[derive(Clone, Debug)]
+pub struct Plan {
+    pub seed: u64,
+    /// The seed of the hidden cases and trials, known to the server only.
+    pub hidden: Option<u64>,
+    pub cases: Vec<PlannedCase<Call>>,
+    pub runs: Vec<TrialSpec>,
+}
+
+/// A run of the fusion loop with the student's functions.
+#[derive(Clone, Debug)]
+pub struct TrialSpec {
+    /// `busy-room`, `wide-tour`.
+    pub name: String,
+    pub trial: Trial,
+    pub settings: Settings,
+    /// The reference filter's belief after every step.
+    pub reference: Vec<Estimate>,
+}
+
+impl Plan {
+    /// The public suite, the variant of `seed`, and two trials drawn from `seed` (from
+    /// `hidden` instead when there is one, as on the server): a busy room, where a second
+    /// robot often saturates the detector (the gate has work to do), and a wide tour, which
+    /// leaves the field of view for long stretches (the odometry alone carries the
+    /// filter there, and its readings beyond the edge must be ignored).
+    pub fn new(seed: u64, hidden: Option<u64>) -> Plan {
+        let mut rng = Rng::substream(hidden.unwrap_or(seed), TRIALS);
+        let busy = trial(&mut rng, "busy-room", (6, 2.2, 0.3), |u| {
+            matches!(u, Use::Gated { .. })
+        });
+        let wide = trial(&mut rng, "wide-tour", (5, 3.2, 0.1), |u| {
+            matches!(u, Use::OutsideView)
+        });
+        Plan {
+            seed,
+            hidden,
+            cases: planned_cases(generate, seed, hidden),
+            runs: vec![busy, wide],
+        }
+    }
+
+    pub fn run(&self, name: &str) -> Option<&TrialSpec> {
+        self.runs.iter().find(|run| run.name == name)
+    }
+}
+
+impl ExercisePlan for Plan {
+    fn exercise(&self) -> Exercise {
+        Exercise::SensorFusion
+    }
+
+    fn seed(&self) -> u64 {
+        self.seed
+    }
+
+    /// What the harness needs to call the student's code: the arguments of every case (not
+    /// the expected outputs) and the settings, odometry and readings of every trial (not
+    /// the truth or the reference's beliefs).
+    fn job(&self) -> Job {
+        Job {
+            functions: function_phases(&self.cases),
+            runs: self.runs.iter().map(TrialSpec::job).collect(),
+        }
+    }
+
+    fn grade(&self, outputs: &Outputs) -> GradeResult {
+        grade(self, outputs)
+    }
+}
+
+/// A trial of `waypoints` in a room of half-side `room`, a second robot in view during a
+/// move with chance `other_robot`, and the filter's settings drawn round: k_xy and
+/// k_theta of 0.02 to 0.2, c_xy of 70 to 110, a field of view of 1.8 to 2.2 m, a gate at
+/// 99.9 %. Trials are drawn until one gives the reference filter's branch `shows` work
+/// (and more than 20 readings to use): a trial where it has none tests nothing of it.
+fn trial(
+    rng: &mut Rng,
+    name: &str,
+    (waypoints, room, other_robot): (usize, f64, f64),
+    shows: fn(&Use) -> bool,
+) -> TrialSpec {
+    let settings = Settings {
+        process_xy: rounded(rng.uniform_in(0.02, 0.2), 100.0),
+        process_theta: rounded(rng.uniform_in(0.02, 0.2), 100.0),
+        noise: NoiseModel {
+            c_xy: libm::round(rng.uniform_in(70.0, 110.0)),
+            ..NoiseModel::default()
+        },
+        field_of_view: rounded(rng.uniform_in(1.8, 2.2), 10.0),
+        ..Settings::default()
+    };
+    loop {
+        let params = TrialParams {
+            seed: (rng.uniform() * 1e9) as u64,
+            waypoints,
+            room,
+            other_robot,
+            ..TrialParams::default()
+        };
+        let trial = fusion::generate(&params).expect("the drawn trials are valid");
+        let reference = fusion::run(&trial, &settings, &Detector::default());
+        let count = |kind: fn(&Use) -> bool| reference.iter().filter(|e| kind(&e.reading)).count();
+        if count(shows) > 0 && count(|u| matches!(u, Use::Used { .. })) > 20 {
+            return TrialSpec {
+                name: name.to_owned(),
+                trial,
+                settings,
+                reference,
+            };
+        }
+    }
+}
+
+/// `value` to the nearest 1 / `per`.
+fn rounded(value: f64, per: f64) -> f64 {
+    libm::round(value * per) / per
+}
+
+impl TrialSpec {
+    pub fn steps(&self) -> usize {
+        self.trial.steps.len()
+    }
+
+    /// The reference's record of the run, as the loop records the student's.
+    pub fn reference_record(&self) -> TrialRecord {
+        TrialRecord {
+            poses: self.reference.iter().map(|e| e.pose).collect(),
+            covariances: self.reference.iter().map(|e| e.sigma).collect(),
+        }
+    }
+
+    fn job(&self) -> RunPhase {
+        let s = &self.settings;
+        let sigma = s.start_sigma;
+        let data = TrialRun {
+            start: self.trial.steps[0].odometry,
+            start_sigma: [
+                [sigma[0] * sigma[0], 0.0, 0.0],
+                [0.0, sigma[1] * sigma[1], 0.0],
+                [0.0, 0.0, sigma[2] * sigma[2]],
+            ],
+            k_xy: s.process_xy,
+            k_theta: s.process_theta,
+            c_xy: s.noise.c_xy,
+            field_of_view: s.field_of_view,
+            lambda: s.gate_threshold(),
+            steps: self
+                .trial
+                .steps
+                .iter()
+                .map(|step| TrialStepData {
+                    odom: step.odometry,
+                    platforms: match step.reading {
+                        Some(Reading::Platforms(ps)) => Some(ps.map(|p| [p.x, p.y, p.intensity])),
+                        _ => None,
+                    },
+                })
+                .collect(),
+        };
+        RunPhase::new(
+            SensorFusion::DECLARATION.run_loop,
+            &self.name,
+            &LOOP_FUNCTIONS,
+            RUN_LIMIT_MS,
+            &data,
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every trial takes a few hundred steps, and the plans of different seeds differ.
+    #[test]
+    fn the_trials_take_a_few_hundred_steps() {
+        for seed in 1..=100 {
+            let plan = Plan::new(seed, None);
+            for run in &plan.runs {
+                assert!(
+                    (100..=1500).contains(&run.steps()),
+                    "seed {seed}, {}: {} steps",
+                    run.name,
+                    run.steps()
+                );
+            }
+        }
+        assert_ne!(
+            Plan::new(1, None).runs[0].trial,
+            Plan::new(2, None).runs[0].trial
+        );
+        assert_eq!(
+            Plan::new(1, Some(5)).runs[1].trial,
+            Plan::new(2, Some(5)).runs[1].trial
+        );
+    }
+}

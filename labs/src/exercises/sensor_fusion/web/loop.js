@@ -1,0 +1,54 @@
+// The sensor-fusion exercise's loop in the test harness (static/src/harness.js): the
+// filter over one trial with the student's functions, recording the belief after every
+// step (`TrialRecord` in Rust). Loaded with the harness, before any student code runs, in
+// the browser's worker and the server's sandbox alike.
+estlabHarness.defineLoop('fusion', (tools) => {
+  'use strict';
+  const { put, push, copy, field, vector, matrix, number, flag } = tools;
+
+  /// The fusion loop over a trial: from the odometry's first pose, every step predicts
+  /// with the odometry's motion since the step before, and a reading the detector made
+  /// corrects the belief when it is in the field of view and within the gate.
+  /** @type {Loop<import('estlab/types/TrialRun').TrialRun, import('estlab/types/TrialRecord').TrialRecord>} */
+  function fusionLoop(run, kept, invoke, at) {
+    put(kept, 'poses', []);
+    put(kept, 'covariances', []);
+    /** @type {number[]} */
+    let mu = copy(run.start);
+    /** @type {number[][]} */
+    let sigma = copy(run.start_sigma);
+    for (let k = 0; k < run.steps.length; k++) {
+      const step = run.steps[k];
+      at.step = 'at step ' + (k + 1) + ', ';
+      if (k > 0) {
+        const bar = invoke('predict', [copy(mu), copy(sigma), copy(run.steps[k - 1].odom),
+          copy(step.odom), run.k_xy, run.k_theta]);
+        mu = field(bar, 'mu_bar', vector(3));
+        sigma = field(bar, 'sigma_bar', matrix(3, 3));
+      }
+      const platforms = step.platforms;
+      if (platforms !== null) {
+        const p1 = platforms[0];
+        const p2 = platforms[1];
+        const z = vector(3)(invoke('combine_platforms', [copy(p1), copy(p2)]), 'z');
+        const inView = flag(invoke('in_field_of_view', [copy(z), run.field_of_view]),
+          'in_view');
+        if (inView) {
+          const Q = matrix(3, 3)(invoke('measurement_noise', [copy(p1), copy(p2), run.c_xy]),
+            'Q');
+          const d2 = number(invoke('mahalanobis', [copy(mu), copy(sigma), copy(z), copy(Q)]),
+            'd2');
+          if (d2 <= run.lambda) {
+            const post = invoke('update', [copy(mu), copy(sigma), copy(z), copy(Q)]);
+            mu = field(post, 'mu', vector(3));
+            sigma = field(post, 'sigma', matrix(3, 3));
+          }
+        }
+      }
+      push(kept.poses, copy(mu));
+      push(kept.covariances, copy(sigma));
+    }
+  }
+
+  return fusionLoop;
+});
