@@ -433,14 +433,14 @@ test('the home page and the navigation lead to every exercise, its workbench bes
   const links = (selector) => home.locator(selector).evaluateAll((found) => found.map((a) => a.getAttribute('href')));
   // A card per page on its own or per exercise, the workbench's under its experiments'.
   assert.deepEqual(await links('.exercises > li > h2 a'), ['/car', '/ekf', '/odometry', '/fusion']);
-  assert.deepEqual(await links('.exercises > li > h3 a'), ['/ekf/code', '/odometry/code']);
+  assert.deepEqual(await links('.exercises > li > h3 a'), ['/ekf/code', '/odometry/code', '/fusion/code']);
   assert.deepEqual(await home.locator('.exercises > li').evaluateAll((cards) => cards.map((card) =>
     [...card.querySelectorAll('a')].map((a) => a.getAttribute('href')))),
-  [['/car'], ['/ekf', '/ekf/code'], ['/odometry', '/odometry/code'], ['/fusion']]);
+  [['/car'], ['/ekf', '/ekf/code'], ['/odometry', '/odometry/code'], ['/fusion', '/fusion/code']]);
   // The navigation groups them alike.
   assert.deepEqual(await home.locator('header.site nav .group').evaluateAll((groups) => groups.map((group) =>
     [...group.querySelectorAll('a')].map((a) => a.getAttribute('href')))),
-  [['/car'], ['/ekf', '/ekf/code'], ['/odometry', '/odometry/code'], ['/fusion']]);
+  [['/car'], ['/ekf', '/ekf/code'], ['/odometry', '/odometry/code'], ['/fusion', '/fusion/code']]);
   await home.close();
   const page = await openPage(browser, `${server.url}/ekf`);
   assert.equal(await page.locator('figure[data-name="map"] .save button').first().getAttribute('aria-label'),
@@ -471,7 +471,7 @@ test('on a phone the navigation is one row that scrolls sideways, its last link 
   const reached = await last.boundingBox();
   assert.ok(reached.x >= 0 && reached.x + reached.width <= 360, 'the last link scrolls into view');
   await last.click();
-  await page.waitForURL(/\/fusion$/);
+  await page.waitForURL(/\/fusion\/code$/);
   await page.close();
 });
 
