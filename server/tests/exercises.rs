@@ -1,7 +1,7 @@
-//! Both graded exercises in one server run, in-process: a student submits the EKF
-//! localization file and the odometry file to one course; each is graded with its own
-//! exercise's tests and hidden cases, kept apart in the student's history, and shown in
-//! its own class view and gradebook.
+//! The graded exercises in one server run, in-process: a student submits the EKF
+//! localization file, the odometry file and the sensor-fusion file to one course; each is
+//! graded with its own exercise's tests and hidden cases, kept apart in the student's
+//! history, and shown in its own class view and gradebook.
 
 mod common;
 mod student;
@@ -56,22 +56,29 @@ struct Shown {
 }
 
 #[tokio::test(flavor = "multi_thread")]
-async fn both_exercises_are_graded_side_by_side_each_with_its_own_tests() {
+async fn the_exercises_are_graded_side_by_side_each_with_its_own_tests() {
     let app = App::new();
     app.open_course("el2320");
     app.store()
         .assign("el2320", Exercise::Odometry, &open_policy(app.now()))
+        .unwrap();
+    app.store()
+        .assign("el2320", Exercise::SensorFusion, &open_policy(app.now()))
         .unwrap();
     let ada = app.enrol("el2320", "ada");
     let who = app.signed_in(&ada).await;
     let teacher = app.staff("el2320", "teacher@example.org", Role::Instructor);
     let teacher = app.signed_in(&teacher).await;
 
-    // Both at once: a student may have one submission waiting per exercise.
+    // All at once: a student may have one submission waiting per exercise.
     let mut ids = Vec::new();
     for (lab, source) in [
         (Exercise::EkfLocalization, student::CORRECT),
         (Exercise::Odometry, student::odometry::CORRECT),
+        (
+            Exercise::SensorFusion,
+            include_str!("../../tests/student/sensor_fusion/correct.js"),
+        ),
     ] {
         let answer = app
             .send(
@@ -99,6 +106,7 @@ async fn both_exercises_are_graded_side_by_side_each_with_its_own_tests() {
         let expected = match lab {
             Exercise::EkfLocalization => "calculate_odometry",
             Exercise::Odometry => "odometry_step",
+            Exercise::SensorFusion => "combine_platforms",
         };
         assert!(first.starts_with(expected), "{lab}: {first}");
 

@@ -1,6 +1,7 @@
 // The wasm build gives the native build's numbers: the car, the simulated data sets
-// (byte for byte), whole EKF runs, the generated test cases and the odometry model (bit
-// for bit), run in headless Chromium and compared with the estlab command line.
+// (byte for byte), whole EKF runs, the generated test cases, the odometry model and the
+// fusion filter (bit for bit), run in headless Chromium and compared with the estlab
+// command line.
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
@@ -290,5 +291,26 @@ test('odometry: the propagation, the robots, systematic errors and UMBmark', bou
       same([...w.centre, w.r], [...direction.centre, direction.r], `UMBmark ${d} centre and r`);
     }
     same([wasm.umbmark.eMax], [umbmark.result.e_max_syst], 'E_max,syst');
+  }
+});
+
+test('sensor fusion: generated trials, whole runs and tuning', bounded, async () => {
+  const dir = tempDir();
+  for (const [seed, flags] of [[1, []], [5, ['--process-xy', '0.2', '--gate', '1', '--field-of-view', '1.5']]]) {
+    const file = join(dir, `trial_${seed}.csv`);
+    const native = JSON.parse(estlab('fusion', '--json', '--seed', String(seed), '--write-trial', file, ...flags));
+    const tuned = JSON.parse(estlab('fusion', '--json', '--seed', String(seed), '--tune', ...flags));
+    const wasm = await page.evaluate(([seed, settings]) => {
+      const defaults = JSON.parse(window.estlab.fusionDefaults());
+      const trial = window.estlab.FusionTrial.generate(JSON.stringify({ ...defaults.trial, seed }));
+      const run = trial.run(JSON.stringify(settings));
+      const out = { csv: trial.csv(), summary: JSON.parse(run.summary()), tuned: JSON.parse(trial.tune(JSON.stringify(settings))) };
+      run.free();
+      trial.free();
+      return out;
+    }, [seed, native.settings]);
+    assert.equal(wasm.csv, readFileSync(file, 'utf8'), `seed ${seed}: the trial's file is the same, byte for byte`);
+    assert.deepEqual(wasm.summary, native.summary, `seed ${seed}: the run's summary`);
+    assert.deepEqual(wasm.tuned.settings, tuned.settings, `seed ${seed}: the tuned settings`);
   }
 });

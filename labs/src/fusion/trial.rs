@@ -17,7 +17,7 @@
 //! pose. The report's trials come as two files side by side (odometry and sensor; Kalman
 //! estimate and ground truth), which [`Trial::from_report`] joins.
 
-use super::sensor::Platform;
+use super::sensor::{Platform, combine};
 use crate::Error;
 use serde::{Deserialize, Serialize};
 
@@ -91,26 +91,25 @@ impl Trial {
         for step in &self.steps {
             let mut fields = vec![format!("{}", step.t)];
             fields.extend(step.odometry.iter().map(number));
-            let (pose, platforms) = match &step.reading {
-                Some(Reading::Platforms(platforms)) => (
-                    Some(super::sensor::combine(platforms).into()),
-                    Some(platforms),
-                ),
+            let (pose, platforms): (Option<[f64; 3]>, Option<&[Platform; 2]>) = match &step.reading
+            {
+                Some(Reading::Platforms(platforms)) => {
+                    (Some(combine(platforms).into()), Some(platforms))
+                }
                 Some(Reading::Pose(pose)) => (Some(*pose), None),
                 None => (None, None),
             };
-            let pose: Option<[f64; 3]> = pose;
-            fields.extend((0..3).map(|i| pose.map(|p| number(&p[i])).unwrap_or_default()));
-            fields.extend(
-                platforms
-                    .map(|ps| {
-                        ps.iter()
-                            .flat_map(|p| [p.x, p.y, p.intensity])
-                            .map(|v| number(&v))
-                            .collect()
-                    })
-                    .unwrap_or_else(|| vec![String::new(); 6]),
-            );
+            let blank = |n| vec![String::new(); n];
+            fields.extend(pose.map_or_else(|| blank(3), |p| p.iter().map(number).collect()));
+            fields.extend(platforms.map_or_else(
+                || blank(6),
+                |ps| {
+                    ps.iter()
+                        .flat_map(|p| [p.x, p.y, p.intensity])
+                        .map(|v| number(&v))
+                        .collect()
+                },
+            ));
             fields.extend(step.truth.iter().map(number));
             out += &fields.join(",");
             out.push('\n');
