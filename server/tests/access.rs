@@ -71,6 +71,8 @@ const MATRIX: &[(&str, &str, [u16; 9])] = &[
     ("GET",  "/ekf/starter.js",                [200, 200, 200, 200, 200, 200, 200, 200, 200]),
     ("GET",  "/odometry/code",                 [200, 200, 200, 200, 200, 200, 200, 401, 401]),
     ("GET",  "/odometry/starter.js",           [200, 200, 200, 200, 200, 200, 200, 200, 200]),
+    ("GET",  "/fusion/code",                   [200, 200, 200, 200, 200, 200, 200, 401, 401]),
+    ("GET",  "/fusion/starter.js",             [200, 200, 200, 200, 200, 200, 200, 200, 200]),
     ("GET",  "/signin",                        [200, 200, 200, 200, 200, 200, 200, 401, 401]),
     // Only a signed-in person has a page of their own; the rest are sent to sign in.
     ("GET",  "/me",                            [303, 200, 200, 200, 200, 200, 303, 401, 401]),
