@@ -40,6 +40,12 @@ pub struct FusionTrial {
     inner: Trial,
 }
 
+impl From<Trial> for FusionTrial {
+    fn from(inner: Trial) -> FusionTrial {
+        FusionTrial { inner }
+    }
+}
+
 impl FusionTrial {
     fn series(&self, f: impl Fn(&fusion::Step) -> f64) -> Vec<f64> {
         self.inner.steps.iter().map(f).collect()
@@ -113,10 +119,7 @@ impl FusionTrial {
     pub fn run(&self, settings: &str) -> Result<FusionRun, JsError> {
         let settings = settings_of(settings)?;
         let estimates = fusion::run(&self.inner, &settings, &Detector::default());
-        Ok(FusionRun {
-            summary: Summary::of(&self.inner, &estimates),
-            estimates,
-        })
+        Ok(FusionRun::new(&self.inner, estimates))
     }
 
     /// Tunes the process noise on this trial from `settings` (JSON of `Settings`):
@@ -147,6 +150,14 @@ pub struct FusionRun {
 }
 
 impl FusionRun {
+    /// The filter's `estimates` over (the first steps of) `trial`, summed up.
+    pub(crate) fn new(trial: &Trial, estimates: Vec<Estimate>) -> FusionRun {
+        FusionRun {
+            summary: Summary::of(trial, &estimates),
+            estimates,
+        }
+    }
+
     fn series(&self, f: impl Fn(&Estimate) -> f64) -> Vec<f64> {
         self.estimates.iter().map(f).collect()
     }

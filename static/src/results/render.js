@@ -73,6 +73,23 @@ export function fillTable(table, titles, rows) {
 }
 
 /**
+ * The body of `table`: a row for each of `rows`, its first cell the row's heading and the
+ * rest text.
+ *
+ * @param {HTMLTableElement} table
+ * @param {string[][]} rows
+ */
+export function fillHeadedRows(table, rows) {
+  table.tBodies[0].replaceChildren(...rows.map(([label, ...cells]) => {
+    const row = element('tr');
+    const heading = element('th', null, label);
+    heading.scope = 'row';
+    row.append(heading, ...cells.map((cell) => element('td', null, cell)));
+    return row;
+  }));
+}
+
+/**
  * Whether every failing case of a function's test throws the starter file's "not implemented".
  *
  * @param {Test} test

@@ -8,7 +8,7 @@ use super::job::TrialRecord;
 use super::plan::{Plan, RUN_LIMIT_MS, TrialSpec};
 use crate::Exercise;
 use crate::grading::{
-    FunctionVerdicts, GradeResult, Outputs, RunOutput, Subject, Test, Tolerance, compare,
+    FunctionVerdicts, GradeResult, Mismatch, Outputs, RunOutput, Subject, Test, Tolerance, compare,
     function_tests, matrix, pose,
 };
 use serde_json::json;
@@ -104,44 +104,50 @@ fn departure(spec: &TrialSpec, output: &RunOutput) -> Result<(), String> {
             record.covariances.len()
         ));
     }
-    for (k, ((mu, sigma), reference)) in record
+    match first_departure(spec, &record) {
+        None => Ok(()),
+        Some((step, first)) => Err(format!(
+            "from step {step} of {steps} on, the run departs from the reference: {} is {} \
+             where the reference's is {}{}.",
+            first.path,
+            first.got,
+            first.expected,
+            first.problem.explanation()
+        )),
+    }
+}
+
+/// The first step (counted from 1) at which the beliefs `record` holds leave the
+/// reference's, with the first element that differs there; none while they follow it as
+/// far as they go.
+pub fn first_departure(spec: &TrialSpec, record: &TrialRecord) -> Option<(usize, Mismatch)> {
+    record
         .poses
         .iter()
         .zip(&record.covariances)
         .zip(&spec.reference)
         .enumerate()
-    {
-        let largest = reference
-            .sigma
-            .iter()
-            .flatten()
-            .fold(0.0_f64, |m, v| m.max(v.abs()));
-        let mut mismatches = compare(
-            &("mu", pose()),
-            &json!(reference.pose),
-            &json!(mu),
-            POSE_TOLERANCE,
-        );
-        mismatches.extend(compare(
-            &("sigma", matrix(3, 3)),
-            &json!(reference.sigma),
-            &json!(sigma),
-            Tolerance {
-                absolute: COVARIANCE_TOLERANCE * largest,
-                relative: 0.0,
-            },
-        ));
-        if let Some(first) = mismatches.first() {
-            return Err(format!(
-                "from step {} of {steps} on, the run departs from the reference: {} is {} \
-                 where the reference's is {}{}.",
-                k + 1,
-                first.path,
-                first.got,
-                first.expected,
-                first.problem.explanation()
+        .find_map(|(k, ((mu, sigma), reference))| {
+            let largest = reference
+                .sigma
+                .iter()
+                .flatten()
+                .fold(0.0_f64, |m, v| m.max(v.abs()));
+            let mut mismatches = compare(
+                &("mu", pose()),
+                &json!(reference.pose),
+                &json!(mu),
+                POSE_TOLERANCE,
+            );
+            mismatches.extend(compare(
+                &("sigma", matrix(3, 3)),
+                &json!(reference.sigma),
+                &json!(sigma),
+                Tolerance {
+                    absolute: COVARIANCE_TOLERANCE * largest,
+                    relative: 0.0,
+                },
             ));
-        }
-    }
-    Ok(())
+            mismatches.into_iter().next().map(|first| (k + 1, first))
+        })
 }

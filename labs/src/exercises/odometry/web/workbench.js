@@ -8,7 +8,7 @@ import { fmt } from 'estlab/format.js';
 import {
   colours, dashes, ellipseAxes, ellipseSpacing, line, markers, outlineSeries, outlineXY, outlines, plane, plotsIn, styled,
 } from 'estlab/plots.js';
-import { element, link } from 'estlab/results/render.js';
+import { fillHeadedRows, link } from 'estlab/results/render.js';
 
 const degrees = Math.PI / 180;
 /** A pose's number (metres, radians, degrees) with `digits` significant digits, and 0 for what is zero but for rounding. */
@@ -97,13 +97,7 @@ function fillTable(table, v) {
     ['θ (°)', f(sp[2] / degrees, 8), f(rp[2] / degrees, 8)],
     ...entries.map(([label], e) => [label, fmt(s.covariance[e][k], 6), fmt(r.covariance[e][k], 6)]),
   ];
-  table.tBodies[0].replaceChildren(...rows.map(([label, ...cells]) => {
-    const row = element('tr');
-    const heading = element('th', null, label);
-    heading.scope = 'row';
-    row.append(heading, ...cells.map((cell) => element('td', null, cell)));
-    return row;
-  }));
+  fillHeadedRows(table, rows);
 }
 
 /**
