@@ -240,6 +240,53 @@ export function savedFile(page, lab = 'ekf-localization') {
   return page.evaluate((key) => localStorage.getItem(key), `estlab:${lab}:source`);
 }
 
+/**
+ * The workbench at `path` at a phone's and a laptop's size: no sideways scrolling, its
+ * `heading` (the page's title too) and `runButton`, an intro that names every one of
+ * `functions` and links the `experiments` page, its `nav` link the current one, the
+ * editor and the toolbar on the screen, and no errors.
+ */
+export async function checkWorkbenchFits(browser, server, { path, heading, runButton, functions, experiments, nav }) {
+  for (const size of [phone, laptop]) {
+    const page = await openPage(browser, server.url + path, size);
+    const what = `${size.width} px`;
+    assert.equal(await page.evaluate(() => document.documentElement.scrollWidth), size.width, `${what}: no sideways scrolling`);
+    assert.equal(await page.title(), `${heading} · estlab`);
+    assert.equal(await page.locator('h1').textContent(), heading);
+    assert.equal(await page.locator('#run-datasets').textContent(), runButton);
+    for (const name of functions) assert.ok((await page.locator('main p').first().textContent()).includes(name), name);
+    assert.equal(await page.locator(`main p a[href="${experiments}"]`).count(), 1, 'the intro links the experiment page');
+    assert.equal(await page.locator('nav a[aria-current=page]').textContent(), nav);
+    for (const selector of ['.editor', '#run-tests', '#run-datasets', '#submit']) {
+      const box = await page.locator(selector).boundingBox();
+      assert.ok(box.x >= 0 && box.x + box.width <= size.width, `${what}: ${selector} is on the screen`);
+    }
+    assert.deepEqual(page.problems, [], what);
+    await page.close();
+  }
+}
+
+/**
+ * Runs the tests and the runs of a workbench `page` holding the `starter` file: the test of
+ * each of `functions` fails with the "not implemented" it throws, at its line, and the test
+ * of each of `runs` fails saying so.
+ */
+export async function checkStarterFails(page, starter, functions, runs) {
+  await runAndWait(page, '#run-tests');
+  await runAndWait(page, '#run-datasets');
+  const lines = starter.split('\n');
+  for (const key of functions) {
+    assert.equal(await testStatus(page, key), 'failed', key);
+    const line = lines.findIndex((text) => text.includes(`${key}: not implemented`)) + 1;
+    assert.match(await page.locator(`#test-${key} .failure .thrown`).first().textContent(),
+      new RegExp(`threw Error: ${key}: not implemented \\(line ${line}\\)`), key);
+  }
+  for (const key of runs) {
+    assert.equal(await testStatus(page, key), 'failed', key);
+    assert.match(await page.locator(`#test-${key} .message`).textContent(), /not implemented/, key);
+  }
+}
+
 /** Signs in with a code through the sign-in form's POST; resolves to the session cookie (`estlab_session=...`). */
 export async function signIn(server, code) {
   const response = await fetch(`${server.url}/signin`, {

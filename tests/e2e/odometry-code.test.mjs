@@ -11,8 +11,9 @@ import { readFileSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { test } from 'node:test';
 import {
-  bounded, browserPoints, correct as ekfCorrect, estlab, laptop, openPage, phone, root, runAndWait, savedFile, setUpCourse,
-  signIn, starterOf, submit, tempDir, testStatus, typeInEditor as type, waitForSubmission, withMistake, withServerAndBrowser,
+  bounded, browserPoints, checkStarterFails, checkWorkbenchFits, correct as ekfCorrect, estlab, laptop, openPage, root, runAndWait,
+  savedFile, setUpCourse, signIn, starterOf, submit, tempDir, testStatus, typeInEditor as type, waitForSubmission, withMistake,
+  withServerAndBrowser,
 } from './harness.mjs';
 
 const LAB = 'odometry';
@@ -46,42 +47,14 @@ function plotted(page) {
   });
 }
 
-test('the workbench fits a phone and a laptop, without errors, and speaks of odometry', bounded, async () => {
-  for (const size of [phone, laptop]) {
-    const page = await openPage(browser, `${server.url}/odometry/code`, size);
-    const what = `${size.width} px`;
-    assert.equal(await page.evaluate(() => document.documentElement.scrollWidth), size.width, `${what}: no sideways scrolling`);
-    assert.equal(await page.title(), 'Your odometry · estlab');
-    assert.equal(await page.locator('h1').textContent(), 'Your odometry');
-    assert.equal(await page.locator('#run-datasets').textContent(), 'Run paths');
-    for (const name of FUNCTIONS) assert.ok((await page.locator('main p').first().textContent()).includes(name), name);
-    assert.equal(await page.locator('main p a[href="/odometry"]').count(), 1, 'the intro links the odometry page');
-    assert.equal(await page.locator('nav a[aria-current=page]').textContent(), 'Your odometry code');
-    for (const selector of ['.editor', '#run-tests', '#run-datasets', '#submit']) {
-      const box = await page.locator(selector).boundingBox();
-      assert.ok(box.x >= 0 && box.x + box.width <= size.width, `${what}: ${selector} is on the screen`);
-    }
-    assert.deepEqual(page.problems, [], what);
-    await page.close();
-  }
-});
+test('the workbench fits a phone and a laptop, without errors, and speaks of odometry', bounded, () => checkWorkbenchFits(browser, server, {
+  path: '/odometry/code', heading: 'Your odometry', runButton: 'Run paths', functions: FUNCTIONS, experiments: '/odometry', nav: 'Your odometry code',
+}));
 
 test('the starter file fails every test with "not implemented", the paths too', bounded, async () => {
   const page = await openPage(browser, `${server.url}/odometry/code`);
   assert.equal(await savedFile(page, LAB), null, 'nothing saved yet: the editor holds the starter');
-  await runAndWait(page, '#run-tests');
-  await runAndWait(page, '#run-datasets');
-  const lines = starter.split('\n');
-  for (const key of FUNCTIONS) {
-    assert.equal(await testStatus(page, key), 'failed', key);
-    const line = lines.findIndex((text) => text.includes(`${key}: not implemented`)) + 1;
-    assert.match(await page.locator(`#test-${key} .failure .thrown`).first().textContent(),
-      new RegExp(`threw Error: ${key}: not implemented \\(line ${line}\\)`), key);
-  }
-  for (const key of PATHS) {
-    assert.equal(await testStatus(page, key), 'failed', key);
-    assert.match(await page.locator(`#test-${key} .message`).textContent(), /not implemented/, key);
-  }
+  await checkStarterFails(page, starter, FUNCTIONS, PATHS);
   assert.match(await page.locator('#score').textContent(),
     /^In your browser: 0 of 70 points \(0%\), 0 of 7 tests pass\. 5 functions not implemented yet: odometry_step, pose_jacobian, increment_jacobian, wheel_noise, propagate\.$/);
   assert.deepEqual(page.problems, []);
