@@ -129,14 +129,18 @@ const outputName = {
   calculate_odometry: 'u', observation_model: 'z_hat', jacobian_observation_model: 'H',
   odometry_step: 'p_next', pose_jacobian: 'F_p', increment_jacobian: 'F_delta',
   wheel_noise: 'Sigma_delta', propagate: 'Sigma_p_next',
+  combine_platforms: 'z', heading_sigma: 'sigma_theta', measurement_noise: 'Q', in_field_of_view: 'in_view',
+  mahalanobis: 'd2',
 };
 
 /**
  * `expected` with its first number that is not a whole number (not an index) moved by a
- * hundredth, towards zero: [the wrong output, the path of the change, the old and the new
- * number]. The path is in the contract's notation: `u[1]`, `mu_bar[0]`, `nu[0][1]`.
+ * hundredth, towards zero, or a flag the other way: [the wrong output, the path of the
+ * change, the old and the new value]. The path is in the contract's notation: `u[1]`,
+ * `mu_bar[0]`, `nu[0][1]`.
  */
 function oneNumberWrong(expected, path) {
+  if (typeof expected === 'boolean') return [!expected, path, expected, !expected];
   if (typeof expected === 'number' && !Number.isInteger(expected)) {
     const wrong = expected - Math.sign(expected) * 0.01 * (1 + Math.abs(expected));
     return [wrong, path, expected, wrong];
@@ -156,7 +160,8 @@ function oneNumberWrong(expected, path) {
 }
 
 test('generated test cases of every exercise', bounded, async () => {
-  for (const [lab, count, seed] of [['ekf-localization', 8, 3], ['ekf-localization', 8, 99], ['odometry', 5, 3], ['odometry', 5, 99]]) {
+  for (const [lab, count, seed] of [['ekf-localization', 8, 3], ['ekf-localization', 8, 99], ['odometry', 5, 3], ['odometry', 5, 99],
+    ['sensor-fusion', 7, 3], ['sensor-fusion', 7, 99]]) {
     const wasm = JSON.parse(await page.evaluate(([lab, seed]) => window.estlab.generateCases(lab, seed, 12), [lab, seed]));
     const native = JSON.parse(estlab('cases', '--lab', lab, '--seed', String(seed), '--per-function', '12'));
     assert.deepEqual(wasm, native, `${lab}, seed ${seed}`);

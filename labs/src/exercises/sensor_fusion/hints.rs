@@ -422,7 +422,7 @@ fn predict_mistakes(
     );
     let (unrotated_mu, unrotated_sigma) = predict(&mu, &sigma, &unrotated, &settings);
     // R and G as the reference makes them.
-    let moved = u.x.hypot(u.y);
+    let moved = libm::hypot(u.x, u.y);
     let deviations = Vector3::new(k_xy * moved, k_xy * moved, k_theta * (moved + u.z.abs()));
     let r = Matrix3::from_diagonal(&deviations.component_mul(&deviations));
     let mut g = Matrix3::identity();
