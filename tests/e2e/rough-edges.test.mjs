@@ -175,7 +175,7 @@ test('every exercise\'s starter fits 80 columns', () => {
 });
 
 for (const [size, viewport] of sizes) {
-  for (const path of ['/ekf/code', '/odometry/code']) {
+  for (const path of ['/ekf/code', '/odometry/code', '/fusion/code']) {
     test(`${path} at the ${size}'s size: after Run tests the score is said under the button, announced, and the results are in view`, bounded, async () => {
       const page = await openPage(browser, server.url + path, viewport);
       // The editor wraps its lines: nothing to scroll sideways, at any width.
