@@ -27,7 +27,7 @@ const intensityClasses = [
  * @param {ArrayLike<number>[]} path
  * @param {(k: number) => boolean} keep
  */
-function positions(path, keep) {
+export function positions(path, keep) {
   const [xs, ys] = path;
   const out = [];
   for (let k = 0; k < xs.length; k++) if (keep(k)) out.push([xs[k], ys[k]]);
@@ -35,7 +35,7 @@ function positions(path, keep) {
 }
 
 /** A circle of `radius` round the origin, as an outline. */
-function circle(radius, segments = 96) {
+export function circle(radius, segments = 96) {
   const coords = [];
   for (let i = 0; i <= segments; i++) {
     const a = (2 * Math.PI * i) / segments;

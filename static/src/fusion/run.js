@@ -8,7 +8,7 @@ import { ellipseSpacing, outlines } from '../plots.js';
 export const readingUse = { none: 0, outsideView: 1, gated: 2, used: 3 };
 
 /** The angle wrapped to [-pi, pi), as the library wraps it. */
-const wrap = (angle) => angle - 2 * Math.PI * Math.floor((angle + Math.PI) / (2 * Math.PI));
+export const wrap = (angle) => angle - 2 * Math.PI * Math.floor((angle + Math.PI) / (2 * Math.PI));
 
 /**
  * A run of the filter, as the page's views draw it.

@@ -6,6 +6,8 @@
 // table of the step where the run departs (or its last); and a link to the fusion page.
 import { byId, setText } from 'estlab/controls.js';
 import { fmt } from 'estlab/format.js';
+import { circle, positions } from 'estlab/fusion/map.js';
+import { readingUse, wrap } from 'estlab/fusion/run.js';
 import {
   colours, dashes, ellipseSpacing, line, markers, outlineSeries, outlineXY, outlines, overTime, plane, plotsIn, styled,
   timeLine,
@@ -46,9 +48,6 @@ function beliefOf(run, every) {
   };
 }
 
-/** The wrapped difference of two headings, in [-pi, pi). */
-const headingDifference = (a, b) => a - b - 2 * Math.PI * Math.floor((a - b + Math.PI) / (2 * Math.PI));
-
 /**
  * How far the student's belief is from the reference's at each step the run reported:
  * the position's distance (m), the heading's (rad), and the largest relative
@@ -60,7 +59,7 @@ function differences(student, reference) {
   const out = { position: new Float64Array(steps), heading: new Float64Array(steps), std: new Float64Array(steps) };
   for (let k = 0; k < steps; k++) {
     out.position[k] = Math.hypot(s[0][k] - r[0][k], s[1][k] - r[1][k]);
-    out.heading[k] = Math.abs(headingDifference(s[2][k], r[2][k]));
+    out.heading[k] = Math.abs(wrap(s[2][k] - r[2][k]));
     out.std[k] = Math.max(...[0, 1, 2].map((i) => Math.abs(student.std[i][k] / reference.std[i][k] - 1)));
   }
   return out;
@@ -118,12 +117,12 @@ const poseAt = (belief, k) => belief.pose.map((component) => component[k]);
 /** What became of the reading at step `k` (from 0) in the reference's run, in words. */
 function readingWords(reference, k) {
   const d2 = `d² = ${f(reference.distance[k])}`;
-  return [
-    'a step without a reading',
-    'whose reading lay outside the field of view',
-    `whose reading the reference's gate rejected (${d2})`,
-    `whose reading the reference used (${d2})`,
-  ][reference.use[k]];
+  return {
+    [readingUse.none]: 'a step without a reading',
+    [readingUse.outsideView]: 'whose reading lay outside the field of view',
+    [readingUse.gated]: `whose reading the reference's gate rejected (${d2})`,
+    [readingUse.used]: `whose reading the reference used (${d2})`,
+  }[reference.use[k]];
 }
 
 /** The summary line: whether the run follows the reference's belief, where it departs or stopped, and how good it is. */
@@ -139,7 +138,7 @@ function summaryText(v) {
     const [sx, sy, stheta] = poseAt(s, k);
     return `Your filter departs from the reference filter's belief at step ${departure} of ${steps} (t = ${f(t[k], 4)} s), ` +
       `${readingWords(r, k)}: there your position is ${f(Math.hypot(sx - rx, sy - ry))} m from the reference's and your heading ` +
-      `${f(headingDifference(stheta, rtheta) / degrees)}° off.${stopped}`;
+      `${f(wrap(stheta - rtheta) / degrees)}° off.${stopped}`;
   }
   if (stopped) return `Your filter follows the reference filter's belief as far as it got.${stopped}`;
   return `Your filter follows the reference filter's belief at all ${steps} steps: its mean distance from the truth is ` +
@@ -205,33 +204,17 @@ function trialNote({ phase }) {
   ];
 }
 
-/** The field of view: a circle of `radius` round the detector at (0, 0), as an outline. */
-function fieldOfView(radius) {
-  const coords = Array.from({ length: 97 }, (_, i) => {
-    const a = (2 * Math.PI * i) / 96;
-    return [radius * Math.cos(a), radius * Math.sin(a)];
-  });
-  return [{ coords }];
-}
-
-/** The positions of the reference's readings whose use is `kind` (1 outside the view, 2 gated, 3 used). */
-function readings(reference, kind) {
-  const [xs, ys] = reference.measured;
-  const out = [];
-  for (let k = 0; k < xs.length; k++) if (reference.use[k] === kind) out.push([xs[k], ys[k]]);
-  return out;
-}
-
 /** The series of the trial plot: the truth, the readings, the field of view, the reference's path and ellipses, and the student's over them. */
 function trialSeries(v, fov) {
   const { every, truth, reference: r, student: s, departure } = v;
   const at = (belief, k) => [poseAt(belief, k).slice(0, 2)];
+  const readings = (kind) => positions(r.measured, (k) => r.use[k] === kind);
   return [
     styled(line('truth', truth[0], truth[1], colours.landmark, { name: 'the truth (dotted)', z: 1 }), dashes.odometry, 1.5),
     outlineSeries('field of view', 'the field of view', fov, colours.measurement, 1, 0.8, 1),
-    markers('used', 'readings the reference used', readings(r, 3), colours.measurement, 'circle', 4, 1),
-    markers('gated', 'readings its gate rejected', readings(r, 2), colours.outlier, 'diamond', 8, 1),
-    markers('outside', 'readings outside the field of view', readings(r, 1), colours.measurement, 'triangle', 6, 1),
+    markers('used', 'readings the reference used', readings(readingUse.used), colours.measurement, 'circle', 4, 1),
+    markers('gated', 'readings its gate rejected', readings(readingUse.gated), colours.outlier, 'diamond', 8, 1),
+    markers('outside', 'readings outside the field of view', readings(readingUse.outsideView), colours.measurement, 'triangle', 6, 1),
     styled(line('reference', r.pose[0], r.pose[1], colours.truth, { name: "the reference filter's path (solid)", z: 2 }), dashes.truth, 2),
     outlineSeries('reference ellipses', `its 3σ ellipses, every ${every} steps`, r.ellipses, colours.truth, 1.5, 0.7, 2),
     styled(line('yours', s.pose[0], s.pose[1], colours.estimate, { name: 'your path (dashed)', z: 3 }), dashes.estimate, 2),
@@ -285,7 +268,7 @@ class TrialRunView {
 
   draw() {
     const v = this.view;
-    const fov = fieldOfView(v.phase.field_of_view);
+    const fov = circle(v.phase.field_of_view);
     const [rx, ry] = outlineXY(v.reference.ellipses);
     const [fx, fy] = outlineXY(fov);
     const { truth, reference: r, student: s } = v;
