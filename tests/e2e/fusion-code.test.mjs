@@ -5,12 +5,12 @@
 // mistake fails its function's test with its hint, and the trial it spoils shows where
 // the student's belief departs from the reference's.
 import assert from 'node:assert/strict';
-import { readFileSync, writeFileSync } from 'node:fs';
+import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { test } from 'node:test';
 import {
-  bounded, browserPoints, checkStarterFails, checkWorkbenchFits, estlab, openPage, root, runAndWait, savedFile, starterOf, tempDir,
-  testStatus, typeInEditor as type, waitForSubmission, withServerAndBrowser,
+  bounded, browserPoints, checkStarterFails, checkWorkbenchFits, gradeOnCommandLine, openPage, plottedPoints, root, runAndWait,
+  savedFile, starterOf, testStatus, typeInEditor as type, waitForSubmission, withServerAndBrowser,
 } from './harness.mjs';
 
 const LAB = 'sensor-fusion';
@@ -33,20 +33,9 @@ withServerAndBrowser((started, launched) => {
 });
 
 /** `estlab grade --lab sensor-fusion` of `text` for the variant `seed`, as JSON. */
-function cliGrade(text, seed) {
-  const file = join(tempDir(), 'sensor_fusion.js');
-  writeFileSync(file, text);
-  return JSON.parse(estlab('grade', '--lab', LAB, file, '--seed', String(seed)));
-}
-
+const cliGrade = (text, seed) => gradeOnCommandLine(LAB, 'sensor_fusion.js', text, seed);
 /** How many points each series of the trial plot holds, by the series' id. */
-function plotted(page) {
-  return page.evaluate(() => {
-    const plot = document.querySelector('figure[data-name="trial"] .chart').plot;
-    const count = (data) => data.reduce((n, item) => n + (item.coords ? item.coords.length : 1), 0);
-    return Object.fromEntries(plot.series().map((s) => [s.id, count(s.data ?? [])]));
-  });
-}
+const plotted = (page) => plottedPoints(page, 'trial');
 
 /** Shows the trial `name` in the runs' section, once its view is drawn. */
 async function showTrial(page, name) {

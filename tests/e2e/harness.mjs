@@ -235,6 +235,22 @@ export async function browserPoints(page) {
   return Number(text.match(/In your browser: ([\d.]+) of/)[1]);
 }
 
+/** `estlab grade --lab LAB` of `text`, saved as `fileName`, for the variant `seed`, as JSON. */
+export function gradeOnCommandLine(lab, fileName, text, seed) {
+  const file = join(tempDir(), fileName);
+  writeFileSync(file, text);
+  return JSON.parse(estlab('grade', '--lab', lab, file, '--seed', String(seed)));
+}
+
+/** How many points each series of the plot `name` on `page` holds, by the series' id. */
+export function plottedPoints(page, name) {
+  return page.evaluate((n) => {
+    const plot = document.querySelector(`figure[data-name="${n}"] .chart`).plot;
+    const count = (data) => data.reduce((sum, item) => sum + (item.coords ? item.coords.length : 1), 0);
+    return Object.fromEntries(plot.series().map((s) => [s.id, count(s.data ?? [])]));
+  }, name);
+}
+
 /** A workbench's file as the page saved it in this browser: the EKF's, or another exercise's (`lab`). */
 export function savedFile(page, lab = 'ekf-localization') {
   return page.evaluate((key) => localStorage.getItem(key), `estlab:${lab}:source`);

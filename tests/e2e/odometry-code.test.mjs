@@ -7,13 +7,13 @@
 // one server grades both exercises, each with its own tests, listing each on /me with its
 // own workbench.
 import assert from 'node:assert/strict';
-import { readFileSync, writeFileSync } from 'node:fs';
+import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { test } from 'node:test';
 import {
-  bounded, browserPoints, checkStarterFails, checkWorkbenchFits, correct as ekfCorrect, estlab, laptop, openPage, root, runAndWait,
-  savedFile, setUpCourse, signIn, starterOf, submit, tempDir, testStatus, typeInEditor as type, waitForSubmission, withMistake,
-  withServerAndBrowser,
+  bounded, browserPoints, checkStarterFails, checkWorkbenchFits, correct as ekfCorrect, gradeOnCommandLine, laptop, openPage,
+  plottedPoints, root, runAndWait, savedFile, setUpCourse, signIn, starterOf, submit, testStatus, typeInEditor as type,
+  waitForSubmission, withMistake, withServerAndBrowser,
 } from './harness.mjs';
 
 const LAB = 'odometry';
@@ -32,20 +32,9 @@ withServerAndBrowser((started, launched) => {
 });
 
 /** `estlab grade --lab odometry` of `text` for the variant `seed`, as JSON. */
-function cliGrade(text, seed) {
-  const file = join(tempDir(), 'odometry.js');
-  writeFileSync(file, text);
-  return JSON.parse(estlab('grade', '--lab', LAB, file, '--seed', String(seed)));
-}
-
+const cliGrade = (text, seed) => gradeOnCommandLine(LAB, 'odometry.js', text, seed);
 /** How many points each series of the path plot holds, by the series' id. */
-function plotted(page) {
-  return page.evaluate(() => {
-    const plot = document.querySelector('figure[data-name="path"] .chart').plot;
-    const count = (data) => data.reduce((n, item) => n + (item.coords ? item.coords.length : 1), 0);
-    return Object.fromEntries(plot.series().map((s) => [s.id, count(s.data ?? [])]));
-  });
-}
+const plotted = (page) => plottedPoints(page, 'path');
 
 test('the workbench fits a phone and a laptop, without errors, and speaks of odometry', bounded, () => checkWorkbenchFits(browser, server, {
   path: '/odometry/code', heading: 'Your odometry', runButton: 'Run paths', functions: FUNCTIONS, experiments: '/odometry', nav: 'Your odometry code',
