@@ -14,6 +14,7 @@
 //! result. What is an exercise's own is under [`crate::exercises`], and this layer names
 //! none of them.
 
+mod beliefs;
 mod compare;
 mod contract;
 mod functions;
@@ -24,6 +25,7 @@ mod outputs;
 mod result;
 mod suite;
 
+pub use beliefs::{BeliefTolerance, Beliefs, first_departure, follows};
 pub use compare::{
     HEADING_TURNS, Kind, Mismatch, Problem, Shape, Tolerance, compare, heading_within_turns,
     matrix, numbers, pose, range_bearing, repeat,

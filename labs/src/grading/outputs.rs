@@ -210,6 +210,22 @@ impl RunOutput {
         }
     }
 
+    /// The record of a run that went to its end, or why it did not: its record does not
+    /// read, the student's code (or the loop's check of what it returned) threw, or the
+    /// host stopped it (`limit_ms`, the run's time limit, for the message).
+    pub fn completed<R: DeserializeOwned + Default>(&self, limit_ms: u32) -> Result<R, String> {
+        let record = self.record::<R>();
+        let ended = record
+            .as_ref()
+            .err()
+            .cloned()
+            .or_else(|| self.error.clone());
+        match ended.or_else(|| self.stopped.as_ref().map(|s| s.message(limit_ms))) {
+            Some(why) => Err(why),
+            None => record,
+        }
+    }
+
     /// A run the host stopped.
     pub fn stopped(name: &str, stopped: Stopped) -> RunOutput {
         RunOutput {

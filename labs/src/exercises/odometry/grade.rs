@@ -8,10 +8,9 @@ use super::job::PathRecord;
 use super::plan::{PathSpec, Plan, RUN_LIMIT_MS};
 use crate::Exercise;
 use crate::grading::{
-    FunctionVerdicts, GradeResult, Outputs, RunOutput, Subject, Test, Tolerance, compare,
-    function_tests, matrix, pose,
+    BeliefTolerance, Beliefs, FunctionVerdicts, GradeResult, Outputs, RunOutput, Subject, Test,
+    Tolerance, follows, function_tests,
 };
-use serde_json::json;
 
 /// How close the poses along a path must be: x and y in metres, the heading in radians
 /// (modulo 2 pi). The student's arithmetic may round otherwise than the reference's;
@@ -79,60 +78,24 @@ fn path_test(spec: &PathSpec, output: Option<&RunOutput>, functions: &FunctionVe
 }
 
 /// Where the student's run first departs from the reference (or what stopped it), or
-/// nothing when it follows it throughout.
+/// nothing when it follows it throughout. The reference's poses and covariances start
+/// with the start's; the run's with the first step's.
 fn departure(spec: &PathSpec, output: &RunOutput) -> Result<(), String> {
-    let record = output.record::<PathRecord>();
-    if let Some(error) = record
-        .as_ref()
-        .err()
-        .cloned()
-        .or_else(|| output.error.clone())
-        .or_else(|| output.stopped.as_ref().map(|s| s.message(RUN_LIMIT_MS)))
-    {
-        return Err(error);
-    }
-    let record = record?;
-    let steps = spec.steps();
-    if record.poses.len() != steps || record.covariances.len() != steps {
-        return Err(format!(
-            "the run reported {} poses and {} covariances for {steps} steps",
-            record.poses.len(),
-            record.covariances.len()
-        ));
-    }
+    let record: PathRecord = output.completed(RUN_LIMIT_MS)?;
     let reference = &spec.reference;
-    for (k, (p, sigma)) in record.poses.iter().zip(&record.covariances).enumerate() {
-        // The reference's poses and covariances start with the start's.
-        let expected_sigma = reference.covariances[k + 1];
-        let largest = expected_sigma
-            .iter()
-            .flatten()
-            .fold(0.0_f64, |m, v| m.max(v.abs()));
-        let mut mismatches = compare(
-            &("p", pose()),
-            &json!(reference.poses[k + 1]),
-            &json!(p),
-            POSE_TOLERANCE,
-        );
-        mismatches.extend(compare(
-            &("Sigma_p", matrix(3, 3)),
-            &json!(expected_sigma),
-            &json!(sigma),
-            Tolerance {
-                absolute: COVARIANCE_TOLERANCE * largest,
-                relative: 0.0,
-            },
-        ));
-        if let Some(first) = mismatches.first() {
-            return Err(format!(
-                "from step {} of {steps} on, the run departs from the reference: {} is {} where the reference's is {}{}.",
-                k + 1,
-                first.path,
-                first.got,
-                first.expected,
-                first.problem.explanation()
-            ));
-        }
-    }
-    Ok(())
+    follows(
+        ["p", "Sigma_p"],
+        Beliefs {
+            poses: &record.poses,
+            covariances: &record.covariances,
+        },
+        Beliefs {
+            poses: &reference.poses[1..],
+            covariances: &reference.covariances[1..],
+        },
+        BeliefTolerance {
+            pose: POSE_TOLERANCE,
+            covariance_share: COVARIANCE_TOLERANCE,
+        },
+    )
 }

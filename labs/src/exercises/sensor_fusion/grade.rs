@@ -8,10 +8,9 @@ use super::job::TrialRecord;
 use super::plan::{Plan, RUN_LIMIT_MS, TrialSpec};
 use crate::Exercise;
 use crate::grading::{
-    FunctionVerdicts, GradeResult, Mismatch, Outputs, RunOutput, Subject, Test, Tolerance, compare,
-    function_tests, matrix, pose,
+    self, BeliefTolerance, Beliefs, FunctionVerdicts, GradeResult, Mismatch, Outputs, RunOutput,
+    Subject, Test, Tolerance, follows, function_tests,
 };
-use serde_json::json;
 
 /// How close the beliefs along a trial must be: x and y in metres, the heading in radians
 /// (modulo 2 pi). The student's arithmetic may round otherwise than the reference's; the
@@ -85,69 +84,30 @@ fn trial_test(spec: &TrialSpec, output: Option<&RunOutput>, functions: &Function
 /// Where the student's run first departs from the reference (or what stopped it), or
 /// nothing when it follows it throughout.
 fn departure(spec: &TrialSpec, output: &RunOutput) -> Result<(), String> {
-    let record = output.record::<TrialRecord>();
-    if let Some(error) = record
-        .as_ref()
-        .err()
-        .cloned()
-        .or_else(|| output.error.clone())
-        .or_else(|| output.stopped.as_ref().map(|s| s.message(RUN_LIMIT_MS)))
-    {
-        return Err(error);
-    }
-    let record = record?;
-    let steps = spec.steps();
-    if record.poses.len() != steps || record.covariances.len() != steps {
-        return Err(format!(
-            "the run reported {} beliefs and {} covariances for {steps} steps",
-            record.poses.len(),
-            record.covariances.len()
-        ));
-    }
-    match first_departure(spec, &record) {
-        None => Ok(()),
-        Some((step, first)) => Err(format!(
-            "from step {step} of {steps} on, the run departs from the reference: {} is {} \
-             where the reference's is {}{}.",
-            first.path,
-            first.got,
-            first.expected,
-            first.problem.explanation()
-        )),
-    }
+    let record: TrialRecord = output.completed(RUN_LIMIT_MS)?;
+    let reference = spec.reference_record();
+    follows(NAMES, beliefs(&record), beliefs(&reference), TOLERANCE)
 }
 
 /// The first step (counted from 1) at which the beliefs `record` holds leave the
 /// reference's, with the first element that differs there; none while they follow it as
 /// far as they go.
 pub fn first_departure(spec: &TrialSpec, record: &TrialRecord) -> Option<(usize, Mismatch)> {
-    record
-        .poses
-        .iter()
-        .zip(&record.covariances)
-        .zip(&spec.reference)
-        .enumerate()
-        .find_map(|(k, ((mu, sigma), reference))| {
-            let largest = reference
-                .sigma
-                .iter()
-                .flatten()
-                .fold(0.0_f64, |m, v| m.max(v.abs()));
-            let mut mismatches = compare(
-                &("mu", pose()),
-                &json!(reference.pose),
-                &json!(mu),
-                POSE_TOLERANCE,
-            );
-            mismatches.extend(compare(
-                &("sigma", matrix(3, 3)),
-                &json!(reference.sigma),
-                &json!(sigma),
-                Tolerance {
-                    absolute: COVARIANCE_TOLERANCE * largest,
-                    relative: 0.0,
-                },
-            ));
-            mismatches.into_iter().next().map(|first| (k + 1, first))
-        })
+    let reference = spec.reference_record();
+    grading::first_departure(NAMES, beliefs(record), beliefs(&reference), TOLERANCE)
+}
+
+/// What the belief's parts are called in messages.
+const NAMES: [&str; 2] = ["mu", "sigma"];
+
+const TOLERANCE: BeliefTolerance = BeliefTolerance {
+    pose: POSE_TOLERANCE,
+    covariance_share: COVARIANCE_TOLERANCE,
+};
+
+fn beliefs(record: &TrialRecord) -> Beliefs<'_> {
+    Beliefs {
+        poses: &record.poses,
+        covariances: &record.covariances,
+    }
 }
