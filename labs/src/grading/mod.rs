@@ -23,6 +23,8 @@ mod job;
 mod outputs;
 mod result;
 mod suite;
+#[cfg(test)]
+pub(crate) mod testing;
 
 pub use compare::{
     HEADING_TURNS, Kind, Mismatch, Problem, Shape, Tolerance, compare, heading_within_turns,
