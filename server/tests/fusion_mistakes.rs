@@ -7,23 +7,10 @@
 
 mod student;
 
-use student::catalogue::Seeds;
+use student::catalogue::{Seeds, graded_as_the_server_grades};
 use student::sensor_fusion::FILES;
 
 /// The student seeds, each with the seed of its hidden cases and trials.
 const SEEDS: [Seeds; 3] = [(1, 0x5eed_0001), (2320, 9_876_543_210), (7, 2_718_281_828)];
 
-#[test]
-fn the_correct_file_scores_1_with_hidden_cases() {
-    FILES.check_the_correct_file(&SEEDS);
-}
-
-#[test]
-fn the_starter_scores_0_and_says_what_is_not_implemented() {
-    FILES.check_the_starter(SEEDS[0]);
-}
-
-#[test]
-fn every_mistake_fails_its_function_with_its_hint_and_the_trials_it_breaks() {
-    FILES.check_the_mistakes(&SEEDS, 16);
-}
+graded_as_the_server_grades!(FILES, SEEDS, 16);

@@ -39,6 +39,29 @@ pub struct Files {
     pub catalogue: (&'static str, &'static str),
 }
 
+/// The tests of an exercise's student files: `$files` (a [`Files`]) graded on every seed
+/// of `$seeds` (an array of [`Seeds`]), its catalogue holding `$at_least` mistakes or more.
+macro_rules! graded_as_the_server_grades {
+    ($files:expr, $seeds:expr, $at_least:expr) => {
+        #[test]
+        fn the_correct_file_scores_1_with_hidden_cases() {
+            $files.check_the_correct_file(&$seeds);
+        }
+
+        #[test]
+        fn the_starter_scores_0_and_says_what_is_not_implemented() {
+            $files.check_the_starter($seeds[0]);
+        }
+
+        #[test]
+        fn every_mistake_fails_its_function_with_its_hint_and_the_runs_it_breaks() {
+            $files.check_the_mistakes(&$seeds, $at_least);
+        }
+    };
+}
+#[allow(unused_imports)]
+pub(crate) use graded_as_the_server_grades;
+
 /// A classic mistake: the correct file with some text replaced.
 #[derive(Deserialize)]
 pub struct Mistake {
