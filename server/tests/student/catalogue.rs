@@ -41,6 +41,7 @@ pub struct Files {
 
 /// The tests of an exercise's student files: `$files` (a [`Files`]) graded on every seed
 /// of `$seeds` (an array of [`Seeds`]), its catalogue holding `$at_least` mistakes or more.
+#[allow(unused_macros)]
 macro_rules! graded_as_the_server_grades {
     ($files:expr, $seeds:expr, $at_least:expr) => {
         #[test]
