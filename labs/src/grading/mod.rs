@@ -24,6 +24,8 @@ mod job;
 mod outputs;
 mod result;
 mod suite;
+#[cfg(test)]
+pub(crate) mod testing;
 
 pub use beliefs::{BeliefTolerance, Beliefs, first_departure, follows};
 pub use compare::{

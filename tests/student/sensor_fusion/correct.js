@@ -97,8 +97,13 @@ function heading_sigma(p1, p2, c_xy) {
 }
 
 function measurement_noise(p1, p2, c_xy) {
-  const sxy = Math.max(c_xy / p1[2], c_xy / p2[2]);
-  const st = heading_sigma(p1, p2, c_xy);
+  const s1 = c_xy / p1[2];
+  const s2 = c_xy / p2[2];
+  const sxy = Math.max(s1, s2);
+  // sigma_theta as heading_sigma has it, in closed form: its four terms sum to
+  // (s1^2 + s2^2) / L^2. (Worked out here rather than called, so that each
+  // function of this file can be broken alone.)
+  const st = Math.sqrt(s1 * s1 + s2 * s2) / Math.hypot(p1[0] - p2[0], p1[1] - p2[1]);
   return diag([sxy * sxy, sxy * sxy, st * st]);
 }
 

@@ -263,23 +263,24 @@ enum Place {
     Under,
 }
 
-/// A pose somewhere about the field of view of a radius of 1.25 to 3 m. On the edge, the
+/// A pose somewhere about the field of view of a radius of 1.5 to 3 m. On the edge, the
 /// pose is one whose distance is exactly the radius in floating point: (0.6 r, 0.8 r) for
-/// r = 1.25 or 2.5, or (+-r, 0), (0, +-r).
+/// r = 0.625, or (+-r, 0), (0, +-r) for r = 0.5 or 1. A radius of at most 1 m there keeps
+/// the edge in view for the squared distance compared with the radius itself (r^2 <= r),
+/// so that only the boundary left out fails the case: the mistakes, both answering false,
+/// would not be told apart beyond 1 m.
 fn view(rng: &mut Rng, place: Place) -> Call {
     let sign = |rng: &mut Rng| if rng.chance(0.5) { 1.0 } else { -1.0 };
     let theta = rng.uniform_in(-PI, PI);
     let (radius, x, y) = match place {
         Place::OnTheEdge => {
-            let radius = [1.25, 2.0, 2.5][(rng.uniform() * 3.0) as usize];
-            let (x, y) = if radius == 2.0 {
-                if rng.chance(0.5) {
-                    (radius, 0.0)
-                } else {
-                    (0.0, radius)
-                }
+            let radius = [0.625, 0.5, 1.0][(rng.uniform() * 3.0) as usize];
+            let (x, y) = if radius == 0.625 {
+                (0.375, 0.5)
+            } else if rng.chance(0.5) {
+                (radius, 0.0)
             } else {
-                (0.6 * radius, 0.8 * radius)
+                (0.0, radius)
             };
             (radius, sign(rng) * x, sign(rng) * y)
         }

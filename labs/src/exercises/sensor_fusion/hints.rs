@@ -10,7 +10,7 @@ use crate::angle::wrap;
 use crate::fusion::Settings;
 use crate::fusion::filter::{increment, innovation, predict};
 use crate::grading::{Contract, Hint, Mismatch, Mistake, form_hint, matrix_of, rows};
-use nalgebra::{Matrix3, Vector2, Vector3};
+use nalgebra::{Matrix3, Vector3};
 use serde_json::Value;
 
 /// A classic mistake of the sensor-fusion exercise, named uniquely across the exercises.
@@ -50,7 +50,9 @@ pub enum HintKind {
     FieldOfViewSquare,
     /// mu_bar = the odometry's own pose.
     OdometryAsPrediction,
-    /// mu_bar = mu + (odom - odom_prev): the increment in the odometry's frame.
+    /// The odometry's displacement not rotated into the frame of its previous pose (or
+    /// rotated by mu's heading): mu_bar = mu + Rot(theta) (odom - odom_prev), or mu_bar =
+    /// mu + (odom - odom_prev).
     IncrementNotRotated,
     /// R = diag(k_xy s, k_xy s, k_theta (s + |dtheta|)), not squared.
     ProcessDeviationAsVariance,
@@ -156,11 +158,12 @@ impl Mistake for HintKind {
                  robot's own frame, to mu."
             }
             HintKind::IncrementNotRotated => {
-                "The odometry's displacement is added in the odometry's frame: the increment \
-                 is the motion in the robot's frame, (dx, dy) = Rot(-theta_odom_prev) (odom - \
-                 odom_prev), and it moves the estimate along the estimate's heading, mu += \
-                 Rot(theta) (dx, dy). Where the filter's heading differs from the odometry's \
-                 they differ."
+                "The odometry's displacement is not taken into the robot's frame: the \
+                 increment is the motion in the frame of the odometry's previous pose, (dx, \
+                 dy) = Rot(-theta_odom_prev) (odom - odom_prev), rotated by the odometry's \
+                 heading (not the filter's), and it moves the estimate along the estimate's \
+                 heading, mu += Rot(theta) (dx, dy). Where the filter's heading differs from \
+                 the odometry's, the displacement added as it is goes astray."
             }
             HintKind::ProcessDeviationAsVariance => {
                 "R holds standard deviations where variances belong: with s the distance \
@@ -411,16 +414,19 @@ fn predict_mistakes(
             sigma_bar: rows(&sigma_bar),
         })
     };
-    // The odometry's displacement in the world, as an increment in the frame of mu: what
-    // adding it unrotated amounts to.
+    // The odometry's displacement in the world taken for the increment, not rotated into
+    // the frame of its previous pose; and rotated by mu's heading instead, which adds the
+    // displacement to mu as it is (as does a student's mu + (odom - odom_prev) with the
+    // covariance right).
     let (sin, cos) = libm::sincos(mu.z);
-    let world = Vector2::new(odom[0] - odom_prev[0], odom[1] - odom_prev[1]);
-    let unrotated = Vector3::new(
+    let world = Vector3::new(odom[0] - odom_prev[0], odom[1] - odom_prev[1], u.z);
+    let (unrotated_mu, unrotated_sigma) = predict(&mu, &sigma, &world, &settings);
+    let in_mu_frame = Vector3::new(
         cos * world.x + sin * world.y,
         -sin * world.x + cos * world.y,
         u.z,
     );
-    let (unrotated_mu, unrotated_sigma) = predict(&mu, &sigma, &unrotated, &settings);
+    let (added_mu, added_sigma) = predict(&mu, &sigma, &in_mu_frame, &settings);
     // R and G as the reference makes them.
     let moved = libm::hypot(u.x, u.y);
     let deviations = Vector3::new(k_xy * moved, k_xy * moved, k_theta * (moved + u.z.abs()));
@@ -444,6 +450,11 @@ fn predict_mistakes(
         (
             HintKind::IncrementNotRotated,
             answer(unrotated_mu, unrotated_sigma),
+        ),
+        (HintKind::IncrementNotRotated, answer(added_mu, added_sigma)),
+        (
+            HintKind::IncrementNotRotated,
+            answer(added_mu, matrix_of(&right.sigma_bar)),
         ),
         (
             HintKind::ProcessDeviationAsVariance,
@@ -499,4 +510,37 @@ fn update_mistakes(
         (HintKind::GainWithQ, posterior(q * s_inv, nu, -1.0)),
         (HintKind::PosteriorSign, posterior(k, nu, 1.0)),
     ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::exercises::sensor_fusion::generate;
+    use crate::grading::testing::each_mistake_gets_its_hint;
+    use strum::VariantArray;
+
+    /// Every mistake made in a case gets its own hint, unless another mistake gives the
+    /// same answer there (then none); every mistake shows in the cases of every seed; and
+    /// a right answer gets no hint. (A heading out of [-pi, pi) is told by its form, and a
+    /// function that keeps state by its repeat: neither is an answer made here.)
+    #[test]
+    fn each_mistake_gets_its_hint_and_a_right_answer_none() {
+        let shown_in_every_seed: Vec<HintKind> = HintKind::VARIANTS
+            .iter()
+            .copied()
+            .filter(|kind| {
+                !matches!(
+                    kind,
+                    HintKind::FusionHeadingNotWrapped | HintKind::KeepsState
+                )
+            })
+            .collect();
+        each_mistake_gets_its_hint(
+            generate,
+            1..=40,
+            mistakes,
+            |_, _, _| false,
+            &shown_in_every_seed,
+        );
+    }
 }
