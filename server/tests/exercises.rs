@@ -75,10 +75,7 @@ async fn the_exercises_are_graded_side_by_side_each_with_its_own_tests() {
     for (lab, source) in [
         (Exercise::EkfLocalization, student::CORRECT),
         (Exercise::Odometry, student::odometry::CORRECT),
-        (
-            Exercise::SensorFusion,
-            include_str!("../../tests/student/sensor_fusion/correct.js"),
-        ),
+        (Exercise::SensorFusion, student::sensor_fusion::CORRECT),
     ] {
         let answer = app
             .send(
