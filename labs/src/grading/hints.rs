@@ -134,6 +134,14 @@ impl<'de> Deserialize<'de> for HintKind {
     }
 }
 
+/// The hint of the one mistake among `kinds` (each listed as often as it explains the
+/// output), or none when no mistake or more than one explains it.
+pub fn the_only<M: Mistake + PartialEq>(kinds: impl IntoIterator<Item = M>) -> Option<Hint> {
+    let mut kinds = kinds.into_iter();
+    let first = kinds.next()?;
+    kinds.all(|kind| kind == first).then(|| first.hint())
+}
+
 /// The hint an output's form gives before its numbers are looked at, if it gives one: NaN
 /// or Infinity; the wrong shape (`transposed`, when the transpose of the output would be
 /// right and the exercise has a hint for that, else what the shape should be); a wrapped

@@ -35,7 +35,8 @@ pub use compare::{
 pub use contract::{Case, Contract, matrix_of, rows};
 pub use functions::{FunctionVerdicts, function_tests};
 pub use hints::{
-    Common, Hint, HintKind, Mistake, describe, form_hint, holds_non_finite, negated, transpose,
+    Common, Hint, HintKind, Mistake, describe, form_hint, holds_non_finite, negated, the_only,
+    transpose,
 };
 pub use job::{CallJob, FunctionPhase, Job, Phase, PhaseKind, RunPhase};
 pub use outputs::{

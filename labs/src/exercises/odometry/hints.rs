@@ -5,7 +5,9 @@
 //! expected output (a sign, a term left out), and compares the student's output with it.
 
 use super::contract::{Answer, Call};
-use crate::grading::{Contract, Hint, Mismatch, Mistake, form_hint, matrix_of, negated, rows};
+use crate::grading::{
+    Contract, Hint, Mismatch, Mistake, form_hint, matrix_of, negated, rows, the_only,
+};
 use crate::odometry::{
     Increment, increment_jacobian, pose_jacobian, propagate_through, step, wheel_noise,
 };
@@ -174,18 +176,11 @@ pub fn diagnose(
     if let Some(hint) = form_hint(call, expected, got, mismatches, transposed, not_wrapped) {
         return Some(hint);
     }
-    let mut kinds: Vec<HintKind> = mistakes(call, expected)
+    let kinds = mistakes(call, expected)
         .into_iter()
         .filter(|(_, alternative)| gives(alternative))
-        .map(|(kind, _)| kind)
-        .collect();
-    kinds.extend(sign_flipped(call, mismatches));
-    kinds.sort_by_key(|kind| *kind as u8);
-    kinds.dedup();
-    match kinds[..] {
-        [kind] => Some(kind.hint()),
-        _ => None,
-    }
+        .map(|(kind, _)| kind);
+    the_only(kinds.chain(sign_flipped(call, mismatches)))
 }
 
 /// The sign mistake of a Jacobian whose every mismatch is a sign flipped. (On the spot,

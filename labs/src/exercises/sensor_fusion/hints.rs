@@ -9,7 +9,7 @@ use super::contract::{Answer, Call, Posterior, Prediction, measured, platform};
 use crate::angle::wrap;
 use crate::fusion::Settings;
 use crate::fusion::filter::{increment, innovation, predict};
-use crate::grading::{Contract, Hint, Mismatch, Mistake, form_hint, matrix_of, rows};
+use crate::grading::{Contract, Hint, Mismatch, Mistake, form_hint, matrix_of, rows, the_only};
 use nalgebra::{Matrix3, Vector3};
 use serde_json::Value;
 
@@ -232,17 +232,12 @@ pub fn diagnose(
     if let Some(hint) = form_hint(call, expected, got, mismatches, None, not_wrapped) {
         return Some(hint);
     }
-    let mut kinds: Vec<HintKind> = mistakes(call, expected)
-        .into_iter()
-        .filter(|(_, alternative)| alternative != expected && call.answers(alternative, got))
-        .map(|(kind, _)| kind)
-        .collect();
-    kinds.sort_by_key(|kind| *kind as u8);
-    kinds.dedup();
-    match kinds[..] {
-        [kind] => Some(kind.hint()),
-        _ => None,
-    }
+    the_only(
+        mistakes(call, expected)
+            .into_iter()
+            .filter(|(_, alternative)| alternative != expected && call.answers(alternative, got))
+            .map(|(kind, _)| kind),
+    )
 }
 
 /// What each classic mistake makes of this call's answer.
