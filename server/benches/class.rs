@@ -21,7 +21,7 @@ use estlab::sandbox::Sandbox;
 use estlab::store::{NewExtension, NewMember, NewSubmission, Role, Store};
 use jiff::{SignedDuration, Timestamp};
 use labs::Exercise;
-use labs::grading::{GradeResult, student_seed};
+use labs::grading::{GradeResult, Hidden, student_seed};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -96,7 +96,10 @@ fn grade_files() -> Vec<Graded> {
                             Exercise::EkfLocalization,
                             &source,
                             1 + i as u64,
-                            Some(1000 + i as u64),
+                            Some(Hidden {
+                                cases: 1000 + i as u64,
+                                class: 1,
+                            }),
                         )
                         .stored();
                     assert!(result.gradable, "not gradable: {:?}", result.reason);

@@ -326,6 +326,38 @@ fn gradescope_grades_as_estlab_grade_does_with_hidden_cases_after_the_due_date()
     }
 }
 
+/// The sensor-fusion exercise's class challenge on Gradescope: a test worth nothing that
+/// gives the figure, and the figure on the assignment's leaderboard, lower the better;
+/// the same as `estlab grade` gives with the package's secret and course.
+#[test]
+fn gradescope_puts_the_class_challenge_on_its_leaderboard() {
+    let gradescope = Gradescope::new("sensor-fusion");
+    let correct = include_str!("../../tests/student/sensor_fusion/correct.js");
+    let results = gradescope.grade(&[("sensor_fusion.js", correct)], &[4201], 7101);
+    assert_eq!(results, gradescope.graded_alone(correct, &results));
+    assert_eq!(results.score, Some(90.0));
+    let [entry] = results.leaderboard.as_slice() else {
+        panic!("{:?}", results.leaderboard);
+    };
+    assert_eq!(
+        (entry.name.as_str(), entry.order.as_str()),
+        ("Class challenge (m)", "asc")
+    );
+    assert!(entry.value > 0.0 && entry.value < 0.5, "{entry:?}");
+    let test = results.tests.last().unwrap();
+    assert!(
+        test.name.starts_with("Class challenge (no points)"),
+        "{}",
+        test.name
+    );
+    assert_eq!((test.score, test.max_score), (0.0, 0.0));
+    assert!(
+        test.output.contains(&format!("{:.4} m", entry.value)),
+        "{}",
+        test.output
+    );
+}
+
 #[test]
 fn gradescope_says_which_file_it_wants_and_refuses_what_it_cannot_grade() {
     let gradescope = Gradescope::new("ekf-localization");

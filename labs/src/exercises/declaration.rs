@@ -1,7 +1,7 @@
 //! What an exercise declares once, in its folder, for everything that lists exercises:
 //! its names and texts ([`Declaration`]) and its types ([`Graded`]).
 
-use crate::grading::{Contract, ExercisePlan, Generator};
+use crate::grading::{Contract, ExercisePlan, Generator, Hidden};
 use ts_rs::TS;
 
 /// An exercise's names and texts, and its JavaScript: the pages, the workbench, the
@@ -88,8 +88,9 @@ pub trait Graded: 'static {
     const GENERATE: Generator<Self::Call>;
 
     /// The plan of the variant `seed`; with `hidden`, hidden cases (and runs) drawn from it
-    /// besides, as the server grades.
-    fn plan(seed: u64, hidden: Option<u64>) -> Self::Plan;
+    /// besides, as the server grades (and, for an exercise with a class challenge, the
+    /// class's held-out run).
+    fn plan(seed: u64, hidden: Option<Hidden>) -> Self::Plan;
 }
 
 /// Something done with an exercise's [`Graded`] type, whichever exercise it is

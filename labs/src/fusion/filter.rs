@@ -331,11 +331,10 @@ pub fn run(trial: &Trial, settings: &Settings, detector: &Detector) -> Vec<Estim
     out
 }
 
-/// Whether `truth` lies inside the 3-sigma ellipse of the estimate's position:
-/// `e' Sigma_xy^-1 e <= 9` (98.9 % of a Gaussian's mass).
-pub fn inside_three_sigma(estimate: &Estimate, truth: [f64; 3]) -> bool {
-    let e = Vector2::new(truth[0] - estimate.pose[0], truth[1] - estimate.pose[1]);
-    let s = &estimate.sigma;
+/// Whether `truth` lies inside the 3-sigma ellipse of the position of the estimate `pose`
+/// with covariance `s` (rows): `e' Sigma_xy^-1 e <= 9` (98.9 % of a Gaussian's mass).
+pub fn inside_three_sigma(pose: [f64; 3], s: &[[f64; 3]; 3], truth: [f64; 3]) -> bool {
+    let e = Vector2::new(truth[0] - pose[0], truth[1] - pose[1]);
     Matrix2::new(s[0][0], s[0][1], s[1][0], s[1][1])
         .try_inverse()
         .is_some_and(|inv| (e.transpose() * inv * e)[0] <= 9.0)

@@ -23,8 +23,8 @@ pub mod sensor;
 pub mod simulate;
 pub mod trial;
 
-pub use filter::{Estimate, Settings, Use, run};
-pub use metrics::{Errors, Summary, tune};
+pub use filter::{Estimate, Settings, Use, inside_three_sigma, run};
+pub use metrics::{Errors, REPORT_FIGURES, ReportFigures, Summary, tune};
 pub use sensor::{Detector, Measurement, NoiseModel, Platform};
 pub use simulate::{TrialParams, generate};
 pub use trial::{Reading, Step, Trial};

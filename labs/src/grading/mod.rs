@@ -42,7 +42,7 @@ pub use job::{CallJob, FunctionPhase, Job, Phase, PhaseKind, RunPhase};
 pub use outputs::{
     CallResult, Cause, FunctionOutput, Outputs, PhaseOutput, Reports, RunOutput, Stopped,
 };
-pub use result::{Failure, GradeResult, POINTS, Status, Subject, Test, Visibility};
+pub use result::{Challenge, Failure, GradeResult, POINTS, Status, Subject, Test, Visibility};
 pub use suite::{
     CASES_PER_FUNCTION, FUNCTION_LIMIT_MS, Generator, PUBLIC_SEED, PlannedCase, Scenario, Suite,
     cases_of, function_phases, planned_cases, scenario_cases,
@@ -68,8 +68,17 @@ pub fn student_seed(course: &str, student: &str) -> u64 {
     hash & ((1 << 53) - 1)
 }
 
+/// What a grading on the server draws from its secret, which students never see: the
+/// submission's own hidden cases (and runs), and the run its whole class is measured on
+/// (the class challenge: the same for every submission of a course, so their figures rank).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Hidden {
+    pub cases: u64,
+    pub class: u64,
+}
+
 /// Everything one grading of an exercise checks, made from the student's seed and, on the
-/// server, a seed of hidden cases: the exercise's own plan ([`ExercisePlan`]).
+/// server, what it draws from its secret: the exercise's own plan ([`ExercisePlan`]).
 #[derive(Clone, Debug)]
 pub struct Plan(Arc<dyn ExercisePlan>);
 
@@ -91,7 +100,7 @@ pub trait ExercisePlan: Any + Debug + Send + Sync {
 /// The plan of an exercise, made by its [`Graded`](crate::exercises::Graded) type.
 struct Planned {
     seed: u64,
-    hidden: Option<u64>,
+    hidden: Option<Hidden>,
 }
 
 impl Visit for Planned {
@@ -104,7 +113,7 @@ impl Visit for Planned {
 impl Plan {
     /// The plan of `exercise` for the variant `seed`; with `hidden`, hidden cases (and
     /// runs) drawn from it besides, as the server grades.
-    pub fn new(exercise: Exercise, seed: u64, hidden: Option<u64>) -> Plan {
+    pub fn new(exercise: Exercise, seed: u64, hidden: Option<Hidden>) -> Plan {
         exercise.visit(Planned { seed, hidden })
     }
 

@@ -27,6 +27,28 @@ pub struct GradeResult {
     pub points: f64,
     pub max_points: f64,
     pub tests: Vec<Test>,
+    /// The exercise's class challenge, where it has one and the grading ran it (on the
+    /// server); it earns no points.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub challenge: Option<Challenge>,
+}
+
+/// A class challenge's figure of one submission: the student's own filter, with the
+/// settings they chose, over a run their class never sees (the same for every submission
+/// of a course), lower the better. It ranks the class; it does not grade.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, TS)]
+pub struct Challenge {
+    /// What the figure measures, for a person: "the RMS position error over a held-out
+    /// trial of 1043 steps".
+    pub measure: String,
+    /// The unit of the figures ("m").
+    pub unit: String,
+    /// The student's figure; none when the run gave none (`message` says why).
+    pub figure: Option<f64>,
+    /// The reference's figure over the same run, with its default settings.
+    pub reference: f64,
+    /// The settings used and the other figures of the run, or why it has no figure.
+    pub message: String,
 }
 
 /// Points of each test: a function's, a run's.
@@ -265,6 +287,7 @@ impl GradeResult {
             points,
             max_points,
             tests,
+            challenge: None,
         }
     }
 
@@ -280,6 +303,7 @@ impl GradeResult {
             points: 0.0,
             max_points: 0.0,
             tests: Vec::new(),
+            challenge: None,
         }
     }
 

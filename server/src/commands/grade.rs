@@ -25,6 +25,8 @@ pub struct Args {
     /// Or the student's id, whose variant within --course is graded.
     #[arg(long)]
     student: Option<String>,
+    /// The course: the student's variant within it, and with --secret its class's
+    /// held-out run (a package's course on a platform).
     #[arg(long, default_value = DEFAULT_COURSE)]
     course: String,
     /// A secret file (the server's `DATA/secret`, or a package's) to grade hidden cases
@@ -65,7 +67,7 @@ pub fn run(args: &Args) -> Result<(), Error> {
     let sandbox = Sandbox::current(cores()).map_err(Error::io("the estlab executable"))?;
     // Without a secret there are no hidden cases: the result says so.
     let key = secret.is_some().then_some(args.submission);
-    let hidden = secret.map(|secret| secret.hidden_seed(args.submission));
+    let hidden = secret.map(|secret| secret.hidden(args.submission, &args.course));
     let result = sandbox.grade(args.lab, &source, seed, hidden);
     let text = match args.format {
         Format::Json => serde_json::to_string_pretty(&result),

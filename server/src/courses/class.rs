@@ -2,6 +2,7 @@
 //! counts, the latest, lateness, when last submitted), the distribution of scores, the
 //! share of students passing each test, and the classic mistakes the class makes.
 
+use super::challenge::{self, ClassChallenge};
 use super::deadline::Policy;
 use crate::store::{self, Extension, Member, Store, SubmissionSummary};
 use labs::Exercise;
@@ -80,6 +81,8 @@ pub struct ClassView {
     pub distribution: [usize; 10],
     pub tests: Vec<TestShare>,
     pub mistakes: Vec<MistakeShare>,
+    /// The class challenge, where the exercise has one and a counting submission ran it.
+    pub challenge: Option<ClassChallenge>,
 }
 
 /// The class from its people, their submissions to the exercise (any order), the
@@ -186,11 +189,21 @@ pub fn class_view<E>(
         })
         .collect();
     mistakes.sort_by_key(|m| std::cmp::Reverse(m.students.len()));
+    // What the newest of the gradings that ran the challenge says of it.
+    let challenge = results
+        .iter()
+        .filter_map(|(id, result)| Some((*id, result.challenge.as_ref()?)))
+        .max_by_key(|(id, _)| *id)
+        .map(|(_, about)| {
+            let ranking = challenge::ranking(members, submissions, policy.counts);
+            challenge::class_challenge(about, ranking)
+        });
     Ok(ClassView {
         students,
         distribution,
         tests,
         mistakes,
+        challenge,
     })
 }
 

@@ -1,7 +1,8 @@
 //! What a course is made of, apart from its storage: the deadline and late policy of an
-//! assignment, the sign-in codes and tokens (made here, kept only as hashes), and the
+//! assignment, the class's view of it and its challenge's ranking, the sign-in codes and tokens (made here, kept only as hashes), and the
 //! roster file an instructor imports, with the rules a student id keeps (`ids`).
 
+pub mod challenge;
 pub mod class;
 pub mod codes;
 pub mod deadline;

@@ -292,7 +292,7 @@ impl Grader {
     fn grade_submission(&self, id: i64) -> Result<(), Failure> {
         let started = Instant::now();
         let job = self.store.start_grading(id)?;
-        let hidden = self.secret.hidden_seed(id);
+        let hidden = self.secret.hidden(id, &job.course);
         let result = match self
             .sandbox
             .try_grade(job.exercise, &job.source, job.seed, Some(hidden))
@@ -321,7 +321,7 @@ impl Grader {
         let started = Instant::now();
         // Its status stays graded: the student may go on submitting meanwhile.
         let job = self.store.to_grade(submission)?;
-        let hidden = self.secret.hidden_seed(submission);
+        let hidden = self.secret.hidden(submission, &job.course);
         let result = self
             .sandbox
             .try_grade(job.exercise, &job.source, job.seed, Some(hidden))

@@ -6,7 +6,7 @@
 
 use crate::store::Error;
 use labs::Exercise;
-use labs::grading::Plan;
+use labs::grading::{Hidden, Plan};
 use sha2::{Digest, Sha256};
 use std::io::Write;
 use std::os::unix::fs::OpenOptionsExt;
@@ -77,13 +77,29 @@ impl Secret {
         &self.0
     }
 
+    /// What a grading of the submission `submission` made in the class `class` (a course,
+    /// or a platform) draws from the secret: the submission's hidden cases, and the
+    /// class's held-out run.
+    pub fn hidden(&self, submission: i64, class: &str) -> Hidden {
+        Hidden {
+            cases: self.hidden_seed(submission),
+            class: self.seed_of(&[b"held-out run of class ", class.as_bytes()]),
+        }
+    }
+
     /// The seed of the hidden cases of a submission: SHA-256 of the secret and the id,
     /// cut to a whole number below 2^53 like every seed.
     pub fn hidden_seed(&self, submission: i64) -> u64 {
-        let digest = Sha256::new()
-            .chain_update(self.0)
-            .chain_update(b"hidden cases of submission ")
-            .chain_update(submission.to_le_bytes())
+        self.seed_of(&[b"hidden cases of submission ", &submission.to_le_bytes()])
+    }
+
+    /// SHA-256 of the secret and `parts`, cut to a whole number below 2^53.
+    fn seed_of(&self, parts: &[&[u8]]) -> u64 {
+        let digest = parts
+            .iter()
+            .fold(Sha256::new().chain_update(self.0), |hash, part| {
+                hash.chain_update(part)
+            })
             .finalize();
         let mut first = [0; 8];
         first.copy_from_slice(&digest[..8]);
@@ -103,7 +119,7 @@ fn failed(path: &Path) -> impl Fn(std::io::Error) -> Error + '_ {
 /// the exercise (with the hidden cases the secret draws, if there is one), so that it
 /// changes when the exercise's cases, its runs or the secret change, and only then.
 pub fn grader_version(exercise: Exercise, secret: Option<&Secret>) -> String {
-    let hidden = secret.map(|secret| secret.hidden_seed(0));
+    let hidden = secret.map(|secret| secret.hidden(0, ""));
     let job = Plan::new(exercise, 1, hidden).job();
     let digest = Sha256::digest(serde_json::to_vec(&job).expect("jobs serialise"));
     let hash: String = digest[..6].iter().map(|b| format!("{b:02x}")).collect();
@@ -146,6 +162,20 @@ mod tests {
         let other = tempfile::tempdir().unwrap();
         let other = Secret::load_or_create(other.path()).unwrap();
         assert_ne!(first.hidden_seed(7), other.hidden_seed(7));
+    }
+
+    /// A class's held-out run is the same for every submission of the class, another for
+    /// another class or secret; a submission's hidden cases are its own.
+    #[test]
+    fn a_class_shares_its_held_out_run_and_nothing_else() {
+        let (one, other) = (Secret([1; BYTES]), Secret([2; BYTES]));
+        let (a, b) = (one.hidden(7, "el2320"), one.hidden(8, "el2320"));
+        assert_eq!(a.class, b.class);
+        assert_ne!(a.cases, b.cases);
+        assert_eq!(a.cases, one.hidden_seed(7));
+        assert_ne!(a.class, one.hidden(7, "el2320-ht27").class);
+        assert_ne!(a.class, other.hidden(7, "el2320").class);
+        assert!(a.class < 1 << 53);
     }
 
     #[test]

@@ -107,7 +107,7 @@ impl PackagedGrader {
             Err(e) => return not_gradable(format!("the grader could not start: {e}")),
         };
         let key = drawn.key(&source);
-        let hidden = Some(self.secret.hidden_seed(key));
+        let hidden = Some(self.secret.hidden(key, &self.settings.course));
         let result = sandbox.grade(self.settings.lab, &source, seed, hidden);
         (result, Some(key))
     }
@@ -127,7 +127,7 @@ pub enum Drawn {
 }
 
 impl Drawn {
-    /// The key `Secret::hidden_seed` takes: a SHA-256 of the platform, what identifies
+    /// The key `Secret::hidden` takes: a SHA-256 of the platform, what identifies
     /// the submission and the file's text, cut to a whole number below 2^53.
     fn key(&self, source: &str) -> i64 {
         let hash = match self {

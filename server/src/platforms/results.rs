@@ -4,7 +4,7 @@
 //! and refuse any other.
 
 use labs::Exercise;
-use labs::grading::{GradeResult, Status, Visibility};
+use labs::grading::{Challenge, GradeResult, Status, Visibility};
 use serde::{Deserialize, Serialize};
 
 /// Gradescope's `results.json` (the autograder specification).
@@ -18,7 +18,21 @@ pub struct GradescopeResults {
     /// Shown above the tests.
     pub output: String,
     pub tests: Vec<GradescopeTest>,
+    /// The class challenge's figure, on the assignment's leaderboard (where its settings
+    /// turn the leaderboard on).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub leaderboard: Vec<LeaderboardEntry>,
     pub extra_data: GraderData,
+}
+
+/// A column of Gradescope's leaderboard.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LeaderboardEntry {
+    pub name: String,
+    pub value: f64,
+    /// "asc": lower is better.
+    pub order: String,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -72,6 +86,21 @@ pub struct PrairieLearnTest {
     pub points: f64,
     pub max_points: f64,
     pub message: String,
+}
+
+/// The class challenge as a test worth nothing: its name, and its figure beside the
+/// reference's with the message.
+fn challenge_test(challenge: &Challenge) -> (String, String) {
+    let figure = challenge.figure.map_or("no figure".to_owned(), |f| {
+        format!("{f:.4} {}", challenge.unit)
+    });
+    (
+        format!("Class challenge (no points): {}", challenge.measure),
+        format!(
+            "Your figure: {figure}; the reference filter's: {:.4} {}.\n{}",
+            challenge.reference, challenge.unit, challenge.message
+        ),
+    )
 }
 
 /// What a test's output says in place of the failing hidden cases before the due date.
@@ -142,10 +171,32 @@ impl GradescopeResults {
                 });
             }
         }
+        let mut leaderboard = Vec::new();
+        if let Some(challenge) = &result.challenge {
+            let (name, output) = challenge_test(challenge);
+            tests.push(GradescopeTest {
+                name,
+                score: 0.0,
+                max_score: 0.0,
+                status: if challenge.figure.is_some() {
+                    Status::Passed
+                } else {
+                    Status::Failed
+                },
+                visibility: Visibility::Visible,
+                output,
+            });
+            leaderboard.extend(challenge.figure.map(|value| LeaderboardEntry {
+                name: format!("Class challenge ({})", challenge.unit),
+                value,
+                order: "asc".to_owned(),
+            }));
+        }
         GradescopeResults {
             score: result.gradable.then_some(result.points),
             output: signed(result, grader),
             tests,
+            leaderboard,
             extra_data: grader_data(result, grader, hidden_key),
         }
     }
@@ -156,6 +207,7 @@ impl GradescopeResults {
             score: None,
             output: not_gradable(reason),
             tests: Vec::new(),
+            leaderboard: Vec::new(),
             extra_data: unreadable_grader(),
         }
     }
@@ -178,6 +230,15 @@ impl PrairieLearnResults {
                     max_points: t.max_points,
                     message: t.message.clone(),
                 })
+                .chain(result.challenge.as_ref().map(|challenge| {
+                    let (name, message) = challenge_test(challenge);
+                    PrairieLearnTest {
+                        name,
+                        points: 0.0,
+                        max_points: 0.0,
+                        message,
+                    }
+                }))
                 .collect(),
             estlab: grader_data(result, grader, hidden_key),
         }

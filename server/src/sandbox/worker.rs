@@ -11,7 +11,9 @@ use super::engine::LOAD_LIMIT_MS;
 use super::error::{Failure, TooLarge};
 use super::watchdog::{OVERRUN_EXIT, OVERRUN_PREFIX};
 use labs::Exercise;
-use labs::grading::{FunctionOutput, GradeResult, Job, Outputs, PhaseOutput, Plan, RunOutput};
+use labs::grading::{
+    FunctionOutput, GradeResult, Hidden, Job, Outputs, PhaseOutput, Plan, RunOutput,
+};
 use serde::{Deserialize, Serialize};
 use std::io::{Read, Write};
 use std::os::unix::process::{CommandExt, ExitStatusExt};
@@ -87,7 +89,7 @@ impl Sandbox {
         exercise: Exercise,
         source: &str,
         seed: u64,
-        hidden: Option<u64>,
+        hidden: Option<Hidden>,
     ) -> GradeResult {
         self.try_grade(exercise, source, seed, hidden)
             .unwrap_or_else(|e| GradeResult::not_gradable(exercise, seed, e.to_string()))
@@ -100,7 +102,7 @@ impl Sandbox {
         exercise: Exercise,
         source: &str,
         seed: u64,
-        hidden: Option<u64>,
+        hidden: Option<Hidden>,
     ) -> Result<GradeResult, DidNotStart> {
         let plan = Plan::new(exercise, seed, hidden);
         let job = plan.job();

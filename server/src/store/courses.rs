@@ -92,6 +92,9 @@ pub struct Assignment {
     pub lab: Exercise,
     #[serde(flatten)]
     pub policy: Policy,
+    /// Whether its students see their rank in the class challenge (an exercise with
+    /// one); on unless staff switch it off.
+    pub ranked: bool,
 }
 
 const MEMBER_COLUMNS: &str = "id, course, login, name, email, role, dropped";
@@ -117,10 +120,11 @@ fn assignment(row: &Row) -> rusqlite::Result<Assignment> {
             penalty_per_day: row.get(4)?,
             counts: Counts::parse(&row.get::<_, String>(5)?),
         },
+        ranked: row.get(6)?,
     })
 }
 
-const ASSIGNMENT_COLUMNS: &str = "course, lab, due, cutoff, late_penalty, counts";
+const ASSIGNMENT_COLUMNS: &str = "course, lab, due, cutoff, late_penalty, counts, ranked";
 
 /// The dates in force for one student, from the columns `a.due, a.cutoff, a.late_penalty,
 /// a.counts, e.due, e.cutoff` from `first` on (an assignment and, left-joined, the
@@ -372,6 +376,16 @@ impl Store {
             ],
         )?;
         Ok(())
+    }
+
+    /// Shows an assignment's students their rank in the class challenge, or stops; false
+    /// when the course has not opened the exercise.
+    pub fn set_ranked(&self, course: &str, lab: Exercise, ranked: bool) -> Result<bool, Error> {
+        let changed = self.connection().execute(
+            "UPDATE assignments SET ranked = ?3 WHERE course = ?1 AND lab = ?2",
+            params![course, lab.name(), ranked],
+        )?;
+        Ok(changed == 1)
     }
 
     /// A course's assignments of the exercises this release grades (a database of a later

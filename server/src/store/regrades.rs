@@ -2,7 +2,7 @@
 //! each result replacing the current one while the replaced one is kept, so that nobody's
 //! score changes silently and a stop resumes the job where it was.
 
-use super::submissions::{SUMMARY_COLUMNS, SUMMARY_FROM, SUMMARY_WIDTH, summary};
+use super::submissions::{SUMMARY_COLUMNS, SUMMARY_FROM, SUMMARY_WIDTH, challenge_figure, summary};
 use super::timestamp;
 use super::{Error, Store, exercise, known_exercises};
 use jiff::Timestamp;
@@ -207,9 +207,9 @@ impl Store {
             params![submission, regrade],
         )?;
         transaction.execute(
-            "UPDATE submissions SET result = ?2, score = ?3, grader = ?4,
+            "UPDATE submissions SET result = ?2, score = ?3, grader = ?4, challenge = ?5,
              graded_at = strftime('%Y-%m-%dT%H:%M:%fZ', 'now') WHERE id = ?1",
-            params![submission, text, score, grader],
+            params![submission, text, score, grader, challenge_figure(result)],
         )?;
         transaction.execute(
             "UPDATE regrade_items SET done = 1, new_score = ?3 WHERE regrade = ?1 AND submission = ?2",

@@ -162,6 +162,12 @@ const MIGRATIONS: &[&str] = &[
     UPDATE results SET result = (SELECT t.result FROM tested t WHERE t.kept = 'results' AND t.id = results.id)
     WHERE id IN (SELECT id FROM tested WHERE kept = 'results');
     DROP TABLE tested;",
+    // 6: the class challenge. A submission's figure (its filter's error over its class's
+    // held-out run, lower the better; none where the exercise has no challenge or the run
+    // gave no figure) kept beside its score, so that a rank is a query away; and whether an
+    // assignment shows its students their rank.
+    "ALTER TABLE submissions ADD COLUMN challenge REAL;
+    ALTER TABLE assignments ADD COLUMN ranked INTEGER NOT NULL DEFAULT 1;",
 ];
 
 /// Brings the schema up to the newest version, one migration per transaction.

@@ -393,6 +393,7 @@ mod tests {
             score,
             final_score: score.map(|s| s * (1.0 - penalty)),
             waiver: None,
+            challenge: None,
         }
     }
 

@@ -97,6 +97,9 @@ pub struct SubmissionSummary {
     pub final_score: Option<f64>,
     /// The late penalty waived by staff, and why.
     pub waiver: Option<Waiver>,
+    /// Its figure in the class challenge (lower the better), where the exercise has one
+    /// and its run gave one.
+    pub challenge: Option<f64>,
 }
 
 /// A stored submission with its result; its source only for those who may read it.
@@ -118,6 +121,11 @@ pub struct Submission {
     pub source: Option<String>,
 }
 
+/// The figure of a result's class challenge, as the submission keeps it.
+pub(super) fn challenge_figure(result: &GradeResult) -> Option<f64> {
+    result.challenge.as_ref().and_then(|c| c.figure)
+}
+
 /// How submission times are written: UTC to the millisecond, as estlab 0.1.0 wrote them.
 fn moment(at: Timestamp) -> String {
     at.strftime("%Y-%m-%dT%H:%M:%S%.3fZ").to_string()
@@ -135,8 +143,8 @@ pub(super) const SUMMARY_FROM: &str = "submissions s
 pub(super) const SUMMARY_COLUMNS: &str = "s.id, s.course, s.student, s.lab, s.status,
     s.submitted_at, s.late_seconds, s.penalty, s.score,
     a.due, a.cutoff, a.late_penalty, a.counts, e.due, e.cutoff,
-    w.reason, w.waived_by, w.waived_at";
-pub(super) const SUMMARY_WIDTH: usize = 18;
+    w.reason, w.waived_by, w.waived_at, s.challenge";
+pub(super) const SUMMARY_WIDTH: usize = 19;
 
 pub(super) fn summary(row: &Row) -> rusqlite::Result<SubmissionSummary> {
     let score: Option<f64> = row.get(8)?;
@@ -167,6 +175,7 @@ pub(super) fn summary(row: &Row) -> rusqlite::Result<SubmissionSummary> {
         score,
         final_score: score.map(|s| s * (1.0 - penalty)),
         waiver,
+        challenge: row.get(18)?,
     })
 }
 
@@ -241,8 +250,14 @@ impl Store {
         let text = serde_json::to_string(result).expect("results serialise");
         self.connection().execute(
             "UPDATE submissions SET status = 'graded', result = ?2, score = ?3, grader = ?4,
-             graded_at = strftime('%Y-%m-%dT%H:%M:%fZ', 'now') WHERE id = ?1",
-            params![id, text, result.gradable.then_some(result.score), grader],
+             challenge = ?5, graded_at = strftime('%Y-%m-%dT%H:%M:%fZ', 'now') WHERE id = ?1",
+            params![
+                id,
+                text,
+                result.gradable.then_some(result.score),
+                grader,
+                challenge_figure(result)
+            ],
         )?;
         Ok(())
     }

@@ -5,6 +5,7 @@ use super::extract::Query;
 use super::pages::{Nav, html};
 use super::viewer::Viewer;
 use super::{AppState, Error, blocking, lab_field};
+use crate::courses::challenge::{self, StudentChallenge};
 use crate::courses::deadline::{Policy, Timing, span};
 use crate::store::{
     Assignment, Course, Extension, Member, Status, Store, Submission, SubmissionSummary,
@@ -92,6 +93,9 @@ pub struct StudentAssignment {
     pub history: Vec<SubmissionSummary>,
     /// The score that counts (best or last, after late penalties).
     pub counting_score: Option<f64>,
+    /// Their standing in the class challenge, where the exercise has one and the
+    /// submission that counts ran it.
+    pub challenge: Option<StudentChallenge>,
     /// Their latest submission with its full result.
     pub latest: Option<Submission>,
 }
@@ -172,11 +176,15 @@ fn gather(
             let standing = Standing::of(&assignment.policy, now);
             let extension = store.extension_for(&member.course, exercise, member.id)?;
             let history = store.history(member.id, exercise)?;
-            let counting_score = assignment
+            let counting = assignment
                 .policy
                 .counts
-                .choose(history.iter(), |s| s.final_score)
-                .and_then(|s| s.final_score);
+                .choose(history.iter(), |s| s.final_score);
+            let counting_score = counting.and_then(|s| s.final_score);
+            let challenge = match counting.filter(|s| s.challenge.is_some()) {
+                Some(counting) => challenge_standing(store, &member, &assignment, counting.id)?,
+                None => None,
+            };
             let latest = match history.last() {
                 Some(last) => store
                     .get(last.id, false)?
@@ -197,6 +205,7 @@ fn gather(
                 extension,
                 history,
                 counting_score,
+                challenge,
                 latest,
             });
         }
@@ -209,6 +218,29 @@ fn gather(
         assignments,
         staff_assignments,
     })
+}
+
+/// A student's standing in the class challenge of `assignment`, where `counting` (the id
+/// of the submission that counts for them) has a figure: their rank among the class's
+/// counting submissions.
+fn challenge_standing(
+    store: &Store,
+    member: &Member,
+    assignment: &Assignment,
+    counting: i64,
+) -> Result<Option<StudentChallenge>, crate::store::Error> {
+    let Some(result) = store.results(&[counting])?.remove(&counting) else {
+        return Ok(None);
+    };
+    let members = store.members(&member.course)?;
+    let submissions = store.course_submissions(&member.course, assignment.lab)?;
+    let ranking = challenge::ranking(&members, &submissions, assignment.policy.counts);
+    Ok(challenge::standing(
+        &result,
+        &ranking,
+        &member.login,
+        assignment.ranked,
+    ))
 }
 
 async fn load(state: &AppState, viewer: &Viewer) -> Result<About, Error> {
@@ -262,6 +294,11 @@ impl MePage<'_> {
 
     fn score(&self, score: &Option<f64>) -> String {
         score.map_or_else(|| "–".into(), |s| format!("{:.0} %", s * 100.0))
+    }
+
+    /// A figure of the class challenge, with four decimals.
+    fn figure(&self, value: &f64) -> String {
+        format!("{value:.4}")
     }
 
     fn percent(&self, share: &f64) -> String {

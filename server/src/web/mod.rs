@@ -130,6 +130,10 @@ pub fn router(state: Arc<AppState>) -> Router {
         )
         .route("/api/courses/{course}/labs/{lab}/class", get(staff::class))
         .route(
+            "/api/courses/{course}/labs/{lab}/ranking",
+            post(staff::set_ranking),
+        )
+        .route(
             "/api/courses/{course}/labs/{lab}/students/{student}",
             get(staff::student),
         )

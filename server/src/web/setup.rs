@@ -370,11 +370,10 @@ pub async fn assign(
     };
     let assignment = change(&state, &viewer, course.clone(), move |setup| {
         setup.assign(exercise, &policy)?;
-        Ok(Assignment {
-            course,
-            lab: exercise,
-            policy,
-        })
+        Ok(setup
+            .store
+            .assignment(&course, exercise)?
+            .expect("the assignment just stored"))
     })
     .await
     .map_err(|error| match error {

@@ -35,6 +35,8 @@ pub struct ClassAnswer {
     pub course: String,
     pub lab: Exercise,
     pub policy: Policy,
+    /// Whether students see their rank in the class challenge.
+    pub ranked: bool,
     /// The grader that grades now (a regrade uses it).
     pub grader: String,
     #[serde(flatten)]
@@ -63,6 +65,7 @@ async fn class_answer(
         Ok(Some(ClassAnswer {
             course,
             policy: assignment.policy,
+            ranked: assignment.ranked,
             lab: exercise,
             grader,
             view,
@@ -81,6 +84,51 @@ pub async fn class(
     viewer.staff_of(&course)?;
     let exercise = known_lab(&lab)?;
     Ok(Json(class_answer(&state, course, exercise).await?).into_response())
+}
+
+/// The body of `POST /api/courses/{course}/labs/{lab}/ranking`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RankingRequest {
+    ranked: bool,
+}
+
+/// What the ranking switch answers: the switch as stored.
+#[derive(Serialize, TS)]
+pub(super) struct RankingSet {
+    ranked: bool,
+}
+
+/// `POST /api/courses/{course}/labs/{lab}/ranking`: shows the students of an assignment
+/// their rank in the class challenge, or stops (each still sees their own figure); logged.
+pub async fn set_ranking(
+    State(state): State<Arc<AppState>>,
+    viewer: Viewer,
+    Path((course, lab)): Path<(String, String)>,
+    body: Body,
+) -> Result<Response, Error> {
+    viewer.staff_of(&course)?;
+    let exercise = known_lab(&lab)?;
+    let request: RankingRequest = body.json(&viewer, "the ranking switch").await?;
+    let who = viewer.actor();
+    let now = state.clock.now();
+    let ranked = request.ranked;
+    let found = blocking(&state, move |store| {
+        if !store.set_ranked(&course, exercise, ranked)? {
+            return Ok(false);
+        }
+        let shown = if ranked { "shown" } else { "hidden" };
+        let detail = format!("{exercise}: the class challenge's ranks {shown} to students");
+        store.audit(&course, &who, "ranking", &detail, now)?;
+        Ok(true)
+    })
+    .await?;
+    if !found {
+        return Err(Error::NotFound(
+            "the course has not opened this exercise".into(),
+        ));
+    }
+    Ok(Json(RankingSet { ranked }).into_response())
 }
 
 /// `GET /api/courses/{course}/labs/{lab}/students/{student}`: one student's submissions.

@@ -17,7 +17,7 @@
 use super::{Replacement, made_in};
 use estlab::sandbox::Sandbox;
 use labs::Exercise;
-use labs::grading::{self, GradeResult, Status, Subject, Test};
+use labs::grading::{self, GradeResult, Hidden, Status, Subject, Test};
 use serde::Deserialize;
 use serde_json::json;
 use std::path::PathBuf;
@@ -111,7 +111,11 @@ impl Files {
     /// Grades `source` in a worker process, as the server does.
     pub fn grade(&self, source: &str, (seed, hidden): Seeds) -> GradeResult {
         let sandbox = Sandbox::new(PathBuf::from(env!("CARGO_BIN_EXE_estlab")), 1);
-        let result = sandbox.grade(self.exercise, source, seed, Some(hidden));
+        let drawn = Hidden {
+            cases: hidden,
+            class: hidden,
+        };
+        let result = sandbox.grade(self.exercise, source, seed, Some(drawn));
         assert!(result.gradable, "seed {seed}: {:?}", result.reason);
         result
     }
@@ -143,6 +147,18 @@ impl Files {
             assert_eq!(subjects, expected.iter().collect::<Vec<_>>());
             for run in self.runs {
                 assert!(run_test(&result, run).message.starts_with("Passed"));
+            }
+            // A class challenge, where the exercise has one: the file's tuning() returns
+            // the reference's default settings, so its figure is the reference's.
+            if let Some(challenge) = &result.challenge {
+                let figure = challenge
+                    .figure
+                    .unwrap_or_else(|| panic!("{seeds:?}: no figure: {}", challenge.message));
+                assert!(
+                    (figure - challenge.reference).abs() < 1e-6,
+                    "{seeds:?}: {figure} against {}",
+                    challenge.reference
+                );
             }
         }
     }
@@ -176,6 +192,17 @@ impl Files {
                     }),
                 "{}",
                 test.message
+            );
+        }
+        // Over the class challenge's run the loop stops at the first function too, and
+        // what the code threw there is not repeated: it could carry the run's data out.
+        if let Some(challenge) = &result.challenge {
+            assert_eq!(challenge.figure, None);
+            assert!(
+                challenge.message.contains("stopped at step")
+                    && !challenge.message.contains("not implemented"),
+                "{}",
+                challenge.message
             );
         }
     }

@@ -1,5 +1,5 @@
-// What the fusion page's controls say, as the library's types read them, and the flags of
-// `estlab fusion` that run the same filter.
+// What the fusion page's controls say, as the library's types read them, the flags of
+// `estlab fusion` that run the same filter, and the exercise's `tuning()` that does.
 import { decimal, fmt } from '../format.js';
 
 /** @typedef {import('../types/FusionSettings').FusionSettings} FusionSettings */
@@ -76,6 +76,20 @@ export function settingsFlags(settings) {
     '--field-of-view', String(settings.field_of_view),
     '--gate', String(settings.gate),
   ];
+}
+
+/**
+ * The sensor-fusion exercise's `tuning()` that returns `settings` (`lambda`, the gate on
+ * the squared Mahalanobis distance, is `threshold`: chi2inv(gate, 3)). The heading's
+ * noise comes from the platforms' there, so c_θ has no place in it.
+ *
+ * @param {FusionSettings} settings
+ * @param {number} threshold
+ */
+export function tuningFunction(settings, threshold) {
+  const lambda = Number.isFinite(threshold) ? String(threshold) : 'Infinity';
+  return `function tuning() { return { k_xy: ${settings.process_xy}, k_theta: ${settings.process_theta}, ` +
+    `c_xy: ${settings.noise.c_xy}, field_of_view: ${settings.field_of_view}, lambda: ${lambda} }; }`;
 }
 
 /** The settings other than the process noise, in words (what a tuning kept). */

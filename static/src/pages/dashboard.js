@@ -1,6 +1,6 @@
 // The instructor's side of a course's exercise: the class at a glance (a table of the
 // students, the scores and each test's pass rate as pictures, what the class gets wrong,
-// regrading, the exports, the staff's actions), and one student's page (their
+// the class challenge's ranking, regrading, the exports, the staff's actions), and one student's page (their
 // submissions, one read beside its result or compared with another line by line, an
 // extension). Everything comes from the course's API; the server checks that the reader
 // is staff.
@@ -10,6 +10,7 @@ import { structuredPatch } from 'diff';
 import { BarChart } from 'echarts/charts';
 import * as echarts from 'echarts/core';
 import { byId } from '../controls.js';
+import { fmt } from '../format.js';
 import { Plot, colours } from '../plots.js';
 import { instant, lateness, moment, percent, zone } from '../results/format.js';
 import { getJson, postJson } from '../results/http.js';
@@ -307,6 +308,8 @@ function showClass(answer) {
   }));
   if (answer.mistakes.length === 0) mistakes.replaceChildren(element('li', null, 'No classic mistake in the submissions that count.'));
 
+  showChallenge(answer, names);
+
   // Regrades still running (started elsewhere, or before this page was opened) are followed.
   byId('regrades').replaceChildren(...answer.regrades.map((r) => {
     if (followed.has(r.id)) return followed.get(r.id);
@@ -315,6 +318,51 @@ function showClass(answer) {
     if (!r.finished_at) followInto(r.id, box).catch(() => {});
     return box;
   }));
+}
+
+/**
+ * The class challenge, where the exercise has one: what it measures, the reference's
+ * figure, the ranking of the submissions that count, and whether students see their rank.
+ *
+ * @param {ClassAnswer} answer
+ * @param {Map<string, string>} names
+ */
+function showChallenge(answer, names) {
+  const challenge = answer.challenge;
+  byId('challenge').hidden = challenge === null;
+  if (challenge === null) return;
+  const unit = challenge.unit;
+  byId('challenge-about').textContent =
+    `Each submission's filter also ran, with its own settings, over a trial the class never sees: ` +
+    `${challenge.measure}, lower the better, of the submission that counts. The reference filter ` +
+    `with its default settings: ${fmt(challenge.reference, 4)} ${unit}. It earns no points.`;
+  byId('ranked', HTMLInputElement).checked = answer.ranked;
+  fillTable(byId('challenge-table', HTMLTableElement), ['Rank', 'Student', `Figure (${unit})`, 'Submission'],
+    challenge.ranking.map((e) => [
+      String(e.rank),
+      link(`/courses/${course}/${lab}/students/${encodeURIComponent(e.student)}`,
+        `${names.get(e.student) ?? e.student} (${e.student})`),
+      fmt(e.figure, 4),
+      String(e.submission),
+    ]));
+}
+
+/** Shows the students their rank in the class challenge, or stops. */
+async function switchRanking() {
+  const box = byId('ranked', HTMLInputElement);
+  const status = byId('ranked-status');
+  box.disabled = true;
+  try {
+    /** @type {import('../types/RankingSet').RankingSet} */
+    const set = await postJson(`${api}/labs/${encodeURIComponent(lab)}/ranking`, { ranked: box.checked });
+    box.checked = set.ranked;
+    status.textContent = set.ranked ? 'Students see their rank.' : 'Students see their own figure only.';
+  } catch (error) {
+    box.checked = !box.checked;
+    status.textContent = `Not changed: ${error.message}`;
+  } finally {
+    box.disabled = false;
+  }
 }
 
 // ---------------------------------------------------------------------------------------
@@ -476,6 +524,7 @@ async function classPage() {
   showAll(await getJson(url));
   await showAudit();
   byId('refresh-class').addEventListener('click', refresh);
+  byId('ranked').addEventListener('change', switchRanking);
   // The class as it fills, while the page is in view: every few seconds while a latest
   // submission waits for its grade (the table follows the gradings as they finish), else
   // every half minute.

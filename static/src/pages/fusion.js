@@ -13,7 +13,7 @@ import { fmt } from '../format.js';
 import { drawErrors } from '../fusion/errors.js';
 import { drawMap } from '../fusion/map.js';
 import { runFilter } from '../fusion/run.js';
-import { filterSettings, settingsFlags, showSettings, twoDigits } from '../fusion/settings.js';
+import { filterSettings, settingsFlags, showSettings, tuningFunction, twoDigits } from '../fusion/settings.js';
 import { captionErrors, showErrors, showReadings } from '../fusion/tables.js';
 import { commandText, fromFile, generated, reportTrials } from '../fusion/trials.js';
 import { showTuning, tuneAndTest } from '../fusion/tuning.js';
@@ -52,6 +52,7 @@ const ui = {
   runView: byId('run-view'),
   stale: byId('run-stale'),
   command: byId('command'),
+  tuningCode: byId('tuning-code'),
   timing: byId('timing'),
   tuneReal: byId('tune-real'),
   tuneGenerated: byId('tune-generated'),
@@ -169,6 +170,7 @@ function update() {
   const start = performance.now();
   const s = filterSettings(ui, defaults.settings);
   showValues(s);
+  setText(ui.tuningCode, tuningFunction(s, estlab.fusionGateThreshold(s.gate)));
   showTuneButtons();
   ui.download.disabled = current?.kind !== 'generated';
   if (!current) {
@@ -223,6 +225,15 @@ ui.file.addEventListener('change', loadTrial);
 for (const input of document.querySelectorAll('#fusion-controls input[type=range]')) {
   input.addEventListener('input', update);
 }
+byId('copy-tuning').addEventListener('click', async () => {
+  const status = byId('copy-status');
+  try {
+    await navigator.clipboard.writeText(ui.tuningCode.textContent ?? '');
+    status.textContent = 'Copied: paste it over the tuning() of your file.';
+  } catch {
+    status.textContent = 'This browser did not let the page copy: select the code and copy it.';
+  }
+});
 byId('round-settings').addEventListener('click', () => {
   showSettings(ui, defaults.settings);
   update();

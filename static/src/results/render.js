@@ -1,8 +1,9 @@
 // How results are shown in the page: the small builders of nodes, links and tables that
 // every page uses; each test of a grading result with its message and its failing cases in
 // detail (the workbench's own verdict and the server's); and a submission the server has
-// graded, with its score, late penalty, hidden cases and regrades. The workbench and the
-// student's page (/me) both show a server's result with `renderSubmission`.
+// graded, with its score, late penalty, hidden cases, class challenge and regrades. The
+// workbench and the student's page (/me) both show a server's result with
+// `renderSubmission`.
 import { fmt } from '../format.js';
 import { site } from '../site.js';
 import { moment, percent, scoreOf, span } from './format.js';
@@ -11,6 +12,7 @@ import { moment, percent, scoreOf, span } from './format.js';
 /** @typedef {import('../types/Test').Test} Test */
 /** @typedef {import('../types/Submission').Submission} Submission */
 /** @typedef {import('../types/EarlierResult').EarlierResult} EarlierResult */
+/** @typedef {import('../types/Challenge').Challenge} Challenge */
 
 /** Failing cases shown in detail per test, and differing elements per case. */
 const SHOWN = { failures: 2, mismatches: 12 };
@@ -260,6 +262,7 @@ export function renderSubmission(box, submission, { comparison = '', open = fals
     }
     parts.push(element('p', 'hidden-cases', note));
   }
+  if (result.challenge) parts.push(challengeNote(result.challenge));
   const passed = result.tests.filter((test) => test.status === 'passed').length;
   const tests = element('details', 'server-tests');
   tests.open = open;
@@ -269,6 +272,24 @@ export function renderSubmission(box, submission, { comparison = '', open = fals
   tests.append(list);
   parts.push(tests);
   box.replaceChildren(...parts);
+}
+
+/**
+ * The class challenge's figure of a result: what it measures, the figure (or why there is
+ * none) beside the reference's, and the settings and other figures, a line each.
+ *
+ * @param {Challenge} challenge
+ */
+function challengeNote(challenge) {
+  const box = element('div', 'challenge');
+  const figure = challenge.figure === null
+    ? 'no figure'
+    : `${fmt(challenge.figure, 4)} ${challenge.unit}`;
+  box.append(element('p', null,
+    `Class challenge (no points): ${challenge.measure}, ${figure}; the reference filter ` +
+    `${fmt(challenge.reference, 4)} ${challenge.unit}.`));
+  for (const line of challenge.message.split('\n')) box.append(element('p', 'detail', line));
+  return box;
 }
 
 // ---------------------------------------------------------------------------------------

@@ -4,7 +4,12 @@ import type { Counts } from "./Counts";
 /**
  * An exercise opened for a course.
  */
-export type Assignment = { course: string, lab: "ekf-localization" | "odometry" | "sensor-fusion", due: string, 
+export type Assignment = { course: string, lab: "ekf-localization" | "odometry" | "sensor-fusion", 
+/**
+ * Whether its students see their rank in the class challenge (an exercise with
+ * one); on unless staff switch it off.
+ */
+ranked: boolean, due: string, 
 /**
  * The last moment a submission is taken (the due date when there is no grace).
  */

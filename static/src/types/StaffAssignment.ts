@@ -13,7 +13,12 @@ students: number,
 /**
  * Of them, those who have submitted at least once.
  */
-submitted: number, submissions: number, course: string, lab: "ekf-localization" | "odometry" | "sensor-fusion", due: string, 
+submitted: number, submissions: number, course: string, lab: "ekf-localization" | "odometry" | "sensor-fusion", 
+/**
+ * Whether its students see their rank in the class challenge (an exercise with
+ * one); on unless staff switch it off.
+ */
+ranked: boolean, due: string, 
 /**
  * The last moment a submission is taken (the due date when there is no grace).
  */

@@ -2,6 +2,7 @@
 import type { Counts } from "./Counts";
 import type { Extension } from "./Extension";
 import type { Standing } from "./Standing";
+import type { StudentChallenge } from "./StudentChallenge";
 import type { Submission } from "./Submission";
 import type { SubmissionSummary } from "./SubmissionSummary";
 
@@ -28,9 +29,19 @@ history: Array<SubmissionSummary>,
  */
 counting_score: number | null, 
 /**
+ * Their standing in the class challenge, where the exercise has one and the
+ * submission that counts ran it.
+ */
+challenge: StudentChallenge | null, 
+/**
  * Their latest submission with its full result.
  */
-latest: Submission | null, course: string, lab: "ekf-localization" | "odometry" | "sensor-fusion", due: string, 
+latest: Submission | null, course: string, lab: "ekf-localization" | "odometry" | "sensor-fusion", 
+/**
+ * Whether its students see their rank in the class challenge (an exercise with
+ * one); on unless staff switch it off.
+ */
+ranked: boolean, due: string, 
 /**
  * The last moment a submission is taken (the due date when there is no grace).
  */

@@ -25,4 +25,9 @@ final_score: number | null,
 /**
  * The late penalty waived by staff, and why.
  */
-waiver: Waiver | null, };
+waiver: Waiver | null, 
+/**
+ * Its figure in the class challenge (lower the better), where the exercise has one
+ * and its run gave one.
+ */
+challenge: number | null, };

@@ -23,6 +23,7 @@ pub use plan::{Plan, RunSpec, bound, graded_readings, mode_name, run_name, shows
 pub type Case = crate::grading::Case<Call>;
 
 use crate::exercises::{Declaration, Graded, Runs, Workbench};
+use crate::grading::Hidden;
 
 /// The views of a whole run (`static/src/ekf/runview.js` draws them), on the workbench
 /// and on the experiment page alike.
@@ -72,7 +73,7 @@ impl Graded for EkfLocalization {
     type Record = job::FilterRecord;
     const GENERATE: crate::grading::Generator<Call> = generate;
 
-    fn plan(seed: u64, hidden: Option<u64>) -> Plan {
-        Plan::new(seed, hidden)
+    fn plan(seed: u64, hidden: Option<Hidden>) -> Plan {
+        Plan::new(seed, hidden.map(|h| h.cases))
     }
 }

@@ -23,6 +23,7 @@ pub use plan::{PATH_FUNCTIONS, PathSpec, Plan, RUN_LIMIT_MS};
 pub type Case = crate::grading::Case<Call>;
 
 use crate::exercises::{Declaration, Graded, Runs, Workbench};
+use crate::grading::Hidden;
 
 /// The exercise, as the registry knows it.
 pub struct Odometry;
@@ -65,7 +66,7 @@ impl Graded for Odometry {
     type Record = job::PathRecord;
     const GENERATE: crate::grading::Generator<Call> = generate;
 
-    fn plan(seed: u64, hidden: Option<u64>) -> Plan {
-        Plan::new(seed, hidden)
+    fn plan(seed: u64, hidden: Option<Hidden>) -> Plan {
+        Plan::new(seed, hidden.map(|h| h.cases))
     }
 }

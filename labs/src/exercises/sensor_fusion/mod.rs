@@ -25,6 +25,7 @@ pub use plan::{LOOP_FUNCTIONS, Plan, RUN_LIMIT_MS, TrialSpec};
 pub type Case = crate::grading::Case<Call>;
 
 use crate::exercises::{Declaration, Graded, Runs, Workbench};
+use crate::grading::Hidden;
 
 /// The exercise, as the registry knows it.
 pub struct SensorFusion;
@@ -69,7 +70,7 @@ impl Graded for SensorFusion {
     type Record = job::TrialRecord;
     const GENERATE: crate::grading::Generator<Call> = generate;
 
-    fn plan(seed: u64, hidden: Option<u64>) -> Plan {
+    fn plan(seed: u64, hidden: Option<Hidden>) -> Plan {
         Plan::new(seed, hidden)
     }
 }

@@ -1,20 +1,22 @@
 //! What a grading of the sensor-fusion exercise consists of, from a seed: the test cases
 //! of every student function (see [`crate::grading::planned_cases`]), two generated
-//! trials with the reference filter's beliefs along them, and the job the JavaScript
-//! harness carries out with the student's code.
+//! trials with the reference filter's beliefs along them, on the server the class's
+//! held-out trial of the challenge, and the job the JavaScript harness carries out with
+//! the student's code.
 
 use super::SensorFusion;
 use super::contract::Call;
 use super::generate::generate;
 use super::grade::grade;
-use super::job::{TrialRecord, TrialRun, TrialStepData};
+use super::job::{FilterSettings, TrialRecord, TrialRun, TrialStepData};
 use crate::Exercise;
 use crate::exercises::Graded;
 use crate::fusion::{
-    self, Detector, Estimate, NoiseModel, Reading, Settings, Trial, TrialParams, Use,
+    self, Detector, Estimate, NoiseModel, Reading, Settings, Summary, Trial, TrialParams, Use,
 };
 use crate::grading::{
-    ExercisePlan, GradeResult, Job, Outputs, PlannedCase, RunPhase, function_phases, planned_cases,
+    ExercisePlan, GradeResult, Hidden, Job, Outputs, PlannedCase, RunPhase, function_phases,
+    planned_cases,
 };
 use crate::rng::Rng;
 
@@ -31,6 +33,21 @@ pub const LOOP_FUNCTIONS: [&str; 6] = [
     "update",
 ];
 
+/// The functions the loop calls over the held-out trial: `tuning()` first, for the
+/// settings, then the filter's.
+pub const CHALLENGE_FUNCTIONS: [&str; 7] = [
+    "tuning",
+    "predict",
+    "combine_platforms",
+    "in_field_of_view",
+    "measurement_noise",
+    "mahalanobis",
+    "update",
+];
+
+/// The name of the run over the class's held-out trial.
+pub const HELD_OUT: &str = "held-out";
+
 /// The part of a seed's random numbers the trials are drawn from (ASCII "trial").
 const TRIALS: u64 = 0x74_7269_616c;
 
@@ -43,6 +60,48 @@ pub struct Plan {
     pub hidden: Option<u64>,
     pub cases: Vec<PlannedCase<Call>>,
     pub runs: Vec<TrialSpec>,
+    /// The class's held-out trial, on the server.
+    pub held_out: Option<HeldOut>,
+}
+
+/// The trial a class's filters are ranked on (the class challenge): drawn from the
+/// class's seed, never shown; the student's filter runs over it with the settings their
+/// `tuning()` chooses, and the reference's with its default settings, for comparison.
+#[derive(Clone, Debug)]
+pub struct HeldOut {
+    pub trial: Trial,
+    pub reference: Summary,
+}
+
+impl HeldOut {
+    /// A tour of eight waypoints in a room of 2.6 m half-side, another robot in view now
+    /// and then: the kind of trial the two graded ones are, longer.
+    pub fn new(class: u64) -> HeldOut {
+        let mut rng = Rng::substream(class, TRIALS);
+        let params = TrialParams {
+            seed: (rng.uniform() * 1e9) as u64,
+            waypoints: 8,
+            room: 2.6,
+            other_robot: 0.2,
+            ..TrialParams::default()
+        };
+        let trial = fusion::generate(&params).expect("the held-out trial's parameters are valid");
+        let estimates = fusion::run(&trial, &Settings::default(), &Detector::default());
+        HeldOut {
+            reference: Summary::of(&trial, &estimates),
+            trial,
+        }
+    }
+
+    fn job(&self) -> RunPhase {
+        RunPhase::new(
+            SensorFusion::DECLARATION.run_loop,
+            HELD_OUT,
+            &CHALLENGE_FUNCTIONS,
+            RUN_LIMIT_MS,
+            &trial_run(&self.trial, &Settings::default(), None),
+        )
+    }
 }
 
 /// A run of the fusion loop with the student's functions.
@@ -62,19 +121,21 @@ impl Plan {
     /// robot often saturates the detector (the gate has work to do), and a wide tour, which
     /// leaves the field of view for long stretches (the odometry alone carries the
     /// filter there, and its readings beyond the edge must be ignored).
-    pub fn new(seed: u64, hidden: Option<u64>) -> Plan {
-        let mut rng = Rng::substream(hidden.unwrap_or(seed), TRIALS);
+    pub fn new(seed: u64, hidden: Option<Hidden>) -> Plan {
+        let mut rng = Rng::substream(hidden.map_or(seed, |h| h.cases), TRIALS);
         let busy = trial(&mut rng, "busy-room", (6, 2.2, 0.3), |u| {
             matches!(u, Use::Gated { .. })
         });
         let wide = trial(&mut rng, "wide-tour", (5, 3.2, 0.1), |u| {
             matches!(u, Use::OutsideView)
         });
+        let cases = hidden.map(|h| h.cases);
         Plan {
             seed,
-            hidden,
-            cases: planned_cases(generate, seed, hidden),
+            hidden: cases,
+            cases: planned_cases(generate, seed, cases),
             runs: vec![busy, wide],
+            held_out: hidden.map(|h| HeldOut::new(h.class)),
         }
     }
 
@@ -98,7 +159,12 @@ impl ExercisePlan for Plan {
     fn job(&self) -> Job {
         Job {
             functions: function_phases(&self.cases),
-            runs: self.runs.iter().map(TrialSpec::job).collect(),
+            runs: self
+                .runs
+                .iter()
+                .map(TrialSpec::job)
+                .chain(self.held_out.iter().map(HeldOut::job))
+                .collect(),
         }
     }
 
@@ -163,6 +229,7 @@ impl TrialSpec {
     /// The reference's record of the run, as the loop records the student's.
     pub fn reference_record(&self) -> TrialRecord {
         TrialRecord {
+            tuning: None,
             poses: self.reference.iter().map(|e| e.pose).collect(),
             covariances: self.reference.iter().map(|e| e.sigma).collect(),
         }
@@ -170,39 +237,47 @@ impl TrialSpec {
 
     fn job(&self) -> RunPhase {
         let s = &self.settings;
-        let sigma = s.start_sigma;
-        let data = TrialRun {
-            start: self.trial.steps[0].odometry,
-            start_sigma: [
-                [sigma[0] * sigma[0], 0.0, 0.0],
-                [0.0, sigma[1] * sigma[1], 0.0],
-                [0.0, 0.0, sigma[2] * sigma[2]],
-            ],
+        let settings = FilterSettings {
             k_xy: s.process_xy,
             k_theta: s.process_theta,
             c_xy: s.noise.c_xy,
             field_of_view: s.field_of_view,
             lambda: s.gate_threshold(),
-            steps: self
-                .trial
-                .steps
-                .iter()
-                .map(|step| TrialStepData {
-                    odom: step.odometry,
-                    platforms: match step.reading {
-                        Some(Reading::Platforms(ps)) => Some(ps.map(|p| [p.x, p.y, p.intensity])),
-                        _ => None,
-                    },
-                })
-                .collect(),
         };
         RunPhase::new(
             SensorFusion::DECLARATION.run_loop,
             &self.name,
             &LOOP_FUNCTIONS,
             RUN_LIMIT_MS,
-            &data,
+            &trial_run(&self.trial, s, Some(settings)),
         )
+    }
+}
+
+/// What the loop gets of `trial`: where it starts (the odometry's first pose, with the
+/// standard deviations of `start`), the filter's `settings` (none: `tuning()` chooses),
+/// and the odometry and readings of every step; not the truth.
+fn trial_run(trial: &Trial, start: &Settings, settings: Option<FilterSettings>) -> TrialRun {
+    let sigma = start.start_sigma;
+    TrialRun {
+        start: trial.steps[0].odometry,
+        start_sigma: [
+            [sigma[0] * sigma[0], 0.0, 0.0],
+            [0.0, sigma[1] * sigma[1], 0.0],
+            [0.0, 0.0, sigma[2] * sigma[2]],
+        ],
+        settings,
+        steps: trial
+            .steps
+            .iter()
+            .map(|step| TrialStepData {
+                odom: step.odometry,
+                platforms: match step.reading {
+                    Some(Reading::Platforms(ps)) => Some(ps.map(|p| [p.x, p.y, p.intensity])),
+                    _ => None,
+                },
+            })
+            .collect(),
     }
 }
 
@@ -228,9 +303,34 @@ mod tests {
             Plan::new(1, None).runs[0].trial,
             Plan::new(2, None).runs[0].trial
         );
+        let hidden = |cases, class| Some(Hidden { cases, class });
         assert_eq!(
-            Plan::new(1, Some(5)).runs[1].trial,
-            Plan::new(2, Some(5)).runs[1].trial
+            Plan::new(1, hidden(5, 9)).runs[1].trial,
+            Plan::new(2, hidden(5, 8)).runs[1].trial
         );
+    }
+
+    /// The held-out trial is the class's: the same for every submission of the class,
+    /// another for another class, in no plan the browser grades, and a run without
+    /// settings (the student's `tuning()` gives them).
+    #[test]
+    fn the_held_out_trial_is_the_classes() {
+        let hidden = |cases, class| Some(Hidden { cases, class });
+        let trial = |plan: Plan| plan.held_out.expect("on the server").trial;
+        assert_eq!(
+            trial(Plan::new(1, hidden(5, 9))),
+            trial(Plan::new(2, hidden(6, 9)))
+        );
+        assert_ne!(
+            trial(Plan::new(1, hidden(5, 9))),
+            trial(Plan::new(1, hidden(5, 8)))
+        );
+        assert!(Plan::new(1, None).held_out.is_none());
+        let job = Plan::new(1, hidden(5, 9)).job();
+        let held_out = job.runs.last().unwrap();
+        assert_eq!(held_out.name, HELD_OUT);
+        assert_eq!(held_out.functions[0], "tuning");
+        assert_eq!(held_out.data["settings"], serde_json::Value::Null);
+        assert!(!serde_json::to_string(&job).unwrap().contains("truth"));
     }
 }

@@ -4,15 +4,37 @@
 // the browser's worker and the server's sandbox alike.
 estlabHarness.defineLoop('fusion', (tools) => {
   'use strict';
-  const { put, push, copy, field, vector, matrix, number, flag } = tools;
+  const { put, push, copy, field, vector, matrix, number, threshold, flag } = tools;
 
-  /// The fusion loop over a trial: from the odometry's first pose, every step predicts
-  /// with the odometry's motion since the step before, and a reading the detector made
-  /// corrects the belief when it is in the field of view and within the gate.
+  /// The settings `tuning()` returns, checked field by field.
+  /** @returns {import('estlab/types/FilterSettings').FilterSettings} */
+  function tuned(invoke) {
+    const settings = invoke('tuning', [], 'calling tuning()');
+    return {
+      k_xy: field(settings, 'k_xy', number),
+      k_theta: field(settings, 'k_theta', number),
+      c_xy: field(settings, 'c_xy', number),
+      field_of_view: field(settings, 'field_of_view', threshold),
+      lambda: field(settings, 'lambda', threshold),
+    };
+  }
+
+  /// The fusion loop over a trial: with the run's settings, or those of the student's
+  /// `tuning()` where the run has none (the class's held-out trial, asked before any of
+  /// its data reaches the student's code), from the odometry's first pose, every step
+  /// predicts with the odometry's motion since the step before, and a reading the detector
+  /// made corrects the belief when it is in the field of view and within the gate.
   /** @type {Loop<import('estlab/types/TrialRun').TrialRun, import('estlab/types/TrialRecord').TrialRecord>} */
   function fusionLoop(run, kept, invoke, at) {
     put(kept, 'poses', []);
     put(kept, 'covariances', []);
+    let settings;
+    if (run.settings === null) {
+      settings = tuned(invoke);
+      put(kept, 'tuning', settings);
+    } else {
+      settings = copy(run.settings);
+    }
     /** @type {number[]} */
     let mu = copy(run.start);
     /** @type {number[][]} */
@@ -22,7 +44,7 @@ estlabHarness.defineLoop('fusion', (tools) => {
       at.step = 'at step ' + (k + 1) + ', ';
       if (k > 0) {
         const bar = invoke('predict', [copy(mu), copy(sigma), copy(run.steps[k - 1].odom),
-          copy(step.odom), run.k_xy, run.k_theta]);
+          copy(step.odom), settings.k_xy, settings.k_theta]);
         mu = field(bar, 'mu_bar', vector(3));
         sigma = field(bar, 'sigma_bar', matrix(3, 3));
       }
@@ -31,14 +53,14 @@ estlabHarness.defineLoop('fusion', (tools) => {
         const p1 = platforms[0];
         const p2 = platforms[1];
         const z = vector(3)(invoke('combine_platforms', [copy(p1), copy(p2)]), 'z');
-        const inView = flag(invoke('in_field_of_view', [copy(z), run.field_of_view]),
+        const inView = flag(invoke('in_field_of_view', [copy(z), settings.field_of_view]),
           'in_view');
         if (inView) {
-          const Q = matrix(3, 3)(invoke('measurement_noise', [copy(p1), copy(p2), run.c_xy]),
+          const Q = matrix(3, 3)(invoke('measurement_noise', [copy(p1), copy(p2), settings.c_xy]),
             'Q');
           const d2 = number(invoke('mahalanobis', [copy(mu), copy(sigma), copy(z), copy(Q)]),
             'd2');
-          if (d2 <= run.lambda) {
+          if (d2 <= settings.lambda) {
             const post = invoke('update', [copy(mu), copy(sigma), copy(z), copy(Q)]);
             mu = field(post, 'mu', vector(3));
             sigma = field(post, 'sigma', matrix(3, 3));

@@ -75,6 +75,10 @@ function differences(student, reference) {
  * @param {RunOutput} output
  */
 function collectRun(grader, phase, output) {
+  // The browser runs the graded trials, which carry their settings (only the server's
+  // held-out trial asks the student's tuning()).
+  const settings = phase.settings;
+  if (settings === null) throw new Error(`the trial ${phase.name} has no settings to show`);
   const reported = JSON.stringify(output);
   let trial;
   let reference;
@@ -93,6 +97,7 @@ function collectRun(grader, phase, output) {
     const yours = beliefOf(student, every);
     return {
       phase,
+      settings,
       every,
       t: trial.t(),
       truth: [0, 1].map((i) => trial.truth(i)),
@@ -148,13 +153,13 @@ function summaryText(v) {
 
 /** The trial plot's summary line: what it draws, and where the two paths end. */
 function describeTrial(v) {
-  const { phase, every, reference: r, student: s } = v;
+  const { phase, settings, every, reference: r, student: s } = v;
   const { used, gated, outside_view: outside } = r.summary;
   const k = s.steps - 1;
   const [rx, ry] = poseAt(r, k);
   const [sx, sy] = poseAt(s, k);
   return `The ${phase.name} trial: the truth (black, dotted), the reference filter's path (green, solid) and yours (red, dashed), ` +
-    `with 3σ ellipses every ${every} steps, and the field of view, ${fmt(phase.field_of_view)} m round the detector at (0, 0). ` +
+    `with 3σ ellipses every ${every} steps, and the field of view, ${fmt(settings.field_of_view)} m round the detector at (0, 0). ` +
     `The reference used ${used} readings, rejected ${gated} at its gate and ignored ${outside} outside the field of view. ` +
     `After step ${k + 1}, the reference is at (${f(rx)}, ${f(ry)}) m and yours ${f(Math.hypot(sx - rx, sy - ry))} m from it.`;
 }
@@ -194,11 +199,11 @@ function fillTable(table, v) {
 }
 
 /** What the grader runs over the trial, and a link to the fusion page, where such trials run with the reference filter. */
-function trialNote({ phase }) {
+function trialNote({ phase, settings: s }) {
   return [
     `Grading runs your functions as a filter over this trial: ${phase.steps.length} steps from the odometry's first pose, ` +
-      `with k_xy = ${fmt(phase.k_xy)}, k_theta = ${fmt(phase.k_theta)}, c_xy = ${fmt(phase.c_xy)}, a field of view of ` +
-      `${fmt(phase.field_of_view)} m and the gate at ${fmt(phase.lambda)}; your belief must follow the reference filter's after ` +
+      `with k_xy = ${fmt(s.k_xy)}, k_theta = ${fmt(s.k_theta)}, c_xy = ${fmt(s.c_xy)}, a field of view of ` +
+      `${fmt(s.field_of_view)} m and the gate at ${fmt(s.lambda)}; your belief must follow the reference filter's after ` +
       'every step. Run such trials with the reference filter, and tune it, on ',
     link('/fusion', 'the sensor-fusion page'), '.',
   ];
@@ -268,7 +273,7 @@ class TrialRunView {
 
   draw() {
     const v = this.view;
-    const fov = circle(v.phase.field_of_view);
+    const fov = circle(v.settings.field_of_view);
     const [rx, ry] = outlineXY(v.reference.ellipses);
     const [fx, fy] = outlineXY(fov);
     const { truth, reference: r, student: s } = v;
