@@ -33,17 +33,8 @@ pub const LOOP_FUNCTIONS: [&str; 6] = [
     "update",
 ];
 
-/// The functions the loop calls over the held-out trial: `tuning()` first, for the
-/// settings, then the filter's.
-pub const CHALLENGE_FUNCTIONS: [&str; 7] = [
-    "tuning",
-    "predict",
-    "combine_platforms",
-    "in_field_of_view",
-    "measurement_noise",
-    "mahalanobis",
-    "update",
-];
+/// The function the loop calls first over the held-out trial, for the filter's settings.
+pub const TUNING: &str = "tuning";
 
 /// The name of the run over the class's held-out trial.
 pub const HELD_OUT: &str = "held-out";
@@ -94,10 +85,11 @@ impl HeldOut {
     }
 
     fn job(&self) -> RunPhase {
+        let functions: Vec<&str> = std::iter::once(TUNING).chain(LOOP_FUNCTIONS).collect();
         RunPhase::new(
             SensorFusion::DECLARATION.run_loop,
             HELD_OUT,
-            &CHALLENGE_FUNCTIONS,
+            &functions,
             RUN_LIMIT_MS,
             &trial_run(&self.trial, &Settings::default(), None),
         )
@@ -329,7 +321,7 @@ mod tests {
         let job = Plan::new(1, hidden(5, 9)).job();
         let held_out = job.runs.last().unwrap();
         assert_eq!(held_out.name, HELD_OUT);
-        assert_eq!(held_out.functions[0], "tuning");
+        assert_eq!(held_out.functions[0], TUNING);
         assert_eq!(held_out.data["settings"], serde_json::Value::Null);
         assert!(!serde_json::to_string(&job).unwrap().contains("truth"));
     }
