@@ -38,15 +38,15 @@ after(async () => {
   await withData?.stop();
 }, bounded);
 
-/** /fusion of `server` at `viewport`'s size once its script is ready, console errors in `page.problems`. */
-async function open(server, viewport = laptop) {
+/** /fusion (with the query `search`) of `server` at `viewport`'s size once its script is ready, console errors in `page.problems`. */
+async function open(server, viewport = laptop, search = '') {
   const page = await browser.newPage({ viewport, acceptDownloads: true });
   page.problems = [];
   page.on('console', (message) => {
     if (message.type() === 'error') page.problems.push(`console: ${message.text()}`);
   });
   page.on('pageerror', (error) => page.problems.push(`uncaught: ${error.message}`));
-  await page.goto(`${server.url}/fusion`);
+  await page.goto(`${server.url}/fusion${search}`);
   await page.waitForFunction(() => document.body.dataset.ready === 'true', null, { timeout: 60_000 });
   return page;
 }
@@ -263,6 +263,23 @@ function nativeError(...args) {
   assert.notEqual(run.status, 0, `estlab fusion ${args.join(' ')} fails`);
   return run.stderr.trim().replace(/^estlab: /, '');
 }
+
+test('the address follows the trial and the settings, and a link to it opens the same run', bounded, async () => {
+  const page = await open(plain);
+  await page.locator('#seed').fill('7');
+  await page.locator('#gate').fill('3');
+  await page.waitForFunction(() => /[?&]seed=7(&|$)/.test(location.search) && /[?&]gate=0\.99(&|$)/.test(location.search));
+  const search = await page.evaluate(() => location.search);
+  assert.ok(!search.includes('process-xy'), `the round settings stay out of ${search}`);
+  const shown = await state(page);
+  const again = await open(plain, laptop, search);
+  const reopened = await state(again);
+  assert.deepEqual(reopened.flags, shown.flags);
+  assert.deepEqual(reopened.cells, shown.cells);
+  assert.deepEqual(again.problems, []);
+  await page.close();
+  await again.close();
+});
 
 test('a broken trial file or a bad number of waypoints shows the message naming the line or field, and dims the last run', bounded, async () => {
   const page = await open(plain);

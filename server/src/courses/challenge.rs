@@ -1,8 +1,9 @@
 //! The class challenge of an exercise that has one (`labs::grading::Challenge`): every
 //! submission's filter also runs over a trial its class never sees, and the class is
-//! ranked by that figure, lowest first. A student's figure is that of the submission
-//! that counts for their grade; staff see the whole ranking, a student their own place
-//! (unless staff switched the ranking off), never another student's.
+//! ranked by that figure, lowest first. A student's figure is that of the latest of their
+//! submissions with the score that counts for their grade (a better tuning submitted
+//! after full marks counts); staff see the whole ranking, a student their own place
+//! (unless staff switched the ranks off), never another student's.
 
 use super::deadline::Counts;
 use crate::store::{Member, SubmissionSummary};
@@ -32,6 +33,10 @@ pub struct ClassChallenge {
     pub reference: f64,
     /// The students on the roster whose counting submission has a figure, lowest first.
     pub ranking: Vec<Entry>,
+    /// Students on the roster with a graded submission but no figure: their filter did
+    /// not finish the held-out trial, or it was graded before the challenge (a regrade
+    /// runs it).
+    pub without_figure: usize,
 }
 
 /// A student's own standing in the challenge.
@@ -42,20 +47,36 @@ pub struct StudentChallenge {
     /// The figure of the submission that counts.
     pub figure: f64,
     pub reference: f64,
-    /// Their rank among `of` students with a figure; none while staff keep the ranking off.
+    /// Whether the course shows its students their rank.
+    pub ranks_shown: bool,
+    /// Their rank among `of` students with a figure, while ranks are shown (none for a
+    /// student no longer on the roster).
     pub rank: Option<usize>,
-    pub of: usize,
+    pub of: Option<usize>,
+}
+
+/// The submission whose figure is a student's, of `own` (oldest first): the latest of
+/// those with the score that counts by `counts`, so that a tuning submitted after full
+/// marks counts under "best" too.
+pub fn counting<'a>(
+    own: &[&'a SubmissionSummary],
+    counts: Counts,
+) -> Option<&'a SubmissionSummary> {
+    let score = counts
+        .choose(own.iter().copied(), |s| s.final_score)?
+        .final_score;
+    own.iter().copied().rfind(|s| s.final_score == score)
 }
 
 /// The figures of the students on the roster (`members`, dropped ones and staff left
-/// out), each that of the submission that counts for them by `counts` among their
-/// `submissions`, lowest first; students whose counting submission has no figure are left
-/// out.
+/// out), each that of their [`counting`] submission by `counts` among their
+/// `submissions`, lowest first, and how many students have a graded submission without a
+/// figure.
 pub fn ranking(
     members: &[Member],
     submissions: &[SubmissionSummary],
     counts: Counts,
-) -> Vec<Entry> {
+) -> (Vec<Entry>, usize) {
     let roster: HashSet<&str> = members
         .iter()
         .filter(|m| !m.role.is_staff() && !m.dropped)
@@ -68,19 +89,23 @@ pub fn ranking(
     {
         by_student.entry(&s.student).or_default().push(s);
     }
-    let mut entries: Vec<Entry> = by_student
-        .into_iter()
-        .filter_map(|(student, mut own)| {
-            own.sort_by_key(|s| s.id);
-            let counting = counts.choose(own, |s| s.final_score)?;
-            Some(Entry {
+    let mut without_figure = 0;
+    let mut entries: Vec<Entry> = Vec::new();
+    for (student, mut own) in by_student {
+        own.sort_by_key(|s| s.id);
+        let Some(counting) = counting(&own, counts) else {
+            continue;
+        };
+        match counting.challenge {
+            Some(figure) => entries.push(Entry {
                 student: student.to_owned(),
                 submission: counting.id,
-                figure: counting.challenge?,
+                figure,
                 rank: 0,
-            })
-        })
-        .collect();
+            }),
+            None => without_figure += 1,
+        }
+    }
     entries.sort_by(|a, b| {
         a.figure
             .total_cmp(&b.figure)
@@ -93,23 +118,27 @@ pub fn ranking(
             _ => i + 1,
         };
     }
-    entries
+    (entries, without_figure)
 }
 
 /// The class's challenge as staff see it: what it measures and the reference's figure
 /// from `about` (a result that ran it), and the ranking.
-pub fn class_challenge(about: &Challenge, ranking: Vec<Entry>) -> ClassChallenge {
+pub fn class_challenge(
+    about: &Challenge,
+    (ranking, without_figure): (Vec<Entry>, usize),
+) -> ClassChallenge {
     ClassChallenge {
         measure: about.measure.clone(),
         unit: about.unit.clone(),
         reference: about.reference,
         ranking,
+        without_figure,
     }
 }
 
-/// `student`'s standing: the figure of their counting submission, whose result is
-/// `counting`, with their rank in `ranking` when `ranked`; none when that result has no
-/// figure.
+/// `student`'s standing: the figure of their [`counting`] submission, whose result is
+/// `counting`, with their rank in `ranking` when the course shows ranks (`ranked`); none
+/// when that result has no figure.
 pub fn standing(
     counting: &GradeResult,
     ranking: &[Entry],
@@ -123,6 +152,7 @@ pub fn standing(
         unit: challenge.unit.clone(),
         figure,
         reference: challenge.reference,
+        ranks_shown: ranked,
         rank: ranked
             .then(|| {
                 ranking
@@ -131,7 +161,7 @@ pub fn standing(
                     .map(|e| e.rank)
             })
             .flatten(),
-        of: ranking.len(),
+        of: ranked.then_some(ranking.len()),
     })
 }
 
@@ -187,21 +217,23 @@ mod tests {
             submission(1, "ana", 1.0, Some(0.09)),
             // A lower figure, but a lower score: the best score counts.
             submission(2, "ana", 0.5, Some(0.01)),
-            submission(3, "bo", 1.0, Some(0.12)),
+            submission(3, "bo", 1.0, Some(0.15)),
             submission(4, "cy", 1.0, Some(0.09)),
             submission(5, "di", 1.0, None),
             submission(6, "ed", 1.0, Some(0.02)),
             submission(7, "ta", 1.0, Some(0.03)),
+            // Full marks again, tuned better: the latest of the best counts.
+            submission(8, "bo", 1.0, Some(0.12)),
         ];
-        let ranking = ranking(&members, &submissions, Counts::Best);
+        let (ranking, without) = ranking(&members, &submissions, Counts::Best);
         let places: Vec<(&str, i64, usize)> = ranking
             .iter()
             .map(|e| (e.student.as_str(), e.submission, e.rank))
             .collect();
-        assert_eq!(places, [("ana", 1, 1), ("cy", 4, 1), ("bo", 3, 3)]);
-        let last = super::ranking(&members, &submissions, Counts::Last);
-        assert_eq!(last[0].student, "ana");
-        assert_eq!(last[0].figure, 0.01);
+        assert_eq!(places, [("ana", 1, 1), ("cy", 4, 1), ("bo", 8, 3)]);
+        assert_eq!(without, 1, "di's filter gave no figure");
+        let (last, _) = super::ranking(&members, &submissions, Counts::Last);
+        assert_eq!((last[0].student.as_str(), last[0].figure), ("ana", 0.01));
     }
 
     /// A student sees their figure and, while staff let them, their rank among all.
@@ -215,7 +247,7 @@ mod tests {
             submission(1, "ana", 1.0, Some(0.2)),
             submission(2, "bo", 1.0, Some(0.1)),
         ];
-        let ranking = ranking(&members, &submissions, Counts::Best);
+        let (ranking, _) = ranking(&members, &submissions, Counts::Best);
         let mut result = GradeResult::not_gradable(Exercise::SensorFusion, 1, "");
         assert!(standing(&result, &ranking, "ana", true).is_none());
         result.challenge = Some(Challenge {
@@ -226,8 +258,17 @@ mod tests {
             message: String::new(),
         });
         let ranked = standing(&result, &ranking, "ana", true).unwrap();
-        assert_eq!((ranked.rank, ranked.of, ranked.figure), (Some(2), 2, 0.2));
+        assert_eq!(
+            (ranked.rank, ranked.of, ranked.figure),
+            (Some(2), Some(2), 0.2)
+        );
         let hidden = standing(&result, &ranking, "ana", false).unwrap();
-        assert_eq!((hidden.rank, hidden.of), (None, 2));
+        assert_eq!(
+            (hidden.rank, hidden.of, hidden.ranks_shown),
+            (None, None, false)
+        );
+        // A student no longer on the roster keeps their figure, without a rank.
+        let gone = standing(&result, &ranking, "cy", true).unwrap();
+        assert_eq!((gone.rank, gone.ranks_shown), (None, true));
     }
 }

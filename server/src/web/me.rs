@@ -176,12 +176,15 @@ fn gather(
             let standing = Standing::of(&assignment.policy, now);
             let extension = store.extension_for(&member.course, exercise, member.id)?;
             let history = store.history(member.id, exercise)?;
-            let counting = assignment
+            let counting_score = assignment
                 .policy
                 .counts
-                .choose(history.iter(), |s| s.final_score);
-            let counting_score = counting.and_then(|s| s.final_score);
-            let challenge = match counting.filter(|s| s.challenge.is_some()) {
+                .choose(history.iter(), |s| s.final_score)
+                .and_then(|s| s.final_score);
+            let own: Vec<&SubmissionSummary> = history.iter().collect();
+            let figured = challenge::counting(&own, assignment.policy.counts)
+                .filter(|s| s.challenge.is_some());
+            let challenge = match figured {
                 Some(counting) => challenge_standing(store, &member, &assignment, counting.id)?,
                 None => None,
             };
@@ -221,8 +224,7 @@ fn gather(
 }
 
 /// A student's standing in the class challenge of `assignment`, where `counting` (the id
-/// of the submission that counts for them) has a figure: their rank among the class's
-/// counting submissions.
+/// of their submission whose figure counts) has a figure: their rank among the class's.
 fn challenge_standing(
     store: &Store,
     member: &Member,
@@ -234,7 +236,7 @@ fn challenge_standing(
     };
     let members = store.members(&member.course)?;
     let submissions = store.course_submissions(&member.course, assignment.lab)?;
-    let ranking = challenge::ranking(&members, &submissions, assignment.policy.counts);
+    let (ranking, _) = challenge::ranking(&members, &submissions, assignment.policy.counts);
     Ok(challenge::standing(
         &result,
         &ranking,

@@ -199,7 +199,7 @@ impl Files {
         if let Some(challenge) = &result.challenge {
             assert_eq!(challenge.figure, None);
             assert!(
-                challenge.message.contains("stopped at step")
+                challenge.message.contains("it threw")
                     && !challenge.message.contains("not implemented"),
                 "{}",
                 challenge.message

@@ -1,5 +1,6 @@
 // What the fusion page's controls say, as the library's types read them, the flags of
-// `estlab fusion` that run the same filter, and the exercise's `tuning()` that does.
+// `estlab fusion` that run the same filter (and the page's address, by the same names),
+// and the exercise's `tuning()` that does.
 import { decimal, fmt } from '../format.js';
 
 /** @typedef {import('../types/FusionSettings').FusionSettings} FusionSettings */
@@ -76,6 +77,30 @@ export function settingsFlags(settings) {
     '--field-of-view', String(settings.field_of_view),
     '--gate', String(settings.gate),
   ];
+}
+
+/**
+ * The settings a page's address asks for, by the names of `settingsFlags` without their
+ * dashes (`?process-xy=0.1&gate=0.99`); what it does not name, or names with no number,
+ * is `defaults`'. The controls then keep each within its range.
+ *
+ * @param {URLSearchParams} address
+ * @param {FusionSettings} defaults
+ * @returns {FusionSettings}
+ */
+export function settingsFromAddress(address, defaults) {
+  const asked = (name, fallback) => {
+    const value = Number(address.get(name) ?? '');
+    return address.has(name) && address.get(name) !== '' && Number.isFinite(value) ? value : fallback;
+  };
+  return {
+    process_xy: asked('process-xy', defaults.process_xy),
+    process_theta: asked('process-theta', defaults.process_theta),
+    noise: { c_xy: asked('c-xy', defaults.noise.c_xy), c_theta: asked('c-theta', defaults.noise.c_theta) },
+    field_of_view: asked('field-of-view', defaults.field_of_view),
+    gate: asked('gate', defaults.gate),
+    start_sigma: defaults.start_sigma,
+  };
 }
 
 /**

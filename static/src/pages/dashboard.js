@@ -332,10 +332,14 @@ function showChallenge(answer, names) {
   byId('challenge').hidden = challenge === null;
   if (challenge === null) return;
   const unit = challenge.unit;
+  const without = challenge.without_figure === 0
+    ? ''
+    : ` ${challenge.without_figure} student(s) with a graded submission have no figure: their filter did not finish ` +
+      'the held-out trial, or was graded before the challenge (a regrade runs it).';
   byId('challenge-about').textContent =
     `Each submission's filter also ran, with its own settings, over a trial the class never sees: ` +
-    `${challenge.measure}, lower the better, of the submission that counts. The reference filter ` +
-    `with its default settings: ${fmt(challenge.reference, 4)} ${unit}. It earns no points.`;
+    `${challenge.measure}, lower the better, of each student's latest submission with the score that counts. ` +
+    `The reference filter with its default settings: ${fmt(challenge.reference, 4)} ${unit}. It earns no points.${without}`;
   byId('ranked', HTMLInputElement).checked = answer.ranked;
   fillTable(byId('challenge-table', HTMLTableElement), ['Rank', 'Student', `Figure (${unit})`, 'Submission'],
     challenge.ranking.map((e) => [

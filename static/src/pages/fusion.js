@@ -13,7 +13,9 @@ import { fmt } from '../format.js';
 import { drawErrors } from '../fusion/errors.js';
 import { drawMap } from '../fusion/map.js';
 import { runFilter } from '../fusion/run.js';
-import { filterSettings, settingsFlags, showSettings, tuningFunction, twoDigits } from '../fusion/settings.js';
+import {
+  filterSettings, settingsFlags, settingsFromAddress, showSettings, tuningFunction, twoDigits,
+} from '../fusion/settings.js';
 import { captionErrors, showErrors, showReadings } from '../fusion/tables.js';
 import { commandText, fromFile, generated, reportTrials } from '../fusion/trials.js';
 import { showTuning, tuneAndTest } from '../fusion/tuning.js';
@@ -165,10 +167,32 @@ function showTuneButtons() {
   ui.tuneNone.hidden = real || onGenerated;
 }
 
+/**
+ * The address follows the trial (not a reader's file: a link cannot carry it) and the
+ * settings that differ from the round ones, by the command line's names, so that a link
+ * opens the same run: /fusion?trial=generated&seed=7&waypoints=6&gate=0.99.
+ */
+function showAddress(s) {
+  const address = new URLSearchParams();
+  const choice = ui.trial.value;
+  if (choice !== 'file') address.set('trial', choice);
+  if (choice === 'generated') {
+    address.set('seed', ui.seed.value);
+    address.set('waypoints', ui.waypoints.value);
+  }
+  const [flags, round] = [settingsFlags(s), settingsFlags(defaults.settings)];
+  for (let i = 0; i < flags.length; i += 2) {
+    if (flags[i + 1] !== round[i + 1]) address.set(flags[i].slice(2), flags[i + 1]);
+  }
+  const url = `${location.pathname}?${address}`;
+  if (url !== location.pathname + location.search) history.replaceState(null, '', url);
+}
+
 /** Runs the filter on the current trial with the settings the controls say, and redraws. */
 function update() {
   const start = performance.now();
   const s = filterSettings(ui, defaults.settings);
+  showAddress(s);
   showValues(s);
   setText(ui.tuningCode, tuningFunction(s, estlab.fusionGateThreshold(s.gate)));
   showTuneButtons();
@@ -215,9 +239,11 @@ async function tuneThenShow(train, test, choice, seed = null) {
 
 // --- the controls ---
 
-showSettings(ui, defaults.settings);
-ui.seed.value = String(defaults.trial.seed);
-ui.waypoints.value = String(defaults.trial.waypoints);
+// A link may choose the trial and any setting, as the address shows them.
+const asked = new URLSearchParams(location.search);
+showSettings(ui, settingsFromAddress(asked, defaults.settings));
+ui.seed.value = /^\d{1,15}$/.test(asked.get('seed') ?? '') ? asked.get('seed') : String(defaults.trial.seed);
+ui.waypoints.value = /^\d{1,3}$/.test(asked.get('waypoints') ?? '') ? asked.get('waypoints') : String(defaults.trial.waypoints);
 ui.trial.addEventListener('change', loadTrial);
 ui.seed.addEventListener('input', loadTrial);
 ui.waypoints.addEventListener('input', loadTrial);
@@ -272,5 +298,7 @@ try {
   setText(byId('real-trials'), error.message);
 }
 for (const r of reports) ui.trial.add(new Option(r.name, `report:${r.report}`), ui.trial.options.length - 1);
+// A report's trial the server does not have, or a file (which no link carries), is not chosen.
+if ([...ui.trial.options].some((o) => o.value === asked.get('trial') && o.value !== 'file')) ui.trial.value = asked.get('trial');
 await loadTrial();
 document.body.dataset.ready = 'true';

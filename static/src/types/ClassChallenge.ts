@@ -12,4 +12,10 @@ reference: number,
 /**
  * The students on the roster whose counting submission has a figure, lowest first.
  */
-ranking: Array<ChallengeEntry>, };
+ranking: Array<ChallengeEntry>, 
+/**
+ * Students on the roster with a graded submission but no figure: their filter did
+ * not finish the held-out trial, or it was graded before the challenge (a regrade
+ * runs it).
+ */
+without_figure: number, };

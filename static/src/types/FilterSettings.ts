@@ -2,11 +2,15 @@
 
 /**
  * The settings of the filter a run uses: those of the plan, or over the class's held-out
- * trial those the student's `tuning()` returns, in the same shape.
+ * trial those the student's `tuning()` returns, in the same shape. An infinite number
+ * is the string "Infinity" in JSON, which the loop reads back as a number.
  */
-export type FilterSettings = { k_xy: number, k_theta: number, c_xy: number, field_of_view: number, 
+export type FilterSettings = { k_xy: number, k_theta: number, c_xy: number, 
 /**
- * The gate on the squared Mahalanobis distance (infinite: no gate; in JSON the
- * string "Infinity", which the harness turns back into a number).
+ * The radius of the field of view (infinite: every reading is in view).
+ */
+field_of_view: number, 
+/**
+ * The gate on the squared Mahalanobis distance (infinite: no gate).
  */
 lambda: number, };

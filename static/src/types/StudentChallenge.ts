@@ -9,6 +9,11 @@ export type StudentChallenge = { measure: string, unit: string,
  */
 figure: number, reference: number, 
 /**
- * Their rank among `of` students with a figure; none while staff keep the ranking off.
+ * Whether the course shows its students their rank.
  */
-rank: number | null, of: number, };
+ranks_shown: boolean, 
+/**
+ * Their rank among `of` students with a figure, while ranks are shown (none for a
+ * student no longer on the roster).
+ */
+rank: number | null, of: number | null, };

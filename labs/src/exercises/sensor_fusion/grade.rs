@@ -10,8 +10,8 @@ use super::plan::{HELD_OUT, HeldOut, Plan, RUN_LIMIT_MS, TrialSpec};
 use crate::Exercise;
 use crate::fusion::{Errors, REPORT_FIGURES, Settings, inside_three_sigma};
 use crate::grading::{
-    self, BeliefTolerance, Beliefs, Challenge, FunctionVerdicts, GradeResult, Mismatch, Outputs,
-    RunOutput, Subject, Test, Tolerance, follows, function_tests,
+    self, BeliefTolerance, Beliefs, Cause, Challenge, FunctionVerdicts, GradeResult, Mismatch,
+    Outputs, RunOutput, Subject, Test, Tolerance, follows, function_tests,
 };
 
 /// How close the beliefs along a trial must be: x and y in metres, the heading in radians
@@ -46,15 +46,16 @@ pub fn grade(plan: &Plan, outputs: &Outputs) -> GradeResult {
 }
 
 /// The class challenge's figure: the RMS position error of the student's filter, with
-/// the settings their `tuning()` chose, over the held-out trial. Nothing of the trial
-/// reaches the student but the figures: what their code said once the trial's data
-/// reached it is not repeated (it could carry the readings out).
+/// the settings their `tuning()` chose, over the held-out trial, to a tenth of a
+/// millimetre. Nothing of the trial reaches the student but the figures: what their code
+/// said once the trial's data reached it, or where it stopped, is not repeated (it could
+/// carry the readings out).
 fn challenge(held_out: &HeldOut, output: Option<&RunOutput>) -> Challenge {
     let steps = held_out.trial.steps.len();
     let reference = &held_out.reference;
     let (figure, measured) = match output.map(|run| measure(held_out, run)) {
         Some(Ok((errors, settings, inside))) => (
-            Some(errors.rms),
+            Some(tenth_of_a_millimetre(errors.rms)),
             format!(
                 "Your filter, with tuning() = {{k_xy: {}, k_theta: {}, c_xy: {}, \
                  field_of_view: {}, lambda: {}}}: RMS {:.4} m, mean {:.4} m, largest {:.3} m; \
@@ -62,8 +63,8 @@ fn challenge(held_out: &HeldOut, output: Option<&RunOutput>) -> Challenge {
                 settings.k_xy,
                 settings.k_theta,
                 settings.c_xy,
-                settings.field_of_view,
-                settings.lambda,
+                js_number(settings.field_of_view),
+                js_number(settings.lambda),
                 errors.rms,
                 errors.mean,
                 errors.max,
@@ -84,7 +85,7 @@ fn challenge(held_out: &HeldOut, output: Option<&RunOutput>) -> Challenge {
         measure: format!("the RMS position error over a held-out trial of {steps} steps"),
         unit: "m".to_owned(),
         figure,
-        reference: reference.filter.rms,
+        reference: tenth_of_a_millimetre(reference.filter.rms),
         message: [
             measured,
             format!(
@@ -109,33 +110,38 @@ fn challenge(held_out: &HeldOut, output: Option<&RunOutput>) -> Challenge {
 /// The errors of the student's run over the held-out trial, the settings it used and the
 /// share of steps whose truth lies inside its 3-sigma ellipse; or why there are none.
 fn measure(held_out: &HeldOut, run: &RunOutput) -> Result<(Errors, FilterSettings, f64), String> {
-    let record: TrialRecord = run.record()?;
-    let steps = held_out.trial.steps.len();
-    if run.error.is_some() || run.stopped.is_some() {
-        return Err(match (&record.tuning, record.poses.len()) {
-            // Before tuning() returned, the code had seen nothing of the trial.
-            (None, _) => format!(
-                "Your filter did not start on the held-out trial: {}",
-                run.completed::<TrialRecord>(RUN_LIMIT_MS)
-                    .err()
-                    .unwrap_or_default()
-            ),
-            (Some(_), done) => format!(
-                "Your filter stopped at step {} of {steps} of the held-out trial ({}). What it \
-                 said there is not shown, so that the trial stays unseen: the graded trials \
-                 run the same functions and show where they fail.",
-                done + 1,
-                if run.stopped.is_some() {
-                    "the host stopped it"
-                } else {
-                    "it threw, or returned what the loop cannot use"
-                }
-            ),
+    if let Some(stopped) = &run.stopped {
+        return Err(format!(
+            "Your filter was stopped on the held-out trial: {}.",
+            match &stopped.cause {
+                Cause::Time => format!(
+                    "its run took more than the {} s it may",
+                    RUN_LIMIT_MS / 1000
+                ),
+                Cause::Cancelled => "it was cancelled".to_owned(),
+                Cause::Other(what) => what.clone(),
+            }
+        ));
+    }
+    let record: TrialRecord = run.record().map_err(|_| {
+        "The harness's record of the held-out trial is unreadable, which happens when a file \
+         changes built-in objects."
+            .to_owned()
+    })?;
+    if let Some(error) = &run.error {
+        // Before tuning() returned, the code had seen nothing of the trial.
+        return Err(match (&run.recorded, &record.tuning) {
+            (Some(_), None) => format!("Your filter did not start on the held-out trial: {error}"),
+            _ => "Your filter stopped on the held-out trial: it threw, or returned what the \
+                  loop cannot use. What it said is not shown, so that the trial stays unseen: \
+                  the graded trials run the same functions and show where they fail."
+                .to_owned(),
         });
     }
     let settings = record
         .tuning
         .ok_or("The held-out trial ran without tuning()'s settings.")?;
+    let steps = held_out.trial.steps.len();
     let truths = held_out.trial.steps.iter().map(|s| s.truth);
     if record.poses.len() != steps || record.covariances.len() != steps {
         return Err(format!(
@@ -154,6 +160,21 @@ fn measure(held_out: &HeldOut, run: &RunOutput) -> Result<(Errors, FilterSetting
         .filter(|((pose, sigma), truth)| inside_three_sigma(**pose, sigma, *truth))
         .count();
     Ok((errors, settings, inside as f64 / steps as f64))
+}
+
+/// A length in metres to the tenth of a millimetre: what the challenge ranks by, and no
+/// finer, so that a figure says little of the trial beyond itself.
+fn tenth_of_a_millimetre(metres: f64) -> f64 {
+    libm::round(metres * 1e4) / 1e4
+}
+
+/// A number as JavaScript writes it (`Infinity`, not Rust's `inf`).
+fn js_number(value: f64) -> String {
+    if value.is_infinite() {
+        "Infinity".to_owned()
+    } else {
+        value.to_string()
+    }
 }
 
 /// The test of a trial: passed when the run follows the reference at every step.
@@ -234,7 +255,7 @@ fn beliefs(record: &TrialRecord) -> Beliefs<'_> {
 mod tests {
     use super::*;
     use crate::fusion::{Detector, run};
-    use crate::grading::Hidden;
+    use crate::grading::{Hidden, Stopped};
     use serde_json::json;
 
     fn held_out() -> HeldOut {
@@ -321,12 +342,29 @@ mod tests {
         threw.error = Some("at step 41, predict: threw Error: 0.8131 1.2207".to_owned());
         let challenge = challenge(&held_out, Some(&threw));
         assert_eq!(challenge.figure, None);
-        assert!(challenge.message.contains("stopped at step 41 of"));
         assert!(
-            !challenge.message.contains("0.8131"),
+            challenge.message.contains("it threw"),
             "{}",
             challenge.message
         );
+        assert!(!challenge.message.contains("0.8131") && !challenge.message.contains("41"));
+
+        // Stopped by the host: the cause, not where.
+        let stopped = RunOutput::stopped(
+            HELD_OUT,
+            Stopped {
+                during: "held-out: at step 977, update".to_owned(),
+                cause: Cause::Time,
+                limit_ms: None,
+            },
+        );
+        let challenge = super::challenge(&held_out, Some(&stopped));
+        assert!(
+            challenge.message.contains("more than the 5 s"),
+            "{}",
+            challenge.message
+        );
+        assert!(!challenge.message.contains("977"));
 
         let mut early = recorded(&held_out, None, 0);
         early.error = Some("calling tuning(): threw ReferenceError: x is not defined".into());

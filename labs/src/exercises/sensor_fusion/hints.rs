@@ -297,7 +297,20 @@ fn mistakes(call: &Call, expected: &Answer) -> Vec<(HintKind, Answer)> {
             let diagonal = |xy: f64, theta: f64| {
                 Answer::Matrix3(rows(&Matrix3::from_diagonal(&Vector3::new(xy, xy, theta))))
             };
-            vec![
+            // measurement_noise may call the student's own heading_sigma: each of its
+            // mistakes shows in Q's heading variance.
+            let heading = Call::HeadingSigma {
+                p1: *p1,
+                p2: *p2,
+                c_xy: *c_xy,
+            };
+            let through_heading_sigma = mistakes(&heading, &Answer::Number(m.sigma_theta))
+                .into_iter()
+                .filter_map(|(kind, answer)| match answer {
+                    Answer::Number(s) => Some((kind, diagonal(m.sigma_xy.powi(2), s * s))),
+                    _ => None,
+                });
+            let mut own = vec![
                 (
                     HintKind::DeviationAsVariance,
                     diagonal(m.sigma_xy, m.sigma_theta),
@@ -310,7 +323,9 @@ fn mistakes(call: &Call, expected: &Answer) -> Vec<(HintKind, Answer)> {
                     HintKind::HeadingNoiseFromPosition,
                     diagonal(m.sigma_xy.powi(2), m.sigma_xy.powi(2)),
                 ),
-            ]
+            ];
+            own.extend(through_heading_sigma);
+            own
         }
         (Call::InFieldOfView { z, radius }, _) => {
             let d2 = z[0] * z[0] + z[1] * z[1];

@@ -6,15 +6,18 @@ use serde::{Deserialize, Serialize};
 use ts_rs::TS;
 
 /// The settings of the filter a run uses: those of the plan, or over the class's held-out
-/// trial those the student's `tuning()` returns, in the same shape.
+/// trial those the student's `tuning()` returns, in the same shape. An infinite number
+/// is the string "Infinity" in JSON, which the loop reads back as a number.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, TS)]
 pub struct FilterSettings {
     pub k_xy: f64,
     pub k_theta: f64,
     pub c_xy: f64,
+    /// The radius of the field of view (infinite: every reading is in view).
+    #[serde(with = "grading::infinity")]
+    #[ts(type = "number")]
     pub field_of_view: f64,
-    /// The gate on the squared Mahalanobis distance (infinite: no gate; in JSON the
-    /// string "Infinity", which the harness turns back into a number).
+    /// The gate on the squared Mahalanobis distance (infinite: no gate).
     #[serde(with = "grading::infinity")]
     #[ts(type = "number")]
     pub lambda: f64,

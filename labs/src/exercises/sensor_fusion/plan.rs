@@ -41,6 +41,8 @@ pub const HELD_OUT: &str = "held-out";
 
 /// The part of a seed's random numbers the trials are drawn from (ASCII "trial").
 const TRIALS: u64 = 0x74_7269_616c;
+/// The part of a class's seed the held-out trial is drawn from (ASCII "heldout").
+const HELD_OUT_TRIAL: u64 = 0x68_656c_646f_7574;
 
 /// Everything one grading checks, made from the student's seed (and, on the server, a
 /// seed of hidden cases).
@@ -68,7 +70,7 @@ impl HeldOut {
     /// A tour of eight waypoints in a room of 2.6 m half-side, another robot in view now
     /// and then: the kind of trial the two graded ones are, longer.
     pub fn new(class: u64) -> HeldOut {
-        let mut rng = Rng::substream(class, TRIALS);
+        let mut rng = Rng::substream(class, HELD_OUT_TRIAL);
         let params = TrialParams {
             seed: (rng.uniform() * 1e9) as u64,
             waypoints: 8,

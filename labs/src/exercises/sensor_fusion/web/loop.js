@@ -4,18 +4,40 @@
 // the browser's worker and the server's sandbox alike.
 estlabHarness.defineLoop('fusion', (tools) => {
   'use strict';
-  const { put, push, copy, field, vector, matrix, number, threshold, flag } = tools;
+  const { HarnessError, put, push, copy, field, vector, matrix, number, threshold, flag } = tools;
 
-  /// The settings `tuning()` returns, checked field by field.
+  /// A finite number of 0 or more.
+  const constant = (value, what) => number(threshold(value, what), what);
+  /// A finite number above 0.
+  function positive(value, what) {
+    if (!(number(value, what) > 0)) throw new HarnessError(what + ' is ' + value + ', not a number > 0');
+    return value;
+  }
+
+  /// The settings `tuning()` returns, checked field by field: the process noise constants
+  /// finite and not negative, c_xy above 0, the field of view and the gate 0 or more
+  /// (Infinity: every reading in view, no gate).
   /** @returns {import('estlab/types/FilterSettings').FilterSettings} */
   function tuned(invoke) {
     const settings = invoke('tuning', [], 'calling tuning()');
     return {
-      k_xy: field(settings, 'k_xy', number),
-      k_theta: field(settings, 'k_theta', number),
-      c_xy: field(settings, 'c_xy', number),
+      k_xy: field(settings, 'k_xy', constant),
+      k_theta: field(settings, 'k_theta', constant),
+      c_xy: field(settings, 'c_xy', positive),
       field_of_view: field(settings, 'field_of_view', threshold),
       lambda: field(settings, 'lambda', threshold),
+    };
+  }
+
+  /// The settings of a run's job, each number as JSON carried it ("Infinity" back as one).
+  /** @param {import('estlab/types/FilterSettings').FilterSettings} settings */
+  function given(settings) {
+    return {
+      k_xy: copy(settings.k_xy),
+      k_theta: copy(settings.k_theta),
+      c_xy: copy(settings.c_xy),
+      field_of_view: copy(settings.field_of_view),
+      lambda: copy(settings.lambda),
     };
   }
 
@@ -33,7 +55,7 @@ estlabHarness.defineLoop('fusion', (tools) => {
       settings = tuned(invoke);
       put(kept, 'tuning', settings);
     } else {
-      settings = copy(run.settings);
+      settings = given(run.settings);
     }
     /** @type {number[]} */
     let mu = copy(run.start);
