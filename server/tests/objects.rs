@@ -128,6 +128,9 @@ const OBJECTS: &[Row] = &[
     row("GET", "/api/courses/{course}", "/api/courses/{course}"),
     row("GET", "/api/courses/{course}/submissions", "/api/courses/{course}/submissions"),
     row("GET", "/api/courses/{course}/labs/{lab}/class", "/api/courses/{course}/labs/{lab}/class"),
+    // The class challenge's ranks switch names no object but the course's exercise.
+    row("POST", "/api/courses/{course}/labs/{lab}/ranking", "/api/courses/{course}/labs/{lab}/ranking")
+        .body(r#"{"ranked": true}"#),
     // A student, by id: the other course's is no student of this one; one on both
     // rosters is this course's member, with this course's submissions only.
     row("GET", STUDENT, STUDENT).other(404),
