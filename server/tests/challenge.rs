@@ -16,7 +16,7 @@ const LAB: &str = "sensor-fusion";
 
 /// The correct file with `tuning()` returning other settings.
 fn tuned(settings: &str) -> String {
-    let defaults = "return { k_xy: 0.05, k_theta: 0.05, c_xy: 90, field_of_view: 2, lambda: 16.266236196238 };";
+    let defaults = "return {\n    k_xy: 0.05, k_theta: 0.05, c_xy: 90, field_of_view: 2,\n    lambda: 16.266236196238,\n  };";
     assert_eq!(CORRECT.matches(defaults).count(), 1);
     CORRECT.replace(defaults, &format!("return {settings};"))
 }

@@ -19,7 +19,7 @@ withServerAndBrowser((s, b) => { server = s; browser = b; });
 const LAB = 'sensor-fusion';
 const COURSE = 'fusion-class';
 const correct = readFileSync(join(root, 'tests', 'student', 'sensor_fusion', 'correct.js'), 'utf8');
-const DEFAULTS = 'return { k_xy: 0.05, k_theta: 0.05, c_xy: 90, field_of_view: 2, lambda: 16.266236196238 };';
+const DEFAULTS = 'return {\n    k_xy: 0.05, k_theta: 0.05, c_xy: 90, field_of_view: 2,\n    lambda: 16.266236196238,\n  };';
 assert.ok(correct.includes(DEFAULTS), "correct.js's tuning() returns the defaults");
 /** correct.js with `tuning()` returning `settings`. */
 const tuned = (settings) => correct.replace(DEFAULTS, `return ${settings};`);
@@ -89,7 +89,8 @@ test('the class is ranked on its held-out trial; a student sees their own place;
 test('the fusion page writes its settings as the exercise\'s tuning()', bounded, async () => {
   const page = await openPage(browser, `${server.url}/fusion`);
   const code = () => page.locator('#tuning-code').textContent();
-  assert.equal(await code(), `function tuning() { ${DEFAULTS} }`);
+  assert.equal(await code(),
+    'function tuning() { return { k_xy: 0.05, k_theta: 0.05, c_xy: 90, field_of_view: 2, lambda: 16.266236196238 }; }');
   await page.locator('#gate').fill('6');
   assert.match(await code(), /lambda: Infinity \}; \}$/);
   // Copied, or where the browser does not let a page copy, said so.

@@ -324,7 +324,7 @@ mod tests {
     fn the_starter_tunes_as_the_reference_does() {
         let d = defaults();
         let settings = format!(
-            "return {{ k_xy: {}, k_theta: {}, c_xy: {}, field_of_view: {}, lambda: {} }};",
+            "return {{\n    k_xy: {}, k_theta: {}, c_xy: {}, field_of_view: {},\n    lambda: {},\n  }};",
             d.k_xy, d.k_theta, d.c_xy, d.field_of_view, d.lambda
         );
         let starter = crate::exercises::Exercise::SensorFusion

@@ -145,5 +145,8 @@ function update(mu_bar, sigma_bar, z, Q) {
 //                  Infinity for no gate
 // These are the reference filter's defaults.
 function tuning() {
-  return { k_xy: 0.05, k_theta: 0.05, c_xy: 90, field_of_view: 2, lambda: 16.266236196238 };
+  return {
+    k_xy: 0.05, k_theta: 0.05, c_xy: 90, field_of_view: 2,
+    lambda: 16.266236196238,
+  };
 }
