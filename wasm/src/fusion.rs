@@ -7,9 +7,13 @@
 
 use super::{from_json, to_js};
 use labs::ekf::covariance_ellipse;
-use labs::fusion::{self, Detector, Estimate, Reading, Settings, Summary, Trial, TrialParams, Use};
+use labs::fusion::{
+    self, Detector, Estimate, REPORT_FIGURES, Reading, ReportFigures, Settings, Summary, Trial,
+    TrialParams, Use,
+};
 use nalgebra::{Matrix2, Vector2};
 use serde::Serialize;
+use std::collections::BTreeMap;
 use wasm_bindgen::prelude::*;
 
 /// The defaults the page starts from, as JSON: `{settings, trial}`.
@@ -19,10 +23,17 @@ pub fn fusion_defaults() -> String {
     struct Defaults {
         settings: Settings,
         trial: TrialParams,
+        /// The report's published figures by its trials' names, trial1 and trial2.
+        report_figures: BTreeMap<String, ReportFigures>,
     }
     serde_json::to_string(&Defaults {
         settings: Settings::default(),
         trial: TrialParams::default(),
+        report_figures: REPORT_FIGURES
+            .iter()
+            .enumerate()
+            .map(|(i, figures)| (format!("trial{}", i + 1), *figures))
+            .collect(),
     })
     .expect("defaults serialise")
 }

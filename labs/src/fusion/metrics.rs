@@ -23,7 +23,7 @@ pub const REPORT_FIGURES: [ReportFigures; 2] = [
 ];
 
 /// The report's mean position errors on one of its trials, metres.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, ts_rs::TS)]
 pub struct ReportFigures {
     pub kalman: f64,
     pub odometry: f64,

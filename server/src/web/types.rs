@@ -44,6 +44,7 @@ pub fn export(dir: &Path) -> Result<(), ExportError> {
     d.visit::<labs::fusion::Settings>();
     d.visit::<labs::fusion::TrialParams>();
     d.visit::<labs::fusion::Summary>();
+    d.visit::<labs::fusion::ReportFigures>();
     // The staff's views and changes.
     d.visit::<setup::CourseView>();
     d.visit::<setup::StaffAdded>();

@@ -7,33 +7,26 @@ import { row } from '../odometry/view.js';
 
 /** @typedef {import('../types/FusionSummary').FusionSummary} FusionSummary */
 /** @typedef {import('../types/PositionErrors').PositionErrors} PositionErrors */
+/** @typedef {import('../types/ReportFigures').ReportFigures} ReportFigures */
 
 const f = (v) => fmt(v, 3);
 const percent = (share) => `${fmt(100 * share, 4)} %`;
-
-/**
- * The Northstar report's mean position errors (metres) on its trials: its own Kalman
- * filter's, odometry's and the Northstar sensor's alone, by the rows of the errors table.
- *
- * @type {Record<string, { report: number, odometry: number, sensor: number }>}
- */
-const published = {
-  trial1: { report: 0.139, odometry: 0.292, sensor: 0.155 },
-  trial2: { report: 0.057, odometry: 0.082, sensor: 0.123 },
-};
 
 /** The share of steps a consistent filter has with the truth inside its 3σ ellipse: 1 - e^(-9/2). */
 const gaussianInside = 1 - Math.exp(-4.5);
 
 /**
- * Fills the errors table with `summary`'s figures; `report` names the report's trial
- * (its published figures go beside them), or is undefined.
+ * Fills the errors table with `summary`'s figures; `published`, on one of the report's
+ * trials, is what the report published for it (its own Kalman filter's mean error,
+ * odometry's and the sensor's alone), which goes beside them.
  *
  * @param {FusionSummary} summary
- * @param {string} [report]
+ * @param {ReportFigures} [published]
  */
-export function showErrors(summary, report) {
-  const figures = report ? published[report] : undefined;
+export function showErrors(summary, published) {
+  const figures = published
+    ? { report: published.kalman, odometry: published.odometry, sensor: published.sensor }
+    : undefined;
   byId('published-heading').hidden = !figures;
   /** @type {[string, string, PositionErrors | null][]} */
   const rows = [

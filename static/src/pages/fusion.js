@@ -26,10 +26,11 @@ import { loadEstlab } from '../wasm.js';
 /** @typedef {import('../fusion/trials.js').LoadedTrial} LoadedTrial */
 /** @typedef {import('../types/FusionSettings').FusionSettings} FusionSettings */
 /** @typedef {import('../types/TrialParams').TrialParams} TrialParams */
+/** @typedef {import('../types/ReportFigures').ReportFigures} ReportFigures */
 
 renderMath();
 const estlab = await loadEstlab();
-/** @type {{ settings: FusionSettings, trial: TrialParams }} */
+/** @type {{ settings: FusionSettings, trial: TrialParams, report_figures: Record<string, ReportFigures> }} */
 const defaults = JSON.parse(estlab.fusionDefaults());
 const plots = plotsIn(byId('fusion-plots'), 'fusion');
 const degrees = Math.PI / 180;
@@ -215,7 +216,7 @@ function update() {
   drawMap(plots.map, v, s.field_of_view, current.name);
   drawErrors(plots, v);
   captionErrors(current.name);
-  showErrors(v.summary, current.report);
+  showErrors(v.summary, current.report ? defaults.report_figures[current.report] : undefined);
   showReadings(v.summary);
   markStale(null);
   const flags = settingsFlags(s);
