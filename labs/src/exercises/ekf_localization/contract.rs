@@ -6,10 +6,11 @@
 use super::hints::{HintKind, diagnose};
 use crate::ekf::{self, Belief, Landmark, Map, Robot};
 use crate::grading::{
-    self, Contract, Hint, Kind, Mismatch, Shape, matrix, pose, range_bearing, repeat, rows,
+    self, Contract, Hint, Kind, Mismatch, Shape, matrix, matrix_of, pose, range_bearing, repeat,
+    rows,
 };
 use crate::{Error, Exercise};
-use nalgebra::{Matrix2, Matrix2x3, Matrix3, Vector2, Vector3};
+use nalgebra::{Matrix2, Matrix2x3, Vector2, Vector3};
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
@@ -282,9 +283,9 @@ pub fn reference(call: &Call) -> Result<Answer, Error> {
         }
         Call::Predict { mu, sigma, u, r } => {
             let bar = ekf::predict(
-                &Belief::new(vector3(mu), matrix3(sigma)),
+                &Belief::new(vector3(mu), matrix_of(sigma)),
                 &vector3(u),
-                &matrix3(r),
+                &matrix_of(r),
             );
             Answer::Prediction(Prediction {
                 mu_bar: bar.mu.into(),
@@ -308,8 +309,14 @@ pub fn reference(call: &Call) -> Result<Answer, Error> {
             lambda_m,
             q,
         } => {
-            let bar = Belief::new(vector3(mu_bar), matrix3(sigma_bar));
-            let a = ekf::associate(&bar, &Vector2::from(*z_i), &map(m)?, *lambda_m, &matrix2(q));
+            let bar = Belief::new(vector3(mu_bar), matrix_of(sigma_bar));
+            let a = ekf::associate(
+                &bar,
+                &Vector2::from(*z_i),
+                &map(m)?,
+                *lambda_m,
+                &matrix_of(q),
+            );
             Answer::Association(Association {
                 c: a.c,
                 outlier: a.outlier,
@@ -326,9 +333,9 @@ pub fn reference(call: &Call) -> Result<Answer, Error> {
             lambda_m,
             q,
         } => {
-            let bar = Belief::new(vector3(mu_bar), matrix3(sigma_bar));
+            let bar = Belief::new(vector3(mu_bar), matrix_of(sigma_bar));
             let readings = two_rows("z", z)?;
-            let matches = ekf::batch_associate(&bar, &readings, &map(m)?, *lambda_m, &matrix2(q));
+            let matches = ekf::batch_associate(&bar, &readings, &map(m)?, *lambda_m, &matrix_of(q));
             Answer::BatchAssociation(BatchAssociation {
                 c: matches.iter().map(|m| m.c).collect(),
                 outlier: matches.iter().map(|m| m.outlier).collect(),
@@ -346,9 +353,9 @@ pub fn reference(call: &Call) -> Result<Answer, Error> {
             s,
             nu,
         } => {
-            let bar = Belief::new(vector3(mu_bar), matrix3(sigma_bar));
-            let h = Matrix2x3::from_fn(|i, j| h[i][j]);
-            let posterior = ekf::update(&bar, &h, &matrix2(s), &Vector2::from(*nu))
+            let bar = Belief::new(vector3(mu_bar), matrix_of(sigma_bar));
+            let h = matrix_of(h);
+            let posterior = ekf::update(&bar, &h, &matrix_of(s), &Vector2::from(*nu))
                 .ok_or_else(|| Error::invalid("S", "is singular"))?;
             Posterior::of(&posterior)
         }
@@ -359,7 +366,7 @@ pub fn reference(call: &Call) -> Result<Answer, Error> {
             q_bar,
             nu_bar,
         } => {
-            let bar = Belief::new(vector3(mu_bar), matrix3(sigma_bar));
+            let bar = Belief::new(vector3(mu_bar), matrix_of(sigma_bar));
             let n = h_bar.len();
             if n % 2 != 0 || nu_bar.len() != n {
                 return Err(Error::invalid(
@@ -385,14 +392,6 @@ pub fn reference(call: &Call) -> Result<Answer, Error> {
 
 pub(crate) fn vector3(v: &Vec3) -> Vector3<f64> {
     Vector3::from(*v)
-}
-
-pub(crate) fn matrix3(a: &Mat3) -> Matrix3<f64> {
-    Matrix3::from_fn(|i, j| a[i][j])
-}
-
-pub(crate) fn matrix2(a: &Mat2) -> Matrix2<f64> {
-    Matrix2::from_fn(|i, j| a[i][j])
 }
 
 /// The columns of a 2 x n matrix, both rows of the same length.

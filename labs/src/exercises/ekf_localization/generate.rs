@@ -9,10 +9,10 @@
 //! left to chance: random readings almost never tell these rules apart.
 
 use super::Case;
-use super::contract::{Call, Mat2, TwoRows, Vec2, Vec3, matrix2, vector3};
+use super::contract::{Call, Mat2, TwoRows, Vec2, Vec3, vector3};
 use crate::angle::wrap;
 use crate::ekf::{self, Belief, Candidate, Landmark};
-use crate::grading::{self, rows, scenario_cases};
+use crate::grading::{self, matrix_of, rows, scenario_cases};
 use crate::rng::Rng;
 use nalgebra::{Matrix3, Vector2, Vector3};
 use std::f64::consts::PI;
@@ -375,7 +375,7 @@ impl Scene {
             &Vector2::from(z),
             &contract_map(&self.m),
             lambda_m,
-            &matrix2(&self.q),
+            &matrix_of(&self.q),
         )
     }
 
@@ -415,7 +415,7 @@ impl Scene {
             gap(p).total_cmp(&gap(q))
         });
         let belief = self.belief();
-        let q = matrix2(&self.q);
+        let q = matrix_of(&self.q);
         for (a, b) in pairs {
             let at = |t: f64| {
                 let z = z_hat[a] + towards(a, b) * t;
@@ -476,7 +476,7 @@ impl Scene {
             &Vector2::from(z),
             &map,
             f64::INFINITY,
-            &matrix2(&self.q),
+            &matrix_of(&self.q),
         );
         let nu = m.candidate.nu;
         let stretch = (target / m.candidate.mahalanobis.max(1e-12)).sqrt();
@@ -648,7 +648,7 @@ fn single_update(rng: &mut Rng) -> Call {
         &Vector2::from(z),
         &contract_map(&s.m),
         f64::INFINITY,
-        &matrix2(&s.q),
+        &matrix_of(&s.q),
     )
     .candidates[j];
     Call::Update {
@@ -675,7 +675,7 @@ fn stacked_update(rng: &mut Rng) -> Call {
             &Vector2::from(z),
             &map,
             f64::INFINITY,
-            &matrix2(&s.q),
+            &matrix_of(&s.q),
         );
         h_bar.extend((0..2).map(|i| std::array::from_fn(|k| m.candidate.h[(i, k)])));
         nu_bar.extend(m.candidate.nu.iter());
@@ -705,7 +705,6 @@ fn stacked_update(rng: &mut Rng) -> Call {
 
 #[cfg(test)]
 mod tests {
-    use super::super::contract::matrix3;
     use super::*;
     use crate::grading::{Contract, Tolerance};
 
@@ -751,7 +750,7 @@ mod tests {
             }
             Call::Predict { mu, sigma, u, r } => {
                 let g = Matrix3::new(1.0, 0.0, -u[1], 0.0, 1.0, u[0], 0.0, 0.0, 1.0);
-                let sigma_bar = g * matrix3(sigma) * g.transpose() + matrix3(r);
+                let sigma_bar = g * matrix_of(sigma) * g.transpose() + matrix_of(r);
                 let rows: Vec<[f64; 3]> = (0..3)
                     .map(|i| [sigma_bar[(i, 0)], sigma_bar[(i, 1)], sigma_bar[(i, 2)]])
                     .collect();
@@ -831,13 +830,13 @@ mod tests {
             else {
                 unreachable!()
             };
-            let belief = Belief::new(vector3(mu_bar), matrix3(sigma_bar));
+            let belief = Belief::new(vector3(mu_bar), matrix_of(sigma_bar));
             let a = ekf::associate(
                 &belief,
                 &Vector2::from(*z_i),
                 &contract_map(m),
                 *lambda_m,
-                &matrix2(q),
+                &matrix_of(q),
             );
             let d = a.candidates[a.c].mahalanobis;
             !outlier(out) && d > 0.95 * lambda_m && d < *lambda_m

@@ -6,9 +6,9 @@ use super::contract::{Answer, Association, BatchAssociation, Call, reference};
 use crate::angle::wrap;
 use crate::ekf::motion_jacobian;
 use crate::grading::{
-    Contract, Hint, Mismatch, Mistake, form_hint, holds_non_finite, negated, rows,
+    Contract, Hint, Mismatch, Mistake, form_hint, holds_non_finite, matrix_of, negated, rows,
 };
-use nalgebra::{Matrix2, Matrix3, Vector2};
+use nalgebra::Vector2;
 use serde_json::Value;
 use std::f64::consts::TAU;
 
@@ -255,7 +255,7 @@ fn candidates(expected: &Association) -> Option<Vec<Predicted>> {
         .zip(&expected.s)
         .map(|(nu, s)| {
             let nu = Vector2::from(*nu);
-            let s = Matrix2::from_fn(|i, j| s[i][j]);
+            let s = matrix_of(s);
             Some(Predicted {
                 nu,
                 mahalanobis: nu.dot(&(s.try_inverse()? * nu)),
@@ -416,8 +416,8 @@ fn transposed_prediction(call: &Call) -> Option<Answer> {
         return None;
     };
     let g = motion_jacobian(&nalgebra::Vector3::from(*u));
-    let sigma = Matrix3::from_fn(|i, j| sigma[i][j]);
-    let r = Matrix3::from_fn(|i, j| r[i][j]);
+    let sigma = matrix_of(sigma);
+    let r = matrix_of(r);
     let wrong = g.transpose() * sigma * g + r;
     right.sigma_bar = rows(&wrong);
     Some(Answer::Prediction(right))
