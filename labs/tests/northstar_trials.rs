@@ -8,9 +8,10 @@ testdata::data_tests!(
     round_settings_beat_the_report_on_both,
 );
 
-fn trial(n: u32) -> Trial {
-    let sensor = format!("northstar/trial{n}_odometry_northstar.csv");
-    let estimate = format!("northstar/trial{n}_kalman_groundtruth.csv");
+/// The report's trial `name` (`trial1`), read from its two files.
+fn trial(name: &str) -> Trial {
+    let sensor = format!("northstar/{name}_odometry_northstar.csv");
+    let estimate = format!("northstar/{name}_kalman_groundtruth.csv");
     Trial::from_report(
         (&testdata::read(&sensor), &sensor),
         (&testdata::read(&estimate), &estimate),
@@ -23,17 +24,18 @@ fn summary(trial: &Trial, settings: &Settings) -> Summary {
 }
 
 fn the_report_figures_come_back_from_its_files() {
-    for (n, figures) in [1, 2].into_iter().zip(REPORT_FIGURES) {
-        let ReportFigures {
-            kalman,
-            odometry,
-            sensor,
-        } = figures;
-        let s = summary(&trial(n), &Settings::default());
+    for ReportFigures {
+        trial: name,
+        kalman,
+        odometry,
+        sensor,
+    } in REPORT_FIGURES
+    {
+        let s = summary(&trial(name), &Settings::default());
         let close = |a: f64, b: f64| (a - b).abs() < 0.0005;
-        assert!(close(s.report.unwrap().mean, kalman), "trial {n}: {s:?}");
-        assert!(close(s.odometry.mean, odometry), "trial {n}: {s:?}");
-        assert!(close(s.sensor.unwrap().mean, sensor), "trial {n}: {s:?}");
+        assert!(close(s.report.unwrap().mean, kalman), "{name}: {s:?}");
+        assert!(close(s.odometry.mean, odometry), "{name}: {s:?}");
+        assert!(close(s.sensor.unwrap().mean, sensor), "{name}: {s:?}");
     }
 }
 
@@ -41,25 +43,26 @@ fn the_report_figures_come_back_from_its_files() {
 /// beats the report's own estimate there.
 fn settings_tuned_on_one_trial_beat_the_report_on_the_other() {
     let detector = Detector::default();
-    let trials = [trial(1), trial(2)];
+    let trials = REPORT_FIGURES.map(|r| trial(r.trial));
     for (tuned_on, tested_on) in [(0, 1), (1, 0)] {
         let base = Settings::default();
         let (settings, _) = tune(&trials[tuned_on], &base, &detector);
         let s = summary(&trials[tested_on], &settings);
-        let report = REPORT_FIGURES[tested_on].kalman;
+        let report = REPORT_FIGURES[tested_on];
         assert!(
-            s.filter.mean < report,
-            "tuned on trial {}, on trial {}: {:.3} m, the report {report}",
-            tuned_on + 1,
-            tested_on + 1,
-            s.filter.mean
+            s.filter.mean < report.kalman,
+            "tuned on {}, on {}: {:.3} m, the report {}",
+            REPORT_FIGURES[tuned_on].trial,
+            report.trial,
+            s.filter.mean,
+            report.kalman
         );
     }
 }
 
 fn round_settings_beat_the_report_on_both() {
-    for (n, report) in [1, 2].into_iter().zip(REPORT_FIGURES) {
-        let s = summary(&trial(n), &Settings::default());
-        assert!(s.filter.mean < report.kalman, "trial {n}: {s:?}");
+    for report in REPORT_FIGURES {
+        let s = summary(&trial(report.trial), &Settings::default());
+        assert!(s.filter.mean < report.kalman, "{}: {s:?}", report.trial);
     }
 }

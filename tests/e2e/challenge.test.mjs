@@ -8,8 +8,8 @@ import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { test } from 'node:test';
 import {
-  bounded, estlab, getJson, laptop, openIn, openPage, phone, root, setUpCourse, signIn, signedInContext, waitFor,
-  withServerAndBrowser,
+  bounded, estlab, getJson, laptop, openIn, openPage, phone, root, setUpCourse, signIn, signedInContext, submit,
+  waitFor, withServerAndBrowser,
 } from './harness.mjs';
 
 let server;
@@ -26,11 +26,7 @@ const tuned = (settings) => correct.replace(DEFAULTS, `return ${settings};`);
 
 /** Submits `source` to the fusion exercise as the student signed in with `cookie`; waits for its grade. */
 async function submitGraded(cookie, source) {
-  const response = await fetch(`${server.url}/api/submissions`, {
-    method: 'POST',
-    headers: { cookie, 'content-type': 'application/json' },
-    body: JSON.stringify({ source, lab: LAB }),
-  });
+  const response = await submit(server, { source, lab: LAB }, cookie);
   const body = await response.json();
   assert.equal(response.status, 202, JSON.stringify(body));
   return waitFor(`submission ${body.id}`, async () => (await getJson(server, `/api/submissions/${body.id}`, { cookie })).body,

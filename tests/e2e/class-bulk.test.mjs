@@ -6,8 +6,8 @@
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
 import {
-  bounded, classTable, estlab, getJson, laptop, openIn, phone, setUpCourse, signIn, signedInContext, starter, waitFor,
-  withServerAndBrowser,
+  bounded, classTable, estlab, getJson, laptop, openIn, phone, setUpCourse, signIn, signedInContext, starter, submit,
+  waitFor, withServerAndBrowser,
 } from './harness.mjs';
 
 let server;
@@ -18,11 +18,7 @@ const LAB = 'ekf-localization';
 
 /** Submits `source` as the student signed in with `cookie`; the submission's id. */
 async function submitAs(cookie, source) {
-  const response = await fetch(`${server.url}/api/submissions`, {
-    method: 'POST',
-    headers: { cookie, 'content-type': 'application/json' },
-    body: JSON.stringify({ source }),
-  });
+  const response = await submit(server, { source }, cookie);
   const body = await response.json();
   assert.equal(response.status, 202, JSON.stringify(body));
   return body.id;

@@ -117,11 +117,14 @@ export async function waitFor(what, probe, until, { timeout = 120_000, interval 
   }
 }
 
-/** POSTs `body` (an object, or a string sent as it is) as a submission to `server`. */
-export function submit(server, body) {
+/**
+ * POSTs `body` (an object, or a string sent as it is) as a submission to `server`, as the
+ * student signed in with `cookie` (`estlab_session=...`), or nobody.
+ */
+export function submit(server, body, cookie) {
   return fetch(`${server.url}/api/submissions`, {
     method: 'POST',
-    headers: { 'content-type': 'application/json' },
+    headers: { 'content-type': 'application/json', ...(cookie ? { cookie } : {}) },
     body: typeof body === 'string' ? body : JSON.stringify(body),
   });
 }

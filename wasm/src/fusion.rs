@@ -24,16 +24,14 @@ pub fn fusion_defaults() -> String {
         settings: Settings,
         trial: TrialParams,
         /// The report's published figures by its trials' names, trial1 and trial2.
-        report_figures: BTreeMap<String, ReportFigures>,
+        report_figures: BTreeMap<&'static str, ReportFigures>,
     }
     serde_json::to_string(&Defaults {
         settings: Settings::default(),
         trial: TrialParams::default(),
         report_figures: REPORT_FIGURES
-            .iter()
-            .enumerate()
-            .map(|(i, figures)| (format!("trial{}", i + 1), *figures))
-            .collect(),
+            .map(|figures| (figures.trial, figures))
+            .into(),
     })
     .expect("defaults serialise")
 }

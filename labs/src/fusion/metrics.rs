@@ -11,11 +11,13 @@ use serde::{Deserialize, Serialize};
 /// digit: `labs/tests/northstar_trials.rs`).
 pub const REPORT_FIGURES: [ReportFigures; 2] = [
     ReportFigures {
+        trial: "trial1",
         kalman: 0.139,
         odometry: 0.292,
         sensor: 0.155,
     },
     ReportFigures {
+        trial: "trial2",
         kalman: 0.057,
         odometry: 0.082,
         sensor: 0.123,
@@ -25,6 +27,8 @@ pub const REPORT_FIGURES: [ReportFigures; 2] = [
 /// The report's mean position errors on one of its trials, metres.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, ts_rs::TS)]
 pub struct ReportFigures {
+    /// The trial's name, as its files begin (`trial1_odometry_northstar.csv`).
+    pub trial: &'static str,
     pub kalman: f64,
     pub odometry: f64,
     pub sensor: f64,

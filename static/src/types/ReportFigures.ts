@@ -3,4 +3,8 @@
 /**
  * The report's mean position errors on one of its trials, metres.
  */
-export type ReportFigures = { kalman: number, odometry: number, sensor: number, };
+export type ReportFigures = { 
+/**
+ * The trial's name, as its files begin (`trial1_odometry_northstar.csv`).
+ */
+trial: string, kalman: number, odometry: number, sensor: number, };
