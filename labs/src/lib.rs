@@ -17,9 +17,11 @@ mod error;
 pub mod exercises;
 pub mod fusion;
 pub mod grading;
+mod language;
 pub mod odometry;
 pub mod rng;
 mod typescript;
 
 pub use error::Error;
 pub use exercises::{Exercise, UnknownExercise};
+pub use language::{Language, UnknownLanguage};

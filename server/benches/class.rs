@@ -17,7 +17,7 @@ use estlab::courses::class;
 use estlab::courses::deadline::{Counts, Policy};
 use estlab::courses::export::{self, Format};
 use estlab::courses::roster;
-use estlab::sandbox::Sandbox;
+use estlab::sandbox::{Code, Sandbox};
 use estlab::store::{NewExtension, NewMember, NewSubmission, Role, Store};
 use jiff::{SignedDuration, Timestamp};
 use labs::Exercise;
@@ -94,7 +94,7 @@ fn grade_files() -> Vec<Graded> {
                     let result = sandbox
                         .grade(
                             Exercise::EkfLocalization,
-                            &source,
+                            Code::javascript(&source),
                             1 + i as u64,
                             Some(Hidden {
                                 cases: 1000 + i as u64,

@@ -3,12 +3,15 @@
 // by `labs::grading::Plan::job`) as JSON, calls the student's functions on copies of the
 // inputs, and returns JSON that `labs::grading::Plan::grade` compares with the reference:
 //
-//   estlabHarness.callFunction(source, phaseJson, progress) -> outputs of one function
+//   estlabHarness.callFunction(source, phaseJson, progress[, declaring])
+//                                                           -> outputs of one function
 //   estlabHarness.run(source, runJson, progress)             -> one run of the exercise's
 //                                                              loop (a data set, a path)
 //
 // `progress(label)` is told what is about to run, so that the host can say where its time
-// limit stopped the code. Numbers JSON cannot hold are written "NaN", "Infinity" and
+// limit stopped the code. `declaring` says how a missing function is declared in the
+// student's language (`def NAME(...):`; JavaScript's when not given): the server passes
+// a file in another language as stand-ins of its functions (`server/src/sandbox/native`). Numbers JSON cannot hold are written "NaN", "Infinity" and
 // "-Infinity", undefined as "undefined".
 //
 // The student's code runs in this realm, so the harness's bookkeeping is built to be out
@@ -374,7 +377,7 @@
     return object;
   }
 
-  function callFunction(source, phaseJson, progress) {
+  function callFunction(source, phaseJson, progress, declaring) {
     loopsOpen = false;
     const phase = parse(phaseJson);
     const out = record();
@@ -392,8 +395,10 @@
     }
     const f = functions[phase.function];
     if (typeof f !== 'function') {
-      put(out, 'error', phase.function + ' is not defined: declare it at top level, as ' +
-        'function ' + phase.function + '(...) { ... }');
+      const as = typeof declaring === 'string'
+        ? apply(stringReplace, declaring, ['NAME', phase.function])
+        : 'function ' + phase.function + '(...) { ... }';
+      put(out, 'error', phase.function + ' is not defined: declare it at top level, as ' + as);
       return toJson(out);
     }
     const calls = phase.calls;

@@ -13,7 +13,9 @@ mod declaration;
 
 pub use declaration::{Declaration, Graded, Runs, Visit, Workbench};
 
+use crate::grading::{Contract, Shape};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
+use std::collections::BTreeMap;
 use std::fmt;
 use std::str::FromStr;
 
@@ -95,7 +97,34 @@ impl Visit for Generated {
     }
 }
 
+/// The named fields of each student function's output, where the contract's output is an
+/// object of named fields.
+struct OutputFields;
+
+impl Visit for OutputFields {
+    type Output = BTreeMap<&'static str, Vec<&'static str>>;
+    fn visit<G: Graded>(self) -> Self::Output {
+        (G::GENERATE)(0, 1)
+            .iter()
+            .filter_map(|case| match case.call.output_shape() {
+                (_, Shape::Object(fields)) => Some((
+                    case.call.function(),
+                    fields.iter().map(|&(name, _)| name).collect(),
+                )),
+                _ => None,
+            })
+            .collect()
+    }
+}
+
 impl Exercise {
+    /// The fields of the outputs of the student functions that return named fields (as
+    /// `predict` returns `mu_bar` and `sigma_bar`), in the contract's order: how a
+    /// language whose functions return several values in a tuple names them.
+    pub fn output_fields(self) -> BTreeMap<&'static str, Vec<&'static str>> {
+        self.visit(OutputFields)
+    }
+
     /// `per_function` generated test cases of every student function of the variant
     /// `seed`, as a JSON array.
     pub fn generated_cases(self, seed: u64, per_function: usize) -> String {

@@ -4,21 +4,24 @@ use super::{print, read};
 use crate::error::Error;
 use crate::grading::{Secret, grader_version};
 use crate::platforms::{GradescopeResults, PrairieLearnResults};
-use crate::sandbox::{Sandbox, check_size, cores};
-use labs::Exercise;
+use crate::sandbox::{Code, Sandbox, check_size, cores};
 use labs::grading::{DEFAULT_COURSE, GradeResult, student_seed};
+use labs::{Exercise, Language};
 use std::path::PathBuf;
 use std::str::FromStr;
 
-/// Grade a student's JavaScript file and print the result. The exit code is 0 whenever a
+/// Grade a student's file (JavaScript, or Python with NumPy) and print the result. The exit code is 0 whenever a
 /// result was produced, whatever the score.
 #[derive(clap::Args)]
 pub struct Args {
     /// The exercise, by name.
     #[arg(long, value_parser = Exercise::from_str, default_value_t = Exercise::default())]
     lab: Exercise,
-    /// The student's JavaScript file.
+    /// The student's file: `.js` is JavaScript and `.py` Python, unless --language says.
     file: PathBuf,
+    /// The file's language, when its name does not tell it.
+    #[arg(long, value_parser = Language::from_str)]
+    language: Option<Language>,
     /// The seed of the student's variant (as the browser shows it).
     #[arg(long, conflicts_with = "student")]
     seed: Option<u64>,
@@ -57,6 +60,11 @@ pub fn run(args: &Args) -> Result<(), Error> {
     let source = read(&args.file)?;
     check_size(&source)
         .map_err(|problem| Error::Invalid(format!("{}: {problem}", args.file.display())))?;
+    let name = args.file.file_name().unwrap_or_default().to_string_lossy();
+    let language = args
+        .language
+        .or_else(|| Language::of_file(&name))
+        .unwrap_or_default();
     let seed = match (&args.seed, &args.student) {
         (Some(seed), _) => *seed,
         (None, Some(student)) => student_seed(&args.course, student),
@@ -68,7 +76,11 @@ pub fn run(args: &Args) -> Result<(), Error> {
     // Without a secret there are no hidden cases: the result says so.
     let key = secret.is_some().then_some(args.submission);
     let hidden = secret.map(|secret| secret.hidden(args.submission, &args.course));
-    let result = sandbox.grade(args.lab, &source, seed, hidden);
+    let code = Code {
+        language,
+        text: &source,
+    };
+    let result = sandbox.grade(args.lab, code, seed, hidden);
     let text = match args.format {
         Format::Json => serde_json::to_string_pretty(&result),
         Format::Gradescope => {

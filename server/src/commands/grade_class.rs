@@ -6,7 +6,7 @@ use super::serve::default_parallel;
 use super::{file_name, print};
 use crate::courses::export::inert;
 use crate::error::Error;
-use crate::sandbox::{Sandbox, check_size, cores};
+use crate::sandbox::{Code, Sandbox, check_size, cores};
 use indicatif::{ProgressBar, ProgressStyle};
 use labs::Exercise;
 use labs::grading::{DEFAULT_COURSE, GradeResult, student_seed};
@@ -112,7 +112,12 @@ fn grade_one(sandbox: &Sandbox, exercise: Exercise, course: &str, entry: &Entry)
     if let Err(problem) = check_size(&source) {
         return Outcome::Unreadable(problem.to_string());
     }
-    Outcome::Graded(sandbox.grade(exercise, &source, student_seed(course, &entry.id), None))
+    Outcome::Graded(sandbox.grade(
+        exercise,
+        Code::javascript(&source),
+        student_seed(course, &entry.id),
+        None,
+    ))
 }
 
 /// Shows the progress: a bar with the count, the rate and the time left on a terminal,

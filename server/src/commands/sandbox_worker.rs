@@ -14,7 +14,12 @@ pub fn run() -> Result<(), Error> {
         .map_err(Error::io("stdin"))?;
     let input: WorkerInput =
         serde_json::from_str(&text).map_err(|e| Error::Invalid(format!("stdin: {e}")))?;
-    let outputs = carry_out(&input.source, &input.job, input.threads)?;
+    let outputs = carry_out(
+        &input.source,
+        input.native.as_ref(),
+        &input.job,
+        input.threads,
+    )?;
     println!(
         "{}",
         serde_json::to_string(&outputs).expect("outputs serialise")

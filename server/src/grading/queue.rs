@@ -9,7 +9,7 @@
 use super::fair::{FairQueue, Lane, Policy, Tenant, Ticket, Waiting, Work};
 use super::{Secret, grader_version, priority};
 use crate::clock::Clock;
-use crate::sandbox::{DidNotStart, Sandbox};
+use crate::sandbox::{Code, DidNotStart, Sandbox};
 use crate::store::{Error, NewSubmission, Store};
 use labs::Exercise;
 use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};
@@ -293,10 +293,12 @@ impl Grader {
         let started = Instant::now();
         let job = self.store.start_grading(id)?;
         let hidden = self.secret.hidden(id, &job.course);
-        let result = match self
-            .sandbox
-            .try_grade(job.exercise, &job.source, job.seed, Some(hidden))
-        {
+        let result = match self.sandbox.try_grade(
+            job.exercise,
+            Code::javascript(&job.source),
+            job.seed,
+            Some(hidden),
+        ) {
             Ok(result) => result,
             Err(err) => {
                 self.store.back_to_queue(id)?;
@@ -324,7 +326,12 @@ impl Grader {
         let hidden = self.secret.hidden(submission, &job.course);
         let result = self
             .sandbox
-            .try_grade(job.exercise, &job.source, job.seed, Some(hidden))
+            .try_grade(
+                job.exercise,
+                Code::javascript(&job.source),
+                job.seed,
+                Some(hidden),
+            )
             .map_err(Failure::DidNotStart)?;
         let score = result.gradable.then_some(result.score);
         self.store.finish_regrade_item(

@@ -15,7 +15,7 @@ mod submitted;
 
 use crate::error::Error;
 use crate::grading::{Secret, grader_version};
-use crate::sandbox::{Sandbox, check_length, cores};
+use crate::sandbox::{Code, Sandbox, check_length, cores};
 use labs::Exercise;
 use labs::grading::GradeResult;
 use serde::{Deserialize, Serialize};
@@ -108,7 +108,7 @@ impl PackagedGrader {
         };
         let key = drawn.key(&source);
         let hidden = Some(self.secret.hidden(key, &self.settings.course));
-        let result = sandbox.grade(self.settings.lab, &source, seed, hidden);
+        let result = sandbox.grade(self.settings.lab, Code::javascript(&source), seed, hidden);
         (result, Some(key))
     }
 }

@@ -1,9 +1,9 @@
-//! The CPU time of a thread (Linux's per-thread CPU clocks): what a student's code has
+//! The CPU time of a thread or a process (Linux's CPU clocks): what a student's code has
 //! used of its limit, however many other processes share the cores.
 
 use std::time::Duration;
 
-/// A thread's CPU clock, which any thread of the process may read.
+/// A thread's CPU clock, which any thread of the process may read, or a process's.
 #[derive(Clone, Copy, Debug)]
 pub struct CpuClock(libc::clockid_t);
 
@@ -16,6 +16,15 @@ impl CpuClock {
         let status = unsafe { libc::pthread_getcpuclockid(libc::pthread_self(), &mut clock) };
         assert_eq!(status, 0, "this thread's CPU clock is unavailable");
         CpuClock(clock)
+    }
+
+    /// The clock of a process (every thread of it), which Linux lets any process read.
+    /// None when there is no such process.
+    pub fn of_process(pid: libc::pid_t) -> Option<CpuClock> {
+        let mut clock: libc::clockid_t = 0;
+        // SAFETY: the call writes one clockid_t through a valid pointer.
+        let status = unsafe { libc::clock_getcpuclockid(pid, &mut clock) };
+        (status == 0).then_some(CpuClock(clock))
     }
 
     /// The CPU time the thread has used, or None once it has ended.

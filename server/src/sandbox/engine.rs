@@ -8,9 +8,10 @@
 //! from the engine's state, never from what was thrown (which the student's code can
 //! imitate): the interrupt handler's flag for time, the allocator's for memory.
 
-use super::cpu::ThreadClock;
+use super::cpu::{CpuClock, ThreadClock};
 use super::error::Failure;
 use super::memory::Metered;
+use super::native::{self, Bridge, Interpreter, Native};
 use super::watchdog::{Pulse, Watchdog};
 use labs::Exercise;
 use labs::grading::{
@@ -37,22 +38,31 @@ const HARNESS_LIMIT: Duration = Duration::from_secs(5);
 pub const LOAD_LIMIT_MS: u32 = FUNCTION_LIMIT_MS;
 
 /// The CPU time one phase may still use, shared between the engine and its interrupt
-/// handler (both on the engine's thread).
+/// handler (both on the engine's thread): the engine's own, and for a file in another
+/// language its interpreter's.
 struct Budget {
     clock: ThreadClock,
+    interpreter: Option<ProcessTime>,
     limit: Cell<Duration>,
     /// Set when the handler stopped the code: the phase ended for time, whatever the
     /// error that unwound it says.
     interrupted: Cell<bool>,
     /// Where the watchdog sees that the engine looked at its clock.
     pulse: Arc<Pulse>,
+    /// Where and why the student's code made its interpreter stop answering, if it did:
+    /// the interrupt handler then ends the phase.
+    halted: RefCell<Option<(String, String)>>,
 }
 
 impl Budget {
     fn exhausted(&self) -> bool {
         let now = self.clock.now();
         self.pulse.looked(now);
-        let over = self.clock.elapsed() > self.limit.get();
+        let interpreter = self
+            .interpreter
+            .as_ref()
+            .map_or(Duration::ZERO, ProcessTime::elapsed);
+        let over = self.clock.elapsed() + interpreter > self.limit.get();
         if over {
             self.interrupted.set(true);
         }
@@ -61,9 +71,54 @@ impl Budget {
 
     fn start(&self, limit: Duration) {
         self.clock.restart();
+        if let Some(interpreter) = &self.interpreter {
+            interpreter.restart();
+        }
         self.limit.set(limit);
         self.interrupted.set(false);
     }
+}
+
+/// A stopwatch of an interpreter's CPU time, which keeps its last reading once the
+/// process has ended.
+struct ProcessTime {
+    clock: CpuClock,
+    start: Cell<Duration>,
+    last: Cell<Duration>,
+}
+
+impl ProcessTime {
+    fn new(clock: CpuClock) -> ProcessTime {
+        let time = ProcessTime {
+            clock,
+            start: Cell::new(Duration::ZERO),
+            last: Cell::new(Duration::ZERO),
+        };
+        time.restart();
+        time
+    }
+
+    fn now(&self) -> Duration {
+        if let Some(now) = self.clock.read() {
+            self.last.set(now);
+        }
+        self.last.get()
+    }
+
+    fn restart(&self) {
+        self.start.set(self.now());
+    }
+
+    fn elapsed(&self) -> Duration {
+        self.now().saturating_sub(self.start.get())
+    }
+}
+
+/// A student's file in another language: how it runs, and its text.
+#[derive(Clone, Copy)]
+pub struct Foreign<'a> {
+    pub native: &'a Native,
+    pub source: &'a str,
 }
 
 struct Engine {
@@ -76,25 +131,56 @@ struct Engine {
     /// Set by the allocator when it first refused an allocation, to what the engine ran
     /// then: the phase ran out of memory there.
     out_of_memory: Rc<RefCell<Option<String>>>,
+    /// How a missing function is to be declared, in the student's language (`None`:
+    /// JavaScript, which the harness knows).
+    declaring: Option<&'static str>,
+    /// The interpreter of a file in another language (ended with the engine).
+    _bridge: Option<Bridge>,
 }
 
 impl Engine {
     /// An engine with the harness loaded, and the loop of the exercise whose run it is to
     /// carry out if it is one, showing the watchdog its `pulse`.
-    fn new(pulse: Arc<Pulse>, run_loop: Option<&str>) -> Result<Engine, Failure> {
+    fn new(
+        pulse: Arc<Pulse>,
+        run_loop: Option<&str>,
+        foreign: Option<(Foreign, Duration)>,
+    ) -> Result<Engine, Failure> {
+        let bridge = foreign
+            .map(|(foreign, limit)| {
+                let invocation = native::invocation(
+                    foreign.native.language,
+                    limit.as_secs() + INTERPRETER_SPARE_S,
+                );
+                Interpreter::start(
+                    &foreign.native.tools,
+                    &invocation,
+                    (foreign.source, &foreign.native.file),
+                    &foreign.native.fields,
+                )
+                .map(Bridge::new)
+                .map_err(|refused| Failure::Jail(refused.to_string()))
+            })
+            .transpose()?;
         let out_of_memory = Rc::new(RefCell::new(None));
         let allocator = Metered::new(MEMORY_LIMIT, Arc::clone(&pulse), Rc::clone(&out_of_memory));
         let runtime = Runtime::new_with_alloc(allocator).map_err(Failure::Engine)?;
         runtime.set_max_stack_size(STACK_LIMIT);
         let budget = Rc::new(Budget {
             clock: ThreadClock::start(),
+            interpreter: bridge
+                .as_ref()
+                .map(|bridge| ProcessTime::new(bridge.clock())),
             limit: Cell::new(HARNESS_LIMIT),
             interrupted: Cell::new(false),
             pulse,
+            halted: RefCell::new(None),
         });
         let handler = Rc::clone(&budget);
         // The handler runs on this thread only: the engine never leaves it.
-        runtime.set_interrupt_handler(Some(Box::new(move || handler.exhausted())));
+        runtime.set_interrupt_handler(Some(Box::new(move || {
+            handler.exhausted() || handler.halted.borrow().is_some()
+        })));
         let context = Context::full(&runtime).map_err(Failure::Engine)?;
         let (call_function, run) = context.with(|ctx| {
             ctx.eval::<(), _>(HARNESS)
@@ -104,6 +190,19 @@ impl Engine {
                 ctx.eval::<(), _>(source)
                     .catch(&ctx)
                     .map_err(harness_failed("the harness's loop"))?;
+            }
+            if let Some(bridge) = &bridge {
+                let (watched, halted) = (Rc::clone(&budget), Rc::clone(&budget));
+                let halt = move |reason: String| {
+                    let mut slot = halted.halted.borrow_mut();
+                    if slot.is_none() {
+                        *slot = Some((halted.pulse.label(), reason));
+                    }
+                };
+                bridge
+                    .install(&ctx, Rc::new(move || watched.exhausted()), Rc::new(halt))
+                    .catch(&ctx)
+                    .map_err(harness_failed("the bridge to the interpreter"))?;
             }
             let harness: Object = ctx
                 .globals()
@@ -122,6 +221,8 @@ impl Engine {
             _runtime: runtime,
             budget,
             out_of_memory,
+            declaring: foreign.map(|(foreign, _)| native::declaring(foreign.native.language)),
+            _bridge: bridge,
         })
     }
 
@@ -144,7 +245,7 @@ impl Engine {
             let label = Arc::clone(pulse);
             let progress = Function::new(ctx.clone(), move |text: String| label.running(text))
                 .map_err(|e| e.to_string())?;
-            f.call::<_, String>((source, phase, progress))
+            f.call::<_, String>((source, phase, progress, self.declaring))
                 .catch(&ctx)
                 .map_err(|e| escaped(&e))
         });
@@ -164,8 +265,15 @@ impl Engine {
             },
             cause,
         };
+        let halted = self.budget.halted.take();
         match (outcome, out_of_memory) {
             _ if over_time => Err(stopped(pulse.label(), Cause::Time)),
+            // The interpreter stopped answering (it slept, wrote too much, ended): the
+            // phase ends where it was then.
+            _ if halted.is_some() => {
+                let (label, reason) = halted.unwrap_or_default();
+                Err(stopped(label, Cause::Other(reason)))
+            }
             // However the phase ended: its code, or the harness after it, lacked memory
             // for something, and what it reported is not to be trusted.
             (_, Some(label)) => Err(stopped(
@@ -183,6 +291,10 @@ impl Engine {
         }
     }
 }
+
+/// CPU time an interpreter may use beyond its phase's limit before the kernel ends it:
+/// the phase's own limit ends it first.
+const INTERPRETER_SPARE_S: u64 = 12;
 
 /// What the harness is called in a failure to load it.
 const HARNESS_PART: &str = "the harness";
@@ -215,7 +327,20 @@ const THREAD_STACK: usize = 8 << 20;
 /// engine, so that nothing one phase leaves behind reaches another, the longest (the
 /// data-set runs) first. A watchdog ends the process if a phase stalls in a single call
 /// (see `watchdog`).
-pub fn carry_out(source: &str, job: &Job, threads: usize) -> Result<Outputs, Failure> {
+/// A file in another language runs in its interpreter, one per phase, called through
+/// stand-ins of its functions (see `native`).
+pub fn carry_out(
+    source: &str,
+    native: Option<&Native>,
+    job: &Job,
+    threads: usize,
+) -> Result<Outputs, Failure> {
+    let stand_ins = native.map(|_| Bridge::stand_ins(job));
+    let file = File {
+        harness_source: stand_ins.as_deref().unwrap_or(source),
+        foreign: native.map(|native| Foreign { native, source }),
+    };
+    let source = &file;
     let phases: Vec<Phase> = job.phases().collect();
     let threads = threads.clamp(1, phases.len().max(1));
     let watchdog = Watchdog::new(threads);
@@ -227,8 +352,16 @@ pub fn carry_out(source: &str, job: &Job, threads: usize) -> Result<Outputs, Fai
     })
 }
 
+/// The student's file as each phase's engine takes it.
+struct File<'a> {
+    /// What the harness loads: the student's JavaScript, or the stand-ins of the functions
+    /// of a file in another language.
+    harness_source: &'a str,
+    foreign: Option<Foreign<'a>>,
+}
+
 fn watched(
-    source: &str,
+    source: &File,
     job: &Job,
     phases: &[Phase],
     threads: usize,
@@ -296,7 +429,7 @@ pub const TOP_LEVEL: &str = "the top level of your file (evaluated once, before 
 
 /// Evaluates the file once, calling nothing (the job's first function phase without its
 /// calls): what stopped it, if anything did.
-fn load_check(source: &str, job: &Job, watchdog: &Watchdog) -> Result<Option<Stopped>, Failure> {
+fn load_check(source: &File, job: &Job, watchdog: &Watchdog) -> Result<Option<Stopped>, Failure> {
     let nothing = FunctionPhase {
         function: job
             .functions
@@ -329,7 +462,7 @@ fn load_check(source: &str, job: &Job, watchdog: &Watchdog) -> Result<Option<Sto
 /// harness's report, or where it was stopped. Only a failure of the sandbox itself is an
 /// error.
 fn run_phase(
-    source: &str,
+    file: &File,
     phase: Phase,
     watchdog: &Watchdog,
     (slot, watched_as): (usize, &str),
@@ -343,8 +476,12 @@ fn run_phase(
             .map(|declared| declared.harness_loop),
         Phase::Function(_) => None,
     };
-    let engine = Engine::new(Arc::clone(&pulse), run_loop)?;
     let limit = Duration::from_millis(phase.limit_ms().into());
+    let engine = Engine::new(
+        Arc::clone(&pulse),
+        run_loop,
+        file.foreign.map(|foreign| (foreign, limit)),
+    )?;
     let _watching = watchdog.watch(slot, watched_as, pulse);
-    Ok(engine.phase(phase.kind(), source, &phase.to_json(), limit))
+    Ok(engine.phase(phase.kind(), file.harness_source, &phase.to_json(), limit))
 }

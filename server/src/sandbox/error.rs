@@ -27,6 +27,9 @@ pub enum Failure {
     /// The harness (or an exercise's loop, `the harness's loop`) did not load.
     #[error("{part}: {reason}")]
     Harness { part: &'static str, reason: String },
+    /// The operating-system sandbox of an interpreter did not start.
+    #[error("the interpreter's sandbox: {0}")]
+    Jail(String),
     #[error("the sandbox could not start a thread: {0}")]
     Thread(std::io::Error),
     #[error("a sandbox thread panicked")]

@@ -1,15 +1,18 @@
-//! Student code on the server: QuickJS in a worker process per grading.
+//! Student code on the server: a worker process per grading, running JavaScript in QuickJS
+//! and other languages in their interpreters, each in an operating-system sandbox.
 
 mod cpu;
 mod engine;
 mod error;
 mod memory;
+mod native;
 mod watchdog;
 mod worker;
 
 pub use engine::carry_out;
 pub use error::{Failure, TooLarge};
-pub use worker::{MAX_SOURCE, Sandbox, WorkerInput, check_length, check_size};
+pub use native::Unavailable;
+pub use worker::{Code, MAX_SOURCE, Sandbox, WorkerInput, check_length, check_size};
 
 /// A worker that could not be started (`Command::spawn` failed: no descriptors left for
 /// its pipes, no memory or processes for a fork, the executable missing). The student's

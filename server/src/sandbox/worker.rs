@@ -9,16 +9,19 @@
 use super::DidNotStart;
 use super::engine::LOAD_LIMIT_MS;
 use super::error::{Failure, TooLarge};
+use super::native::{Native, Tools, Unavailable};
 use super::watchdog::{OVERRUN_EXIT, OVERRUN_PREFIX};
-use labs::Exercise;
 use labs::grading::{
     FunctionOutput, GradeResult, Hidden, Job, Outputs, PhaseOutput, Plan, RunOutput,
 };
+use labs::{Exercise, Language};
 use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
 use std::io::{Read, Write};
 use std::os::unix::process::{CommandExt, ExitStatusExt};
 use std::path::PathBuf;
 use std::process::{Command, Stdio};
+use std::sync::{Arc, OnceLock};
 use std::thread;
 use std::time::{Duration, Instant};
 
@@ -55,9 +58,27 @@ const WALL_CLOCK_FACTOR: u32 = 4;
 #[derive(Serialize, Deserialize)]
 pub struct WorkerInput {
     pub source: String,
+    /// How a file in another language than JavaScript runs.
+    pub native: Option<Native>,
     pub job: Job,
     /// How many engines the worker may run at once.
     pub threads: usize,
+}
+
+/// A student's file: its language and its text.
+#[derive(Clone, Copy, Debug)]
+pub struct Code<'a> {
+    pub language: Language,
+    pub text: &'a str,
+}
+
+impl<'a> Code<'a> {
+    pub fn javascript(text: &'a str) -> Code<'a> {
+        Code {
+            language: Language::JavaScript,
+            text,
+        }
+    }
 }
 
 /// Starts workers from the `estlab` executable.
@@ -65,6 +86,9 @@ pub struct WorkerInput {
 pub struct Sandbox {
     executable: PathBuf,
     threads: usize,
+    /// The tools of each language other than JavaScript, found and tried the first time a
+    /// file in it is graded (or when the server starts: `Sandbox::languages`).
+    natives: Arc<BTreeMap<Language, OnceLock<Result<Tools, Unavailable>>>>,
 }
 
 impl Sandbox {
@@ -73,6 +97,13 @@ impl Sandbox {
         Sandbox {
             executable,
             threads: threads.max(1),
+            natives: Arc::new(
+                Language::ALL
+                    .iter()
+                    .filter(|&&language| language != Language::JavaScript)
+                    .map(|&language| (language, OnceLock::new()))
+                    .collect(),
+            ),
         }
     }
 
@@ -81,17 +112,35 @@ impl Sandbox {
         Ok(Sandbox::new(std::env::current_exe()?, threads))
     }
 
+    /// Whether files in `language` can be graded here, and if not, why not (its tools are
+    /// looked for and tried once).
+    pub fn language(&self, language: Language) -> Result<(), Unavailable> {
+        self.tools(language).map(|_| ())
+    }
+
+    /// The tools of a language other than JavaScript (None for JavaScript).
+    fn tools(&self, language: Language) -> Result<Option<&Tools>, Unavailable> {
+        match self.natives.get(&language) {
+            None => Ok(None),
+            Some(found) => found
+                .get_or_init(|| Native::detect(language))
+                .as_ref()
+                .map(Some)
+                .map_err(Clone::clone),
+        }
+    }
+
     /// Grades a source file of an exercise for a seed (and, on the server, the seed of its
     /// hidden cases): the plan, the student's code in a worker, the comparison. Blocks for
     /// as long as the worker runs.
     pub fn grade(
         &self,
         exercise: Exercise,
-        source: &str,
+        code: Code,
         seed: u64,
         hidden: Option<Hidden>,
     ) -> GradeResult {
-        self.try_grade(exercise, source, seed, hidden)
+        self.try_grade(exercise, code, seed, hidden)
             .unwrap_or_else(|e| GradeResult::not_gradable(exercise, seed, e.to_string()))
     }
 
@@ -100,18 +149,45 @@ impl Sandbox {
     pub fn try_grade(
         &self,
         exercise: Exercise,
-        source: &str,
+        code: Code,
         seed: u64,
         hidden: Option<Hidden>,
     ) -> Result<GradeResult, DidNotStart> {
+        let native = match self.tools(code.language) {
+            Ok(tools) => tools.map(|tools| Native {
+                language: code.language,
+                tools: tools.clone(),
+                file: code.language.file_name(exercise.file_name()),
+                fields: exercise
+                    .output_fields()
+                    .into_iter()
+                    .map(|(function, fields)| {
+                        (
+                            function.to_owned(),
+                            fields.into_iter().map(str::to_owned).collect(),
+                        )
+                    })
+                    .collect(),
+            }),
+            Err(unavailable) => {
+                return Ok(GradeResult::not_gradable(
+                    exercise,
+                    seed,
+                    unavailable.to_string(),
+                ));
+            }
+        };
+        let source = code.text;
         let plan = Plan::new(exercise, seed, hidden);
         let job = plan.job();
         let cpu_limit = SPARE + Duration::from_millis(job.limits_ms() + u64::from(LOAD_LIMIT_MS));
         let child = self.start(cpu_limit)?;
-        Ok(match self.carry_out(child, source, job, cpu_limit) {
-            Ok(outputs) => plan.grade(&outputs),
-            Err(failure) => GradeResult::not_gradable(exercise, seed, failure.to_string()),
-        })
+        Ok(
+            match self.carry_out(child, source, native, job, cpu_limit) {
+                Ok(outputs) => plan.grade(&outputs),
+                Err(failure) => GradeResult::not_gradable(exercise, seed, failure.to_string()),
+            },
+        )
     }
 
     /// A worker, started with its limits, before it is given anything.
@@ -138,12 +214,14 @@ impl Sandbox {
         &self,
         mut child: std::process::Child,
         source: &str,
+        native: Option<Native>,
         job: Job,
         cpu_limit: Duration,
     ) -> Result<Outputs, Failure> {
         let limit = cpu_limit * WALL_CLOCK_FACTOR;
         let input = serde_json::to_string(&WorkerInput {
             source: source.to_owned(),
+            native,
             job: job.clone(),
             threads: self.threads,
         })

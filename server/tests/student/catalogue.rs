@@ -15,7 +15,7 @@
 //! failing, so one run shows them all.
 
 use super::{Replacement, made_in};
-use estlab::sandbox::Sandbox;
+use estlab::sandbox::{Code, Sandbox};
 use labs::Exercise;
 use labs::grading::{self, GradeResult, Hidden, Status, Subject, Test};
 use serde::Deserialize;
@@ -115,7 +115,7 @@ impl Files {
             cases: hidden,
             class: hidden,
         };
-        let result = sandbox.grade(self.exercise, source, seed, Some(drawn));
+        let result = sandbox.grade(self.exercise, Code::javascript(source), seed, Some(drawn));
         assert!(result.gradable, "seed {seed}: {:?}", result.reason);
         result
     }

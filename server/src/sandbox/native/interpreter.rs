@@ -1,0 +1,277 @@
+//! A student's file in an interpreter in its jail, answering the calls of the harness in
+//! JavaScript one line of JSON at a time (see `harness.py`). Waiting for an answer, the
+//! engine's thread looks every few milliseconds at the phase's budget (which counts the
+//! interpreter's CPU time) and at what the interpreter does: one that sleeps (a `sleep`,
+//! a read of its input, a lock it waits for) rather than computes is stopped after
+//! [`SLEEP_LIMIT`] asleep, since its CPU time would never run out.
+
+use super::super::cpu::CpuClock;
+use super::jail::{Invocation, Jailed, Refused, Tools};
+use serde::Serialize;
+use serde_json::Value;
+use std::collections::BTreeMap;
+use std::io::{Read, Write};
+use std::os::fd::AsRawFd;
+use std::process::{Child, ChildStdin, ChildStdout};
+use std::thread::JoinHandle;
+use std::time::Duration;
+
+/// The longest answer read from the interpreter: the JavaScript harness then holds it to
+/// the contract's own bounds (2,000 values, 4,000 characters of text).
+const MAX_REPLY: usize = 1 << 20;
+/// How long the interpreter may be asleep, waiting rather than computing, during one call.
+pub const SLEEP_LIMIT: Duration = Duration::from_secs(2);
+/// How often the engine's thread looks while it waits.
+const LOOK: Duration = Duration::from_millis(5);
+/// CPU time for the interpreter to start and load its libraries (NumPy: about 0.1 s).
+const START_LIMIT: Duration = Duration::from_secs(10);
+/// What of the interpreter's stderr is kept, for a start that failed.
+const COMPLAINTS: u64 = 8 << 10;
+
+/// What the interpreter is told first.
+#[derive(Serialize)]
+struct Setup<'a> {
+    source: &'a str,
+    file: &'a str,
+    fields: &'a BTreeMap<String, Vec<String>>,
+}
+
+/// A request of the harness in JavaScript.
+#[derive(Serialize)]
+#[serde(untagged)]
+enum Request<'a> {
+    Load { load: bool },
+    Call { call: &'a str, args: &'a Value },
+}
+
+/// Why an interpreter gives no answer.
+#[derive(Debug, thiserror::Error)]
+pub enum Silent {
+    /// The phase's time ran out (the engine's interrupt handler ends the phase).
+    #[error("the time limit ran out")]
+    OverTime,
+    #[error(
+        "your code waited for {} s without computing (a sleep, a read of input, a lock?)",
+        SLEEP_LIMIT.as_secs()
+    )]
+    Asleep,
+    #[error("your code's answer came to more than {} KB", MAX_REPLY >> 10)]
+    TooLong,
+    #[error("your file's interpreter ended ({0}){1}")]
+    Ended(String, String),
+}
+
+/// A student's file in its interpreter, in its jail.
+pub struct Interpreter {
+    child: Child,
+    stdin: ChildStdin,
+    stdout: ChildStdout,
+    pid: libc::pid_t,
+    clock: CpuClock,
+    /// What has been read of the next answer.
+    pending: Vec<u8>,
+    complaints: Option<JoinHandle<String>>,
+    /// Why it answers no more, once it does not.
+    silent: Option<Silent>,
+}
+
+impl Interpreter {
+    /// The interpreter in its jail with the harness, told the student's file: ready for
+    /// requests once it has loaded its libraries (within [`START_LIMIT`] of CPU time).
+    pub fn start(
+        tools: &Tools,
+        invocation: &Invocation,
+        (source, file): (&str, &str),
+        fields: &BTreeMap<String, Vec<String>>,
+    ) -> Result<Interpreter, Refused> {
+        let Jailed {
+            child,
+            stdin,
+            stdout,
+            stderr,
+            pid,
+            clock,
+        } = tools.jail(invocation)?;
+        let complaints = std::thread::Builder::new()
+            .spawn(move || drain(stderr))
+            .map_err(Refused::Setup)?;
+        let mut interpreter = Interpreter {
+            child,
+            stdin,
+            stdout,
+            pid,
+            clock,
+            pending: Vec::new(),
+            complaints: Some(complaints),
+            silent: None,
+        };
+        let setup = serde_json::to_string(&Setup {
+            source,
+            file,
+            fields,
+        })
+        .expect("a setup serialises");
+        let over = || clock.read().is_none_or(|cpu| cpu > START_LIMIT);
+        match interpreter.exchange(&setup, &over) {
+            Ok(_) => Ok(interpreter),
+            Err(silent) => Err(Refused::NotStarted(format!(
+                "{silent}{}",
+                interpreter.complaints()
+            ))),
+        }
+    }
+
+    /// Why the interpreter was stopped, if the student's code made it stop answering
+    /// (rather than the phase's time running out, which the engine tells by itself):
+    /// the phase ends there.
+    pub fn stopped(&self) -> Option<String> {
+        match &self.silent {
+            None | Some(Silent::OverTime) => None,
+            Some(silent) => Some(silent.to_string()),
+        }
+    }
+
+    /// The interpreter's CPU clock (which reads nothing once it has ended).
+    pub fn clock(&self) -> CpuClock {
+        self.clock
+    }
+
+    /// Evaluates the student's file afresh: the answer's JSON text.
+    pub fn load(&mut self, over: &dyn Fn() -> bool) -> String {
+        self.request(&Request::Load { load: true }, over)
+    }
+
+    /// Calls the student's function `name` with `args` (a JSON array): the answer's JSON
+    /// text.
+    pub fn call(&mut self, name: &str, args: &Value, over: &dyn Fn() -> bool) -> String {
+        self.request(&Request::Call { call: name, args }, over)
+    }
+
+    /// The answer, or `{"error": why there is none}` (the harness in JavaScript throws it
+    /// as the call's error; a phase over its time is ended by the engine).
+    fn request(&mut self, request: &Request, over: &dyn Fn() -> bool) -> String {
+        let text = serde_json::to_string(request).expect("requests serialise");
+        match self.exchange(&text, over) {
+            Ok(reply) => reply,
+            Err(silent) => serde_json::json!({ "error": silent.to_string() }).to_string(),
+        }
+    }
+
+    fn exchange(&mut self, line: &str, over: &dyn Fn() -> bool) -> Result<String, Silent> {
+        if let Some(silent) = &self.silent {
+            return Err(Silent::Ended("earlier".to_owned(), format!(": {silent}")));
+        }
+        let outcome = self.send(line).and_then(|()| self.reply(over));
+        match outcome {
+            Ok(reply) => Ok(reply),
+            Err(silent) => {
+                self.stop();
+                let message = silent.to_string();
+                self.silent = Some(silent);
+                Err(Silent::Ended("stopped".to_owned(), format!(": {message}")))
+            }
+        }
+    }
+
+    fn send(&mut self, line: &str) -> Result<(), Silent> {
+        let stdin = &mut self.stdin;
+        let written = stdin
+            .write_all(line.as_bytes())
+            .and_then(|()| stdin.write_all(b"\n"))
+            .and_then(|()| stdin.flush());
+        written.map_err(|_| self.ended())
+    }
+
+    /// The next line the interpreter writes, waiting as long as the budget lasts.
+    fn reply(&mut self, over: &dyn Fn() -> bool) -> Result<String, Silent> {
+        let mut asleep = Duration::ZERO;
+        loop {
+            if let Some(end) = self.pending.iter().position(|&b| b == b'\n') {
+                let line: Vec<u8> = self.pending.drain(..=end).collect();
+                return Ok(String::from_utf8_lossy(&line[..end]).into_owned());
+            }
+            if self.pending.len() > MAX_REPLY {
+                return Err(Silent::TooLong);
+            }
+            if readable(self.stdout.as_raw_fd(), LOOK) {
+                let mut chunk = [0u8; 16 << 10];
+                match self.stdout.read(&mut chunk) {
+                    Ok(0) | Err(_) => return Err(self.ended()),
+                    Ok(n) => self.pending.extend_from_slice(&chunk[..n]),
+                }
+                continue;
+            }
+            if over() {
+                return Err(Silent::OverTime);
+            }
+            if sleeping(self.pid) {
+                asleep += LOOK;
+                if asleep >= SLEEP_LIMIT {
+                    return Err(Silent::Asleep);
+                }
+            }
+        }
+    }
+
+    /// Why the interpreter answers no more, once its process has ended.
+    fn ended(&mut self) -> Silent {
+        let status = self
+            .child
+            .wait()
+            .map_or_else(|e| e.to_string(), |status| status.to_string());
+        Silent::Ended(status, self.complaints())
+    }
+
+    /// What the interpreter wrote on stderr, once it has ended, as the end of a message.
+    fn complaints(&mut self) -> String {
+        self.stop();
+        match self.complaints.take().map(JoinHandle::join) {
+            Some(Ok(text)) if !text.trim().is_empty() => {
+                let last = text.trim().lines().last().unwrap_or_default().to_owned();
+                format!(": {last}")
+            }
+            _ => String::new(),
+        }
+    }
+
+    fn stop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+impl Drop for Interpreter {
+    fn drop(&mut self) {
+        self.stop();
+    }
+}
+
+/// Whether `fd` has something to read (or has ended) within `wait`.
+fn readable(fd: std::os::fd::RawFd, wait: Duration) -> bool {
+    let mut poll = libc::pollfd {
+        fd,
+        events: libc::POLLIN,
+        revents: 0,
+    };
+    // SAFETY: poll reads and writes one valid pollfd.
+    let ready = unsafe { libc::poll(&mut poll, 1, wait.as_millis() as libc::c_int) };
+    ready > 0
+}
+
+/// Whether the process sleeps (waits for something) rather than runs: `S` in
+/// `/proc/PID/stat`, the state after the command's name in parentheses.
+fn sleeping(pid: libc::pid_t) -> bool {
+    std::fs::read_to_string(format!("/proc/{pid}/stat")).is_ok_and(|stat| {
+        stat.rsplit_once(')')
+            .is_some_and(|(_, rest)| rest.trim_start().starts_with('S'))
+    })
+}
+
+/// Reads stderr to its end, keeping the start.
+fn drain(stderr: std::process::ChildStderr) -> String {
+    let mut kept = Vec::new();
+    let mut stderr = stderr;
+    let _ = (&mut stderr).take(COMPLAINTS).read_to_end(&mut kept);
+    let _ = std::io::copy(&mut stderr, &mut std::io::sink());
+    String::from_utf8_lossy(&kept).into_owned()
+}

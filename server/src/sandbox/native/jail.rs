@@ -1,0 +1,332 @@
+//! The operating-system sandbox of a native interpreter: bubblewrap (Debian's `bwrap`)
+//! starts it in fresh namespaces (no network, not even loopback; its own process ids,
+//! where it is process 1; its own mounts: `/usr` read-only with the dynamic linker's few
+//! files of `/etc`, its own `/proc`, `/dev` and a small `/tmp`, and nothing else of the
+//! machine: no server data, no secret, no other student's file), as a user of no
+//! privileges and no capabilities, in a session of its own, with a system-call filter
+//! (seccomp, compiled by seccompiler: no new processes or threads, no tracing, no
+//! sockets, no mounts or namespaces, no kernel keyrings, BPF, io_uring or
+//! `perf_event_open`), and with resource limits (address space, file size, open files,
+//! CPU time, no core dumps). It dies with the thread that started it.
+
+use super::super::cpu::CpuClock;
+use seccompiler::{BpfProgram, SeccompAction, SeccompFilter, SeccompRule};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::fs::File;
+use std::io::{Read, Write};
+use std::os::fd::{AsRawFd, FromRawFd, OwnedFd, RawFd};
+use std::os::unix::process::CommandExt;
+use std::path::PathBuf;
+use std::process::{Child, ChildStderr, ChildStdin, ChildStdout, Command, Stdio};
+
+/// Address space for the interpreter and the student's data (NumPy with its libraries
+/// maps about 100 MB before any data).
+pub const MEMORY_LIMIT: u64 = 1 << 30;
+/// The largest file the student's code may write (in its own `/tmp`, itself at most
+/// [`TMP_SIZE`]).
+const FILE_SIZE_LIMIT: u64 = 1 << 20;
+const TMP_SIZE: u64 = 16 << 20;
+/// Descriptors the interpreter may hold open.
+const OPEN_FILES: u64 = 64;
+/// Where the filter and the sandbox's report reach bubblewrap.
+const SECCOMP_FD: RawFd = 3;
+const INFO_FD: RawFd = 4;
+
+/// The programs a jail is made of, found once where the server starts.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Tools {
+    pub bwrap: PathBuf,
+    pub interpreter: PathBuf,
+}
+
+/// What a jail runs: the interpreter's arguments and its environment.
+pub struct Invocation<'a> {
+    pub args: &'a [&'a str],
+    pub env: &'a [(&'a str, &'a str)],
+    /// CPU time for the whole process, in seconds: the kernel's backstop behind the
+    /// phases' own limits.
+    pub cpu_seconds: u64,
+}
+
+/// An interpreter running in its jail.
+pub struct Jailed {
+    pub child: Child,
+    pub stdin: ChildStdin,
+    pub stdout: ChildStdout,
+    pub stderr: ChildStderr,
+    /// The interpreter's process id as the server sees it.
+    pub pid: libc::pid_t,
+    /// Its CPU clock (every thread of it; the filter lets it make none).
+    pub clock: CpuClock,
+}
+
+/// Why a jail did not start.
+#[derive(Debug, thiserror::Error)]
+pub enum Refused {
+    #[error("bubblewrap could not be started: {0}")]
+    Spawn(std::io::Error),
+    #[error("the sandbox could not be set up: {0}")]
+    Setup(std::io::Error),
+    #[error("bubblewrap did not start the interpreter{}", said(.0))]
+    NotStarted(String),
+}
+
+fn said(complaints: &str) -> String {
+    match complaints.trim() {
+        "" => String::new(),
+        text => format!(": {text}"),
+    }
+}
+
+impl Tools {
+    /// Starts the interpreter in a jail of its own.
+    pub fn jail(&self, invocation: &Invocation) -> Result<Jailed, Refused> {
+        let filter = filter_program().map_err(Refused::Setup)?;
+        let (filter_read, filter_write) = pipe().map_err(Refused::Setup)?;
+        let (info_read, info_write) = pipe().map_err(Refused::Setup)?;
+        // The program is a few hundred bytes: it fits the pipe's buffer before bwrap reads.
+        File::from(filter_write)
+            .write_all(&filter)
+            .map_err(Refused::Setup)?;
+
+        let mut command = Command::new(&self.bwrap);
+        command
+            .args(self.arguments(invocation))
+            .env_clear()
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped());
+        let (filter_fd, info_fd) = (filter_read.as_raw_fd(), info_write.as_raw_fd());
+        let cpu = invocation.cpu_seconds;
+        // SAFETY: between fork and exec the closure calls only async-signal-safe system
+        // calls (dup2, prctl, setrlimit) and allocates nothing.
+        unsafe {
+            command.pre_exec(move || before_exec(filter_fd, info_fd, cpu));
+        }
+        let mut child = command.spawn().map_err(Refused::Spawn)?;
+        drop((filter_read, info_write));
+        let mut stderr = child.stderr.take().expect("piped stderr");
+        let mut info = String::new();
+        let _ = File::from(info_read).take(4096).read_to_string(&mut info);
+        let started = serde_json::from_str::<Info>(&info)
+            .ok()
+            .and_then(|info| Some((info.child_pid, CpuClock::of_process(info.child_pid)?)));
+        let (pid, clock) = match started {
+            Some(started) => started,
+            None => {
+                let _ = child.kill();
+                let _ = child.wait();
+                let mut complaints = String::new();
+                let _ = (&mut stderr).take(4096).read_to_string(&mut complaints);
+                return Err(Refused::NotStarted(complaints));
+            }
+        };
+        Ok(Jailed {
+            stdin: child.stdin.take().expect("piped stdin"),
+            stdout: child.stdout.take().expect("piped stdout"),
+            stderr,
+            clock,
+            pid,
+            child,
+        })
+    }
+
+    fn arguments(&self, invocation: &Invocation) -> Vec<String> {
+        let mut args: Vec<String> = [
+            "--unshare-all",
+            "--unshare-user",
+            "--uid",
+            "65534",
+            "--gid",
+            "65534",
+            "--hostname",
+            "sandbox",
+            "--die-with-parent",
+            "--new-session",
+            "--as-pid-1",
+            "--cap-drop",
+            "ALL",
+            "--ro-bind",
+            "/usr",
+            "/usr",
+            "--symlink",
+            "usr/lib",
+            "/lib",
+            "--symlink",
+            "usr/lib64",
+            "/lib64",
+            "--symlink",
+            "usr/bin",
+            "/bin",
+            // The dynamic linker's cache, and the alternatives its libraries go through
+            // (NumPy's BLAS and LAPACK).
+            "--ro-bind",
+            "/etc/ld.so.cache",
+            "/etc/ld.so.cache",
+            "--ro-bind",
+            "/etc/alternatives",
+            "/etc/alternatives",
+            "--proc",
+            "/proc",
+            "--dev",
+            "/dev",
+            "--size",
+            &TMP_SIZE.to_string(),
+            "--tmpfs",
+            "/tmp",
+            "--chdir",
+            "/tmp",
+            "--clearenv",
+            "--seccomp",
+            &SECCOMP_FD.to_string(),
+            "--info-fd",
+            &INFO_FD.to_string(),
+        ]
+        .map(str::to_owned)
+        .into();
+        for (name, value) in invocation.env {
+            args.extend([
+                "--setenv".to_owned(),
+                (*name).to_owned(),
+                (*value).to_owned(),
+            ]);
+        }
+        args.push("--".to_owned());
+        args.push(self.interpreter.display().to_string());
+        args.extend(invocation.args.iter().map(|&arg| arg.to_owned()));
+        args
+    }
+}
+
+/// What bubblewrap reports on its info descriptor once the interpreter runs.
+#[derive(Deserialize)]
+struct Info {
+    #[serde(rename = "child-pid")]
+    child_pid: libc::pid_t,
+}
+
+/// A pipe whose ends are not inherited, numbered above the descriptors the child is given
+/// (so that moving one into place cannot overwrite the other).
+fn pipe() -> std::io::Result<(OwnedFd, OwnedFd)> {
+    let mut fds = [0; 2];
+    // SAFETY: pipe2 writes two descriptors into a valid array of two.
+    if unsafe { libc::pipe2(fds.as_mut_ptr(), libc::O_CLOEXEC) } != 0 {
+        return Err(std::io::Error::last_os_error());
+    }
+    // SAFETY: both descriptors were just made and are owned here alone.
+    let [read, write] = fds.map(|fd| unsafe { OwnedFd::from_raw_fd(fd) });
+    Ok((above(read)?, above(write)?))
+}
+
+fn above(fd: OwnedFd) -> std::io::Result<OwnedFd> {
+    // SAFETY: F_DUPFD_CLOEXEC makes a new descriptor, which is owned here alone.
+    let moved = unsafe { libc::fcntl(fd.as_raw_fd(), libc::F_DUPFD_CLOEXEC, 10) };
+    if moved < 0 {
+        return Err(std::io::Error::last_os_error());
+    }
+    Ok(unsafe { OwnedFd::from_raw_fd(moved) })
+}
+
+/// In bubblewrap's process, before it runs: the filter and the info descriptor in their
+/// places, death with the thread that started it, and the limits, which its interpreter
+/// inherits.
+fn before_exec(filter: RawFd, info: RawFd, cpu_seconds: u64) -> std::io::Result<()> {
+    let check = |status: libc::c_int| {
+        if status < 0 {
+            Err(std::io::Error::last_os_error())
+        } else {
+            Ok(())
+        }
+    };
+    let limit = |resource, soft: u64, hard: u64| {
+        let limit = libc::rlimit {
+            rlim_cur: soft,
+            rlim_max: hard,
+        };
+        // SAFETY: setrlimit reads one valid rlimit.
+        check(unsafe { libc::setrlimit(resource, &limit) })
+    };
+    // SAFETY: plain system calls on this process's own descriptors and state.
+    unsafe {
+        check(libc::dup2(filter, SECCOMP_FD))?;
+        check(libc::dup2(info, INFO_FD))?;
+        check(libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL))?;
+    }
+    limit(libc::RLIMIT_AS, MEMORY_LIMIT, MEMORY_LIMIT)?;
+    limit(libc::RLIMIT_FSIZE, FILE_SIZE_LIMIT, FILE_SIZE_LIMIT)?;
+    limit(libc::RLIMIT_NOFILE, OPEN_FILES, OPEN_FILES)?;
+    limit(libc::RLIMIT_CORE, 0, 0)?;
+    limit(libc::RLIMIT_CPU, cpu_seconds, cpu_seconds + 1)
+}
+
+/// The system calls the interpreter may not make: each fails with EPERM. Everything
+/// here either reaches past the process (new processes and threads, tracing, another
+/// process's memory, the network, mounts and namespaces, the kernel's keyrings, BPF,
+/// io_uring, performance counters) or is of no use to a student's computation.
+const DENIED: &[libc::c_long] = &[
+    libc::SYS_clone,
+    libc::SYS_clone3,
+    libc::SYS_fork,
+    libc::SYS_vfork,
+    libc::SYS_execveat,
+    libc::SYS_ptrace,
+    libc::SYS_process_vm_readv,
+    libc::SYS_process_vm_writev,
+    libc::SYS_socket,
+    libc::SYS_mount,
+    libc::SYS_umount2,
+    libc::SYS_pivot_root,
+    libc::SYS_chroot,
+    libc::SYS_unshare,
+    libc::SYS_setns,
+    libc::SYS_keyctl,
+    libc::SYS_add_key,
+    libc::SYS_request_key,
+    libc::SYS_bpf,
+    libc::SYS_perf_event_open,
+    libc::SYS_userfaultfd,
+    libc::SYS_personality,
+    libc::SYS_io_uring_setup,
+    libc::SYS_io_uring_enter,
+    libc::SYS_io_uring_register,
+    libc::SYS_open_by_handle_at,
+    libc::SYS_name_to_handle_at,
+    libc::SYS_kexec_load,
+    libc::SYS_init_module,
+    libc::SYS_finit_module,
+    libc::SYS_delete_module,
+    libc::SYS_syslog,
+    libc::SYS_acct,
+    libc::SYS_swapon,
+    libc::SYS_swapoff,
+    libc::SYS_reboot,
+];
+
+/// The filter as bubblewrap reads it: the program's instructions, as in memory.
+fn filter_program() -> std::io::Result<Vec<u8>> {
+    let rules: BTreeMap<i64, Vec<SeccompRule>> =
+        DENIED.iter().map(|&call| (call, Vec::new())).collect();
+    let arch = std::env::consts::ARCH
+        .try_into()
+        .map_err(std::io::Error::other)?;
+    let filter = SeccompFilter::new(
+        rules,
+        SeccompAction::Allow,
+        SeccompAction::Errno(libc::EPERM as u32),
+        arch,
+    )
+    .map_err(std::io::Error::other)?;
+    let program: BpfProgram = filter.try_into().map_err(std::io::Error::other)?;
+    Ok(program
+        .iter()
+        .flat_map(|instruction| {
+            let mut bytes = Vec::with_capacity(8);
+            bytes.extend(instruction.code.to_ne_bytes());
+            bytes.push(instruction.jt);
+            bytes.push(instruction.jf);
+            bytes.extend(instruction.k.to_ne_bytes());
+            bytes
+        })
+        .collect())
+}

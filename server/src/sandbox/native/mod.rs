@@ -1,0 +1,105 @@
+//! Students' files in languages other than JavaScript: each phase's file in its
+//! interpreter (Python 3 with NumPy), inside an operating-system sandbox of its own
+//! (`jail`), answering the calls of the same harness in JavaScript that grades
+//! JavaScript (`interpreter`, `harness.py`). The harness and the exercise's loop run in
+//! QuickJS as for a JavaScript file, outside the jail, with a file of stand-ins for the
+//! student's functions (`bridge`): the loop's bookkeeping and the run's data stay out of
+//! the student's reach, and the grading is the same code whatever the language.
+
+mod bridge;
+mod interpreter;
+mod jail;
+
+pub use bridge::Bridge;
+pub use interpreter::Interpreter;
+pub use jail::{Invocation, Tools};
+
+use labs::Language;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// How a native language's files are run: its interpreter in its jail.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Native {
+    pub language: Language,
+    pub tools: Tools,
+    /// The student's file, as its language names it (`ekf_localization.py`): its
+    /// interpreter's messages name it.
+    pub file: String,
+    /// The named fields of the functions' outputs (`Exercise::output_fields`).
+    pub fields: BTreeMap<String, Vec<String>>,
+}
+
+/// Why a language cannot be graded on this machine.
+#[derive(Clone, Debug, thiserror::Error)]
+pub enum Unavailable {
+    #[error("{0} is not installed (looked in {1})")]
+    Missing(&'static str, String),
+    #[error("the sandbox for {language} does not start on this machine: {reason}")]
+    NoSandbox { language: Language, reason: String },
+}
+
+/// Where the programs are looked for: Debian's places.
+const SEARCHED: &[&str] = &["/usr/bin", "/usr/local/bin", "/bin"];
+
+impl Native {
+    /// The tools for `language` on this machine, tried once: its interpreter started in
+    /// its jail and loading its libraries.
+    pub fn detect(language: Language) -> Result<Tools, Unavailable> {
+        let program = match language {
+            Language::Python => "python3",
+            Language::JavaScript => unreachable!("JavaScript runs in QuickJS"),
+        };
+        let tools = Tools {
+            bwrap: find("bwrap")?,
+            interpreter: find(program)?,
+        };
+        let check = Interpreter::start(
+            &tools,
+            &invocation(language, 15),
+            ("", "check.py"),
+            &BTreeMap::new(),
+        );
+        check
+            .map(|_| tools)
+            .map_err(|refused| Unavailable::NoSandbox {
+                language,
+                reason: refused.to_string(),
+            })
+    }
+}
+
+fn find(program: &'static str) -> Result<PathBuf, Unavailable> {
+    SEARCHED
+        .iter()
+        .map(|dir| Path::new(dir).join(program))
+        .find(|path| path.is_file())
+        .ok_or_else(|| Unavailable::Missing(program, SEARCHED.join(", ")))
+}
+
+/// How a language's interpreter is started, with `cpu_seconds` of CPU time in all.
+pub fn invocation(language: Language, cpu_seconds: u64) -> Invocation<'static> {
+    match language {
+        Language::Python => Invocation {
+            // Isolated (no user site, no environment, no working folder on the path), the
+            // harness as the program.
+            args: &["-I", "-c", HARNESS_PY],
+            // One thread for NumPy's BLAS: the filter lets the process make no other.
+            env: &[("OPENBLAS_NUM_THREADS", "1"), ("OMP_NUM_THREADS", "1")],
+            cpu_seconds,
+        },
+        Language::JavaScript => unreachable!("JavaScript runs in QuickJS"),
+    }
+}
+
+/// How a function missing from a file is to be declared, in the harness's message: its
+/// name takes the place of `NAME`.
+pub fn declaring(language: Language) -> &'static str {
+    match language {
+        Language::Python => "def NAME(...):",
+        Language::JavaScript => "function NAME(...) { ... }",
+    }
+}
+
+const HARNESS_PY: &str = include_str!("harness.py");
