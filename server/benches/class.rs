@@ -189,6 +189,7 @@ fn build(dir: &Path) -> Store {
                     member: Some(member.id),
                     lab: Exercise::EkfLocalization,
                     seed,
+                    language: labs::Language::JavaScript,
                     source: &source,
                     submitted_at,
                     late_seconds: if late { 20 * 3600 } else { 0 },

@@ -123,3 +123,73 @@ async fn the_exercises_are_graded_side_by_side_each_with_its_own_tests() {
         assert_eq!((counting.id, counting.score), (*id, Some(1.0)), "{lab}");
     }
 }
+
+/// What these tests read of a submission's language.
+#[derive(Deserialize)]
+struct Written {
+    language: String,
+    result: Result,
+}
+
+#[tokio::test(flavor = "multi_thread")]
+async fn a_python_file_is_graded_in_its_language_and_kept_with_it() {
+    let app = App::new();
+    app.open_course("el2320");
+    let ada = app.enrol("el2320", "ada");
+    let who = app.signed_in(&ada).await;
+
+    // A language the server does not know is refused, naming the field.
+    let answer = app
+        .send(
+            Req::post("/api/submissions").who(&who).json(
+                json!({ "source": "x = 1", "lab": "ekf-localization", "language": "matlab" }),
+            ),
+        )
+        .await;
+    assert_eq!(answer.status.as_u16(), 400, "{}", answer.body);
+    assert!(
+        answer
+            .body
+            .contains("field `language`: unknown language \\\"matlab\\\""),
+        "{}",
+        answer.body
+    );
+
+    let answer = app
+        .send(Req::post("/api/submissions").who(&who).json(json!({
+            "source": student::python::EKF_LOCALIZATION.correct,
+            "lab": "ekf-localization",
+            "language": "python",
+        })))
+        .await;
+    assert_eq!(answer.status.as_u16(), 202, "{}", answer.body);
+    let id = answer.json()["id"].as_i64().unwrap();
+    app.graded(id).await;
+    let answer = app
+        .send(Req::get(&format!("/api/submissions/{id}")).who(&who))
+        .await;
+    let written: Written = serde_json::from_str(&answer.body).unwrap();
+    assert_eq!(written.language, "python");
+    assert_eq!(written.result.score, 1.0, "{}", answer.body);
+    assert!(written.result.hidden_cases);
+    // Its regrade grades it in its language again.
+    let again = app.store().to_grade(id).unwrap();
+    assert_eq!(again.language, labs::Language::Python);
+
+    // The same file taken for JavaScript does not compile: the language is the student's
+    // to say, and the result says what went wrong.
+    let answer = app
+        .send(Req::post("/api/submissions").who(&who).json(json!({
+            "source": student::python::EKF_LOCALIZATION.correct,
+            "lab": "ekf-localization",
+        })))
+        .await;
+    let id = answer.json()["id"].as_i64().unwrap();
+    app.graded(id).await;
+    let answer = app
+        .send(Req::get(&format!("/api/submissions/{id}")).who(&who))
+        .await;
+    let written: Written = serde_json::from_str(&answer.body).unwrap();
+    assert_eq!(written.language, "javascript");
+    assert_eq!(written.result.score, 0.0);
+}

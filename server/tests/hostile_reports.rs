@@ -33,7 +33,12 @@ fn grade(name: &str) -> (String, GradeResult) {
     let hostile = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
     let source = format!("{CORRECT}\n{hostile}");
     let sandbox = Sandbox::new(PathBuf::from(env!("CARGO_BIN_EXE_estlab")), 2);
-    let result = sandbox.grade(Exercise::EkfLocalization, Code::javascript(&source), 2320, None);
+    let result = sandbox.grade(
+        Exercise::EkfLocalization,
+        Code::javascript(&source),
+        2320,
+        None,
+    );
     assert!(result.gradable, "{name}: not gradable: {:?}", result.reason);
     (source, result)
 }

@@ -35,6 +35,7 @@ fn submission<'a>(student: &'a str, lab: Exercise, source: &'a str) -> NewSubmis
         member: None,
         lab,
         seed: 7,
+        language: labs::Language::JavaScript,
         source,
         submitted_at: Timestamp::UNIX_EPOCH,
         late_seconds: 0,

@@ -8,8 +8,8 @@ use crate::courses::export::inert;
 use crate::error::Error;
 use crate::sandbox::{Code, Sandbox, check_size, cores};
 use indicatif::{ProgressBar, ProgressStyle};
-use labs::Exercise;
 use labs::grading::{DEFAULT_COURSE, GradeResult, student_seed};
+use labs::{Exercise, Language};
 use std::collections::HashMap;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -22,7 +22,8 @@ use std::time::Instant;
 /// result per student beside it.
 #[derive(clap::Args)]
 pub struct Args {
-    /// The folder: one file per student, named by the student's id (u123.js).
+    /// The folder: one file per student, named by the student's id and its language's
+    /// extension (u123.js, u124.py).
     dir: PathBuf,
     /// The exercise; for now the EKF localization exercise.
     #[arg(long, value_parser = Exercise::from_str, default_value_t = Exercise::default())]
@@ -112,9 +113,14 @@ fn grade_one(sandbox: &Sandbox, exercise: Exercise, course: &str, entry: &Entry)
     if let Err(problem) = check_size(&source) {
         return Outcome::Unreadable(problem.to_string());
     }
+    // The language by the file's extension: JavaScript unless it says another.
+    let language = Language::of_file(&file_name(&entry.path)).unwrap_or_default();
     Outcome::Graded(sandbox.grade(
         exercise,
-        Code::javascript(&source),
+        Code {
+            language,
+            text: &source,
+        },
         student_seed(course, &entry.id),
         None,
     ))

@@ -8,6 +8,7 @@ use crate::sandbox::{Sandbox, cores};
 use crate::store::Store;
 use crate::web::connections::{self, Limits, raise_descriptor_limit};
 use crate::web::{self, AppState, Assets, SignInLimiter};
+use labs::Language;
 use std::net::SocketAddr;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -72,6 +73,20 @@ async fn serve(args: &Args) -> Result<(), Error> {
     let parallel = args.parallel.clamp(1, cores());
     let sandbox =
         Sandbox::current(cores() / parallel).map_err(Error::io("the estlab executable"))?;
+    // Each language's sandbox tried once, and said: a language that cannot be graded
+    // here is refused at submission with a message that points to this log.
+    for &language in Language::ALL {
+        match sandbox.language(language) {
+            Ok(()) => tracing::info!(%language, "students' files in this language are graded"),
+            Err(unavailable) => {
+                println!(
+                    "estlab: {} files cannot be graded here: {unavailable}",
+                    language.title()
+                );
+                tracing::warn!(%language, %unavailable, "not graded here");
+            }
+        }
+    }
     let listener = tokio::net::TcpListener::bind(args.addr)
         .await
         .map_err(Error::io(args.addr.to_string()))?;

@@ -189,6 +189,7 @@ mod tests {
             course: "el2320".into(),
             student: student.into(),
             lab: Exercise::SensorFusion,
+            language: labs::Language::JavaScript,
             status: Status::Graded,
             submitted_at: "2026-12-15T23:00:00.000Z".into(),
             late_seconds: 0,

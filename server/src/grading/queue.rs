@@ -9,9 +9,9 @@
 use super::fair::{FairQueue, Lane, Policy, Tenant, Ticket, Waiting, Work};
 use super::{Secret, grader_version, priority};
 use crate::clock::Clock;
-use crate::sandbox::{Code, DidNotStart, Sandbox};
+use crate::sandbox::{Code, DidNotStart, Sandbox, Unavailable};
 use crate::store::{Error, NewSubmission, Store};
-use labs::Exercise;
+use labs::{Exercise, Language};
 use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
@@ -90,6 +90,11 @@ impl Grader {
 
     pub fn store(&self) -> &Store {
         &self.store
+    }
+
+    /// Whether files in `language` can be graded here (its sandbox is tried once).
+    pub fn language(&self, language: Language) -> Result<(), Unavailable> {
+        self.sandbox.language(language)
     }
 
     /// The version of an exercise's grader, which its results name.
@@ -295,7 +300,10 @@ impl Grader {
         let hidden = self.secret.hidden(id, &job.course);
         let result = match self.sandbox.try_grade(
             job.exercise,
-            Code::javascript(&job.source),
+            Code {
+                language: job.language,
+                text: &job.source,
+            },
             job.seed,
             Some(hidden),
         ) {
@@ -328,7 +336,10 @@ impl Grader {
             .sandbox
             .try_grade(
                 job.exercise,
-                Code::javascript(&job.source),
+                Code {
+                    language: job.language,
+                    text: &job.source,
+                },
                 job.seed,
                 Some(hidden),
             )

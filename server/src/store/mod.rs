@@ -107,6 +107,15 @@ fn known_exercises() -> String {
 
 /// The exercise a row's column names (`lab`).
 fn exercise(row: &rusqlite::Row, column: usize) -> rusqlite::Result<labs::Exercise> {
+    named(row, column)
+}
+
+/// A value stored by its name (an exercise, a language).
+fn named<T>(row: &rusqlite::Row, column: usize) -> rusqlite::Result<T>
+where
+    T: std::str::FromStr,
+    T::Err: std::error::Error + Send + Sync + 'static,
+{
     let name: String = row.get(column)?;
     name.parse().map_err(|e| {
         rusqlite::Error::FromSqlConversionFailure(column, rusqlite::types::Type::Text, Box::new(e))

@@ -168,6 +168,9 @@ const MIGRATIONS: &[&str] = &[
     // assignment shows its students their rank.
     "ALTER TABLE submissions ADD COLUMN challenge REAL;
     ALTER TABLE assignments ADD COLUMN ranked INTEGER NOT NULL DEFAULT 1;",
+    // 7: the language a submission is written in (`labs::Language`'s name); every earlier
+    // one is JavaScript.
+    "ALTER TABLE submissions ADD COLUMN language TEXT NOT NULL DEFAULT 'javascript';",
 ];
 
 /// Brings the schema up to the newest version, one migration per transaction.

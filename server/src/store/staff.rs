@@ -386,6 +386,7 @@ mod tests {
             course: "el2320".into(),
             student: "s1".into(),
             lab: Exercise::EkfLocalization,
+            language: labs::Language::JavaScript,
             status: Status::Graded,
             submitted_at: "2026-12-15T23:00:00.000Z".into(),
             late_seconds: 18,

@@ -6,11 +6,11 @@
 
 use super::courses::policy_in_force;
 use super::staff::{Waiver, waiver_at};
-use super::{Error, Store, exercise, known_exercises};
+use super::{Error, Store, exercise, known_exercises, named};
 use crate::courses::deadline::Lateness;
 use jiff::Timestamp;
-use labs::Exercise;
 use labs::grading::GradeResult;
+use labs::{Exercise, Language};
 use rusqlite::{OptionalExtension, Row, params};
 use serde::Serialize;
 use std::collections::HashMap;
@@ -52,6 +52,7 @@ pub struct NewSubmission<'a> {
     pub member: Option<i64>,
     pub lab: Exercise,
     pub seed: u64,
+    pub language: Language,
     pub source: &'a str,
     pub submitted_at: Timestamp,
     /// After the due date by this much when taken (0: on time), for the record: what
@@ -64,6 +65,7 @@ pub struct NewSubmission<'a> {
 /// What grading a submission needs (and names in the log).
 pub struct ToGrade {
     pub exercise: Exercise,
+    pub language: Language,
     pub source: String,
     pub seed: u64,
     pub course: String,
@@ -85,6 +87,8 @@ pub struct SubmissionSummary {
     pub course: String,
     pub student: String,
     pub lab: Exercise,
+    /// The language of the file.
+    pub language: Language,
     pub status: Status,
     pub submitted_at: String,
     /// After the student's due date in force by this much (0: on time).
@@ -143,8 +147,8 @@ pub(super) const SUMMARY_FROM: &str = "submissions s
 pub(super) const SUMMARY_COLUMNS: &str = "s.id, s.course, s.student, s.lab, s.status,
     s.submitted_at, s.late_seconds, s.penalty, s.score,
     a.due, a.cutoff, a.late_penalty, a.counts, e.due, e.cutoff,
-    w.reason, w.waived_by, w.waived_at, s.challenge";
-pub(super) const SUMMARY_WIDTH: usize = 19;
+    w.reason, w.waived_by, w.waived_at, s.challenge, s.language";
+pub(super) const SUMMARY_WIDTH: usize = 20;
 
 pub(super) fn summary(row: &Row) -> rusqlite::Result<SubmissionSummary> {
     let score: Option<f64> = row.get(8)?;
@@ -176,6 +180,7 @@ pub(super) fn summary(row: &Row) -> rusqlite::Result<SubmissionSummary> {
         final_score: score.map(|s| s * (1.0 - penalty)),
         waiver,
         challenge: row.get(18)?,
+        language: named(row, 19)?,
     })
 }
 
@@ -197,8 +202,8 @@ impl Store {
         }
         connection.execute(
             "INSERT INTO submissions (course, student, member, lab, seed, source, status,
-                 submitted_at, late_seconds, penalty)
-             VALUES (?1, ?2, ?3, ?4, ?5, ?6, 'queued', ?7, ?8, ?9)",
+                 submitted_at, late_seconds, penalty, language)
+             VALUES (?1, ?2, ?3, ?4, ?5, ?6, 'queued', ?7, ?8, ?9, ?10)",
             params![
                 new.course,
                 new.student,
@@ -208,7 +213,8 @@ impl Store {
                 new.source,
                 moment(new.submitted_at),
                 new.late_seconds,
-                new.penalty
+                new.penalty,
+                new.language.name()
             ],
         )?;
         Ok(connection.last_insert_rowid())
@@ -226,11 +232,12 @@ impl Store {
     /// What grading a submission needs, its status left as it is.
     pub fn to_grade(&self, id: i64) -> Result<ToGrade, Error> {
         Ok(self.connection().query_row(
-            "SELECT source, seed, course, student, lab FROM submissions WHERE id = ?1",
+            "SELECT source, seed, course, student, lab, language FROM submissions WHERE id = ?1",
             [id],
             |row| {
                 Ok(ToGrade {
                     exercise: exercise(row, 4)?,
+                    language: named(row, 5)?,
                     source: row.get(0)?,
                     seed: row.get::<_, i64>(1)? as u64,
                     course: row.get(2)?,
@@ -457,6 +464,7 @@ mod tests {
             member: None,
             lab: Exercise::EkfLocalization,
             seed: 7,
+            language: Language::JavaScript,
             source,
             submitted_at: Timestamp::UNIX_EPOCH,
             late_seconds: 0,

@@ -38,6 +38,10 @@ pub enum Error {
     Forbidden(String),
     #[error("{0}")]
     TooManyRequests(String),
+    /// What the request needs of this server is not there now (a language whose sandbox
+    /// does not start on this machine).
+    #[error("{0}")]
+    Unavailable(String),
 }
 
 /// What a failure of the server's own says: the cause is in its log.
@@ -60,6 +64,7 @@ impl IntoResponse for Error {
             Error::Unauthorized(_) => StatusCode::UNAUTHORIZED,
             Error::Forbidden(_) => StatusCode::FORBIDDEN,
             Error::TooManyRequests(_) => StatusCode::TOO_MANY_REQUESTS,
+            Error::Unavailable(_) => StatusCode::SERVICE_UNAVAILABLE,
             // What the store says of the request, once for every handler.
             Error::Store(error) if error.kind() == store::Kind::Missing => StatusCode::NOT_FOUND,
             Error::Store(error) if error.kind() == store::Kind::Conflict => StatusCode::CONFLICT,

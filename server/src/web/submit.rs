@@ -8,8 +8,8 @@ use crate::courses::deadline::Timing;
 use crate::sandbox::check_size;
 use crate::store::{Member, NewSubmission};
 use jiff::Timestamp;
-use labs::Exercise;
 use labs::grading::{DEFAULT_COURSE, student_seed};
+use labs::{Exercise, Language};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 use ts_rs::TS;
@@ -31,6 +31,9 @@ pub struct Submit {
     course: Option<String>,
     #[serde(default = "super::default_lab")]
     lab: String,
+    /// The file's language, by its name: `javascript` (the default) or `python`.
+    #[serde(default)]
+    language: Option<String>,
     source: String,
 }
 
@@ -63,8 +66,19 @@ pub async fn accept(
     submit: Submit,
 ) -> Result<Accepted, Error> {
     let exercise = lab_field(&submit.lab)?;
+    let language = language_field(submit.language.as_deref())?;
     check_size(&submit.source)
         .map_err(|problem| Error::TooLarge(format!("field `source`: {problem}")))?;
+    let grader = Arc::clone(&state.grader);
+    tokio::task::spawn_blocking(move || grader.language(language))
+        .await
+        .map_err(|e| crate::store::Error::Task(e.to_string()))?
+        .map_err(|_| {
+            Error::Unavailable(format!(
+                "field `language`: {} files cannot be graded on this server: its sandbox for them does not start on this machine (the server's log says why)",
+                language.title()
+            ))
+        })?;
     let now = state.clock.now();
     let submitter = match member {
         Some(member) => as_member(state, member, &submit, exercise, now).await?,
@@ -81,6 +95,7 @@ pub async fn accept(
             member: submitter.member,
             lab: exercise,
             seed,
+            language,
             source: &source,
             submitted_at: now,
             late_seconds,
@@ -170,6 +185,14 @@ fn as_named(submit: &Submit) -> Result<Submitter, Error> {
         member: None,
         late_seconds: 0,
         penalty: 0.0,
+    })
+}
+
+/// The language a request's `language` field names (JavaScript when it names none).
+fn language_field(language: Option<&str>) -> Result<Language, Error> {
+    language.map_or(Ok(Language::JavaScript), |name| {
+        name.parse()
+            .map_err(|unknown| Error::BadRequest(format!("field `language`: {unknown}")))
     })
 }
 

@@ -16,8 +16,8 @@
 
 use super::{Replacement, made_in};
 use estlab::sandbox::{Code, Sandbox};
-use labs::Exercise;
 use labs::grading::{self, GradeResult, Hidden, Status, Subject, Test};
+use labs::{Exercise, Language};
 use serde::Deserialize;
 use serde_json::json;
 use std::path::PathBuf;
@@ -30,6 +30,8 @@ pub type Seeds = (u64, u64);
 /// (the starter is the exercise's own).
 pub struct Files {
     pub exercise: Exercise,
+    /// The language the files are written in.
+    pub language: Language,
     /// The student functions, in the contract's order.
     pub functions: &'static [&'static str],
     /// The runs of the exercise's loop a grading holds the functions to, by name.
@@ -115,7 +117,11 @@ impl Files {
             cases: hidden,
             class: hidden,
         };
-        let result = sandbox.grade(self.exercise, Code::javascript(source), seed, Some(drawn));
+        let code = Code {
+            language: self.language,
+            text: source,
+        };
+        let result = sandbox.grade(self.exercise, code, seed, Some(drawn));
         assert!(result.gradable, "seed {seed}: {:?}", result.reason);
         result
     }
@@ -223,6 +229,14 @@ impl Files {
                 "no mistake breaks {function}"
             );
         }
+        self.check_a_sample_of_mistakes(seeds);
+    }
+
+    /// Every mistake of a catalogue that samples the classic mistakes (as the files of
+    /// another language than JavaScript do: the hints read outputs, not code, so a sample
+    /// shows they carry over) fails as it says on every seed.
+    pub fn check_a_sample_of_mistakes(&self, seeds: &[Seeds]) {
+        let mistakes = self.mistakes();
         let work: Vec<(&Mistake, Seeds)> = mistakes
             .iter()
             .flat_map(|m| seeds.iter().map(move |&seeds| (m, seeds)))

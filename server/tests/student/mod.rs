@@ -7,6 +7,7 @@
 
 pub mod catalogue;
 pub mod odometry;
+pub mod python;
 pub mod sensor_fusion;
 
 use labs::exercises::Graded;

@@ -6,12 +6,13 @@
 //! columns swapped and its last row's signs flipped are one answer, which gets no hint.
 
 use super::catalogue::Files;
-use labs::Exercise;
+use labs::{Exercise, Language};
 
 pub const CORRECT: &str = include_str!("../../../tests/student/odometry/correct.js");
 
 pub const FILES: Files = Files {
     exercise: Exercise::Odometry,
+    language: Language::JavaScript,
     functions: labs::exercises::odometry::FUNCTIONS,
     runs: &["square", "figure-eight"],
     correct: CORRECT,

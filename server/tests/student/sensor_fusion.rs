@@ -10,12 +10,13 @@
 //! are the mistakes' `by_chance`.
 
 use super::catalogue::Files;
-use labs::Exercise;
+use labs::{Exercise, Language};
 
 pub const CORRECT: &str = include_str!("../../../tests/student/sensor_fusion/correct.js");
 
 pub const FILES: Files = Files {
     exercise: Exercise::SensorFusion,
+    language: Language::JavaScript,
     functions: labs::exercises::sensor_fusion::FUNCTIONS,
     runs: &["busy-room", "wide-tour"],
     correct: CORRECT,

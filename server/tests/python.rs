@@ -1,0 +1,263 @@
+//! Students' files in Python, graded as the server grades them: the interpreter in its
+//! operating-system sandbox, called by the harness in QuickJS (see
+//! `server/src/sandbox/native`). A correct file of each exercise scores 1 with hidden
+//! cases; a sample of classic mistakes each fails its function with its hint; and what a
+//! student might try from inside is contained, with a precise message, while the other
+//! tests of the file pass and the grading stays gradable. Needs `bwrap` and Python 3 with
+//! NumPy (Debian's bubblewrap and python3-numpy, which `scripts/test` installs).
+
+mod student;
+
+use estlab::sandbox::{Code, Sandbox};
+use labs::grading::{GradeResult, Hidden, Status, Subject};
+use labs::{Exercise, Language};
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use student::catalogue::Seeds;
+use student::python::{EKF_LOCALIZATION, ODOMETRY, SENSOR_FUSION};
+
+const SEEDS: [Seeds; 2] = [(1, 0x5eed_0001), (2320, 9_876_543_210)];
+
+#[test]
+fn the_correct_files_score_1_with_hidden_cases() {
+    for files in [EKF_LOCALIZATION, ODOMETRY, SENSOR_FUSION] {
+        files.check_the_correct_file(&SEEDS);
+    }
+}
+
+#[test]
+fn a_sample_of_mistakes_each_fails_its_function_with_its_hint() {
+    for files in [EKF_LOCALIZATION, ODOMETRY, SENSOR_FUSION] {
+        files.check_a_sample_of_mistakes(&SEEDS[..1]);
+    }
+}
+
+fn sandbox() -> Sandbox {
+    Sandbox::new(PathBuf::from(env!("CARGO_BIN_EXE_estlab")), 2)
+}
+
+/// The correct odometry file with `wheel_noise` replaced by `replacement` (a later
+/// definition wins), graded with hidden cases.
+fn with_wheel_noise(replacement: &str) -> GradeResult {
+    let source = format!("{}\n\n{replacement}\n", ODOMETRY.correct);
+    grade(Exercise::Odometry, &source)
+}
+
+fn grade(exercise: Exercise, source: &str) -> GradeResult {
+    let code = Code {
+        language: Language::Python,
+        text: source,
+    };
+    let hidden = Hidden {
+        cases: 77,
+        class: 78,
+    };
+    sandbox().grade(exercise, code, 5, Some(hidden))
+}
+
+/// What `wheel_noise`'s test says, once it is known that only it and the runs (which
+/// call it) failed, and that the result is gradable: the student's code, not the sandbox.
+fn wheel_noise_message(result: &GradeResult) -> String {
+    assert!(result.gradable, "not gradable: {:?}", result.reason);
+    for test in &result.tests {
+        match &test.subject {
+            Subject::Function(name) if name == "wheel_noise" => {
+                assert_eq!(test.status, Status::Failed, "{}", test.message)
+            }
+            Subject::Function(_) => {
+                assert_eq!(
+                    test.status,
+                    Status::Passed,
+                    "{}: {}",
+                    test.name,
+                    test.message
+                )
+            }
+            Subject::Run(_) => assert_eq!(test.status, Status::Failed, "{}", test.name),
+        }
+    }
+    let test = result
+        .tests
+        .iter()
+        .find(|t| t.subject == Subject::Function("wheel_noise".to_owned()))
+        .expect("a test of wheel_noise");
+    test.message.clone()
+}
+
+fn contained(replacement: &str, expected: &str) {
+    let message = wheel_noise_message(&with_wheel_noise(replacement));
+    assert!(
+        message.contains(expected),
+        "expected {expected:?} in: {message}"
+    );
+}
+
+#[test]
+fn the_file_system_holds_the_interpreter_and_nothing_of_the_server() {
+    // The server's data folder, with its secret, is not there at all.
+    let data = tempfile::tempdir().unwrap();
+    let secret = data.path().join("secret");
+    std::fs::write(&secret, "the server's secret").unwrap();
+    contained(
+        &format!(
+            "def wheel_noise(ds_r, ds_l, k_r, k_l):\n    open({:?}).read()",
+            secret.display().to_string()
+        ),
+        "threw FileNotFoundError",
+    );
+    contained(
+        "import os\ndef wheel_noise(ds_r, ds_l, k_r, k_l):\n    \
+         raise RuntimeError('root ' + repr(sorted(os.listdir('/'))))",
+        "root ['bin', 'dev', 'etc', 'lib', 'lib64', 'proc', 'tmp', 'usr']",
+    );
+    contained(
+        "import os\ndef wheel_noise(ds_r, ds_l, k_r, k_l):\n    \
+         raise RuntimeError('etc ' + repr(sorted(os.listdir('/etc'))))",
+        "etc ['alternatives', 'ld.so.cache']",
+    );
+    // Its own processes only: itself, as process 1, and nobody.
+    contained(
+        "import os\ndef wheel_noise(ds_r, ds_l, k_r, k_l):\n    \
+         pids = [p for p in os.listdir('/proc') if p.isdigit()]\n    \
+         raise RuntimeError(f'pids {pids} uid {os.getuid()}')",
+        "pids ['1'] uid 65534",
+    );
+    // /usr is read-only.
+    contained(
+        "def wheel_noise(ds_r, ds_l, k_r, k_l):\n    open('/usr/evil', 'w')",
+        "threw OSError: [Errno 30] Read-only file system",
+    );
+}
+
+#[test]
+fn no_network_processes_threads_or_tracing() {
+    contained(
+        "import socket\ndef wheel_noise(ds_r, ds_l, k_r, k_l):\n    \
+         socket.create_connection(('127.0.0.1', 80))",
+        "threw PermissionError: [Errno 1] Operation not permitted",
+    );
+    contained(
+        "import os\ndef wheel_noise(ds_r, ds_l, k_r, k_l):\n    os.fork()",
+        "threw PermissionError: [Errno 1] Operation not permitted",
+    );
+    contained(
+        "import threading\ndef wheel_noise(ds_r, ds_l, k_r, k_l):\n    \
+         threading.Thread(target=print).start()",
+        "threw RuntimeError: can't start new thread",
+    );
+    contained(
+        "import ctypes\ndef wheel_noise(ds_r, ds_l, k_r, k_l):\n    \
+         libc = ctypes.CDLL(None, use_errno=True)\n    \
+         status = libc.ptrace(16, 1, 0, 0)\n    \
+         raise RuntimeError(f'ptrace {status} errno {ctypes.get_errno()}')",
+        "ptrace -1 errno 1",
+    );
+}
+
+#[test]
+fn endless_work_sleep_memory_disk_and_huge_answers_are_stopped_with_a_message() {
+    contained(
+        "def wheel_noise(ds_r, ds_l, k_r, k_l):\n    while True: pass",
+        "Stopped after 2 s, the time limit, while running wheel_noise/",
+    );
+    // Native code the interpreter cannot interrupt: the CPU clock is read from outside.
+    contained(
+        "import numpy as np\ndef wheel_noise(ds_r, ds_l, k_r, k_l):\n    \
+         a = np.ones((4000, 4000))\n    return a @ a",
+        "Stopped after 2 s, the time limit, while running wheel_noise/",
+    );
+    contained(
+        "import time\ndef wheel_noise(ds_r, ds_l, k_r, k_l):\n    time.sleep(600)",
+        "your code waited for 2 s without computing",
+    );
+    contained(
+        "import numpy as np\ndef wheel_noise(ds_r, ds_l, k_r, k_l):\n    \
+         return np.ones(10**10)",
+        "threw MemoryError",
+    );
+    contained(
+        "def wheel_noise(ds_r, ds_l, k_r, k_l):\n    \
+         with open('/tmp/fill', 'wb') as f:\n        f.write(b'x' * (2 << 20))",
+        "threw OSError: [Errno 27] File too large",
+    );
+    contained(
+        "import numpy as np\ndef wheel_noise(ds_r, ds_l, k_r, k_l):\n    \
+         return np.zeros(10**6)",
+        "returned an array of 1000000 values, more than the 2000 a call may return",
+    );
+    contained(
+        "def wheel_noise(ds_r, ds_l, k_r, k_l):\n    \
+         while True: print('x' * 10000)",
+        "Stopped after 2 s, the time limit",
+    );
+}
+
+#[test]
+fn ending_the_interpreter_or_writing_on_its_channel_harms_only_the_file() {
+    contained(
+        "import os\ndef wheel_noise(ds_r, ds_l, k_r, k_l):\n    os._exit(0)",
+        "your file's interpreter ended",
+    );
+    // The interpreter is process 1 of its namespace: a signal it sends itself is ignored.
+    contained(
+        "import os\ndef wheel_noise(ds_r, ds_l, k_r, k_l):\n    os.kill(1, 9)",
+        "got null (not the contract's shape)",
+    );
+    contained(
+        "import sys\ndef wheel_noise(ds_r, ds_l, k_r, k_l):\n    sys.exit(3)",
+        "threw SystemExit: 3",
+    );
+    // A reply forged on every descriptor answers only the forger's own call.
+    contained(
+        "import os\ndef wheel_noise(ds_r, ds_l, k_r, k_l):\n    \
+         for fd in range(64):\n        \
+         try: os.write(fd, b'{\"output\": [[1, 0], [0, 1]]}\\n')\n        \
+         except OSError: pass\n    return 'mine'",
+        "wheel_noise",
+    );
+}
+
+#[test]
+fn a_missing_function_is_named_with_its_python_declaration() {
+    let source = ODOMETRY
+        .correct
+        .replace("def wheel_noise(", "def wheel_noises(");
+    let message = wheel_noise_message(&grade(Exercise::Odometry, &source));
+    assert!(
+        message.contains(
+            "wheel_noise is not defined: declare it at top level, as def wheel_noise(...):"
+        ),
+        "{message}"
+    );
+}
+
+#[test]
+fn a_file_scores_the_same_beside_busy_processes() {
+    let alone = grade(Exercise::EkfLocalization, EKF_LOCALIZATION.correct);
+    let slow = format!(
+        "{}\n\ndef observation_model(x, M, j):\n    while True: pass\n",
+        EKF_LOCALIZATION.correct
+    );
+    let slow_alone = grade(Exercise::EkfLocalization, &slow);
+    let busy = AtomicBool::new(true);
+    let (beside, slow_beside) = std::thread::scope(|scope| {
+        for _ in 0..4 {
+            scope.spawn(|| {
+                let mut x = 0u64;
+                while busy.load(Ordering::Relaxed) {
+                    x = std::hint::black_box(x.wrapping_mul(31).wrapping_add(7));
+                }
+            });
+        }
+        let results = (
+            grade(Exercise::EkfLocalization, EKF_LOCALIZATION.correct),
+            grade(Exercise::EkfLocalization, &slow),
+        );
+        busy.store(false, Ordering::Relaxed);
+        results
+    });
+    assert_eq!(alone.score, 1.0);
+    assert_eq!(beside.tests, alone.tests);
+    assert!(slow_alone.score < 1.0);
+    assert_eq!(slow_beside.tests, slow_alone.tests);
+}
