@@ -92,7 +92,7 @@ struct Starter;
 impl Visit for Starter {
     type Output = ();
     fn visit<G: Graded>(self) {
-        check(G::GENERATE, G::DECLARATION.starter);
+        check(G::GENERATE, G::DECLARATION.starters.javascript);
     }
 }
 
@@ -105,7 +105,7 @@ fn the_starters_declare_the_contracts() {
 
 #[test]
 fn a_starter_that_renames_a_parameter_is_caught() {
-    let starter = odometry::Odometry::DECLARATION.starter.replace(
+    let starter = odometry::Odometry::DECLARATION.starters.javascript.replace(
         "function wheel_noise(ds_r, ds_l, k_r, k_l)",
         "function wheel_noise(ds_r, ds_l, k_l, k_r)",
     );

@@ -69,10 +69,13 @@ const MATRIX: &[(&str, &str, [u16; 9])] = &[
     ("GET",  "/ekf",                           [200, 200, 200, 200, 200, 200, 200, 401, 401]),
     ("GET",  "/ekf/code",                      [200, 200, 200, 200, 200, 200, 200, 401, 401]),
     ("GET",  "/ekf/starter.js",                [200, 200, 200, 200, 200, 200, 200, 200, 200]),
+    ("GET",  "/ekf/starter.py",                [200, 200, 200, 200, 200, 200, 200, 200, 200]),
     ("GET",  "/odometry/code",                 [200, 200, 200, 200, 200, 200, 200, 401, 401]),
     ("GET",  "/odometry/starter.js",           [200, 200, 200, 200, 200, 200, 200, 200, 200]),
+    ("GET",  "/odometry/starter.py",           [200, 200, 200, 200, 200, 200, 200, 200, 200]),
     ("GET",  "/fusion/code",                   [200, 200, 200, 200, 200, 200, 200, 401, 401]),
     ("GET",  "/fusion/starter.js",             [200, 200, 200, 200, 200, 200, 200, 200, 200]),
+    ("GET",  "/fusion/starter.py",             [200, 200, 200, 200, 200, 200, 200, 200, 200]),
     ("GET",  "/signin",                        [200, 200, 200, 200, 200, 200, 200, 401, 401]),
     // Only a signed-in person has a page of their own; the rest are sent to sign in.
     ("GET",  "/me",                            [303, 200, 200, 200, 200, 200, 303, 401, 401]),
@@ -120,6 +123,9 @@ const MATRIX: &[(&str, &str, [u16; 9])] = &[
     ("POST", "/api/courses/el2320/assignments",          [404, 404, 404, 403, 400, 404, 400, 401, 401]),
     ("POST", "/api/courses/el2320/tokens",               [404, 404, 404, 403, 400, 404, 400, 401, 401]),
     ("POST", "/api/courses/el2320/tokens/{T}/revoke",    [404, 404, 404, 403, 200, 404, 200, 401, 401]),
+    // Anyone signed in may run a phase of the shown cases on the server (staff try files
+    // too); nobody anonymously once the server runs courses, and no token.
+    ("POST", "/api/phases",                    [401, 200, 200, 200, 200, 200, 403, 401, 401]),
     // Students submit for themselves; staff and tokens do not; nobody anonymously.
     ("POST", "/api/submissions",               [401, 202, 202, 403, 403, 403, 403, 401, 401]),
     // Last: it ends the sessions.
@@ -249,6 +255,11 @@ async fn access_matrix() {
             };
             if path == "/api/submissions" {
                 request = request.json(json!({ "source": sources[i] }));
+            }
+            if path == "/api/phases" {
+                request = request.json(json!({
+                    "lab": "odometry", "seed": 7, "phase": "wheel_noise", "source": sources[i],
+                }));
             }
             if path == "/api/courses/el2320/regrades" {
                 request =

@@ -193,3 +193,83 @@ async fn a_python_file_is_graded_in_its_language_and_kept_with_it() {
     assert_eq!(written.language, "javascript");
     assert_eq!(written.result.score, 0.0);
 }
+
+/// What these tests read of a phase run on the server.
+#[derive(Deserialize)]
+struct PhaseOutputs {
+    functions: Vec<FunctionOutput>,
+    runs: Vec<RunOutput>,
+}
+
+#[derive(Deserialize)]
+struct FunctionOutput {
+    function: String,
+    results: Vec<serde_json::Value>,
+}
+
+#[derive(Deserialize)]
+struct RunOutput {
+    name: String,
+    error: Option<String>,
+}
+
+#[tokio::test(flavor = "multi_thread")]
+async fn a_phase_of_the_shown_cases_runs_on_the_server_for_the_workbench() {
+    let app = App::new();
+    let ask = |phase: &str, source: &str| {
+        Req::post("/api/phases").json(json!({
+            "lab": "odometry", "language": "python", "seed": 2320,
+            "phase": phase, "source": source,
+        }))
+    };
+    let correct = student::python::ODOMETRY.correct;
+    // A function's tests: the outputs of its shown cases and of their repeats.
+    let answer = app.send(ask("wheel_noise", correct)).await;
+    assert_eq!(answer.status.as_u16(), 200, "{}", answer.body);
+    let outputs: PhaseOutputs = serde_json::from_str(&answer.body).unwrap();
+    assert_eq!(outputs.runs.len(), 0);
+    assert_eq!(outputs.functions.len(), 1);
+    assert_eq!(outputs.functions[0].function, "wheel_noise");
+    assert_eq!(outputs.functions[0].results.len(), 12);
+    // A run of the loop.
+    let answer = app.send(ask("square", correct)).await;
+    assert_eq!(answer.status.as_u16(), 200, "{}", answer.body);
+    let outputs: PhaseOutputs = serde_json::from_str(&answer.body).unwrap();
+    assert_eq!(outputs.runs.len(), 1);
+    assert_eq!(
+        (outputs.runs[0].name.as_str(), &outputs.runs[0].error),
+        ("square", &None)
+    );
+    // No such phase, named.
+    let answer = app.send(ask("o3/sequential", correct)).await;
+    assert_eq!(answer.status.as_u16(), 400, "{}", answer.body);
+    assert!(answer.body.contains("field `phase`"), "{}", answer.body);
+
+    // An asker's share of a minute, then a refusal that says when to try again.
+    let mut refused = None;
+    let quick = |phase: &str| {
+        Req::post("/api/phases").json(json!({
+            "lab": "odometry", "seed": 2320, "phase": phase, "source": "function f() {}",
+        }))
+    };
+    for _ in 0..40 {
+        let answer = app.send(quick("wheel_noise")).await;
+        if answer.status.as_u16() == 429 {
+            refused = Some(answer.body);
+            break;
+        }
+        assert_eq!(answer.status.as_u16(), 200, "{}", answer.body);
+    }
+    let refused = refused.expect("a refusal within the minute");
+    assert!(refused.contains("in the last minute"), "{refused}");
+    // Once the minute has passed, the asker runs again.
+    app.clock
+        .set(app.now() + jiff::SignedDuration::from_secs(61));
+    let answer = app.send(ask("wheel_noise", correct)).await;
+    assert_eq!(answer.status.as_u16(), 200, "{}", answer.body);
+
+    // With courses, only the signed-in run their files here.
+    app.open_course("el2320");
+    let answer = app.send(ask("wheel_noise", correct)).await;
+    assert_eq!(answer.status.as_u16(), 401, "{}", answer.body);
+}

@@ -26,6 +26,13 @@ fn the_correct_files_score_1_with_hidden_cases() {
 }
 
 #[test]
+fn the_starters_score_0_and_say_what_is_not_implemented() {
+    for files in [EKF_LOCALIZATION, ODOMETRY, SENSOR_FUSION] {
+        files.check_the_starter(SEEDS[0]);
+    }
+}
+
+#[test]
 fn a_sample_of_mistakes_each_fails_its_function_with_its_hint() {
     for files in [EKF_LOCALIZATION, ODOMETRY, SENSOR_FUSION] {
         files.check_a_sample_of_mistakes(&SEEDS[..1]);

@@ -1,6 +1,7 @@
 //! What an exercise declares once, in its folder, for everything that lists exercises:
 //! its names and texts ([`Declaration`]) and its types ([`Graded`]).
 
+use crate::Language;
 use crate::grading::{Contract, ExercisePlan, Generator, Hidden};
 use ts_rs::TS;
 
@@ -22,12 +23,32 @@ pub struct Declaration {
     /// What the student writes, in words, as the platforms' question lists it: "one step
     /// of odometry, its Jacobians, ...".
     pub functions: &'static str,
-    /// The file a student starts from: every function of the contract, each throwing
-    /// "not implemented" (`web/starter.js`).
-    pub starter: &'static str,
+    /// The template of the files a student starts from (`web/starter.txt`: see
+    /// [`super::starter`]): every function of the contract, each throwing "not
+    /// implemented", and the conventions in each language.
+    pub starter_template: &'static str,
+    /// The starters it makes, as committed: `web/starter.js`, `web/starter.py`.
+    pub starters: Starters,
     /// The harness's loop for its runs (`web/loop.js`), which registers itself with the
     /// harness under [`Declaration::run_loop`] before any student code runs.
     pub harness_loop: &'static str,
+}
+
+/// An exercise's starter file in each language.
+#[derive(Debug)]
+pub struct Starters {
+    pub javascript: &'static str,
+    pub python: &'static str,
+}
+
+impl Declaration {
+    /// The file a student starts from in `language`.
+    pub fn starter(&self, language: Language) -> &'static str {
+        match language {
+            Language::JavaScript => self.starters.javascript,
+            Language::Python => self.starters.python,
+        }
+    }
 }
 
 /// An exercise's runs of its loop, in words.

@@ -10,8 +10,9 @@
 //! `DESIGN.md`, "Adding an exercise", says how to add one.
 
 mod declaration;
+pub mod starter;
 
-pub use declaration::{Declaration, Graded, Runs, Visit, Workbench};
+pub use declaration::{Declaration, Graded, Runs, Starters, Visit, Workbench};
 
 use crate::grading::{Contract, Shape};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
@@ -230,7 +231,7 @@ mod tests {
             }
             assert!(d.workbench.path.starts_with('/'), "{}", d.workbench.path);
             assert!(d.file_name.ends_with(".js"), "{}", d.file_name);
-            for text in [d.title, d.runs.noun, d.starter, d.harness_loop] {
+            for text in [d.title, d.runs.noun, d.starter_template, d.harness_loop] {
                 assert!(!text.trim().is_empty(), "{}: an empty text", d.name);
             }
         }

@@ -96,7 +96,7 @@ pub fn run(args: &Args) -> Result<(), Error> {
                     secret: &secret,
                     image,
                     uuid: uuid()?,
-                    starter: common.lab.declaration().starter,
+                    starter: common.lab.declaration().starters.javascript,
                     workbench: workbench.as_deref(),
                 },
             )?;

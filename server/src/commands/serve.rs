@@ -7,6 +7,7 @@ use crate::grading::{Grader, Secret};
 use crate::sandbox::{Sandbox, cores};
 use crate::store::Store;
 use crate::web::connections::{self, Limits, raise_descriptor_limit};
+use crate::web::phases::Trials;
 use crate::web::{self, AppState, Assets, SignInLimiter};
 use labs::Language;
 use std::net::SocketAddr;
@@ -117,6 +118,7 @@ async fn serve(args: &Args) -> Result<(), Error> {
         limiter: SignInLimiter::default(),
         behind_https: args.behind_https,
         datasets: Arc::new(datasets),
+        trials: Trials::new(parallel),
     }));
     println!(
         "estlab is serving on http://{addr}/ (submissions in {})",

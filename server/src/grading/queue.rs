@@ -9,7 +9,7 @@
 use super::fair::{FairQueue, Lane, Policy, Tenant, Ticket, Waiting, Work};
 use super::{Secret, grader_version, priority};
 use crate::clock::Clock;
-use crate::sandbox::{Code, DidNotStart, Sandbox, Unavailable};
+use crate::sandbox::{Code, DidNotStart, Sandbox, Tried, Unavailable};
 use crate::store::{Error, NewSubmission, Store};
 use labs::{Exercise, Language};
 use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};
@@ -90,6 +90,17 @@ impl Grader {
 
     pub fn store(&self) -> &Store {
         &self.store
+    }
+
+    /// One phase of the shown job of `seed` with a student's file (`Sandbox::phase`).
+    pub fn phase(
+        &self,
+        exercise: Exercise,
+        code: Code,
+        seed: u64,
+        phase: &str,
+    ) -> Result<labs::grading::Outputs, Tried> {
+        self.sandbox.phase(exercise, code, seed, phase)
     }
 
     /// Whether files in `language` can be graded here (its sandbox is tried once).

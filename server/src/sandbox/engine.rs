@@ -346,10 +346,19 @@ pub fn carry_out(
     let watchdog = Watchdog::new(threads);
     std::thread::scope(|scope| {
         scope.spawn(|| watchdog.patrol());
-        let outputs = watched(source, job, &phases, threads, &watchdog);
-        watchdog.stop();
-        outputs
+        // Stopped however `watched` ends, a panic included: the scope waits for the patrol.
+        let _stop = StopOnDrop(&watchdog);
+        watched(source, job, &phases, threads, &watchdog)
     })
+}
+
+/// Stops the watchdog's patrol when dropped.
+struct StopOnDrop<'a>(&'a Watchdog);
+
+impl Drop for StopOnDrop<'_> {
+    fn drop(&mut self) {
+        self.0.stop();
+    }
 }
 
 /// The student's file as each phase's engine takes it.
@@ -427,16 +436,19 @@ type Report = Result<String, Stopped>;
 /// What the watchdog calls the evaluation of the file before the phases.
 pub const TOP_LEVEL: &str = "the top level of your file (evaluated once, before every test)";
 
-/// Evaluates the file once, calling nothing (the job's first function phase without its
-/// calls): what stopped it, if anything did.
+/// Evaluates the file once, calling nothing (a function phase without calls): what
+/// stopped it, if anything did.
 fn load_check(source: &File, job: &Job, watchdog: &Watchdog) -> Result<Option<Stopped>, Failure> {
+    // Any function of the job will do: none is called.
+    let function = job
+        .functions
+        .iter()
+        .map(|phase| &phase.function)
+        .chain(job.runs.iter().flat_map(|run| &run.functions))
+        .next()
+        .expect("every job calls a student function");
     let nothing = FunctionPhase {
-        function: job
-            .functions
-            .first()
-            .expect("every exercise has student functions")
-            .function
-            .clone(),
+        function: function.clone(),
         calls: Vec::new(),
         limit_ms: LOAD_LIMIT_MS,
     };

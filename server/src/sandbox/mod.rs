@@ -12,7 +12,7 @@ mod worker;
 pub use engine::carry_out;
 pub use error::{Failure, TooLarge};
 pub use native::Unavailable;
-pub use worker::{Code, MAX_SOURCE, Sandbox, WorkerInput, check_length, check_size};
+pub use worker::{Code, MAX_SOURCE, Sandbox, Tried, WorkerInput, check_length, check_size};
 
 /// A worker that could not be started (`Command::spawn` failed: no descriptors left for
 /// its pipes, no memory or processes for a fork, the executable missing). The student's

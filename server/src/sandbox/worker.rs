@@ -65,6 +65,20 @@ pub struct WorkerInput {
     pub threads: usize,
 }
 
+/// Why a student's code gave no outputs.
+#[derive(Debug, thiserror::Error)]
+pub enum Tried {
+    #[error("{0}")]
+    Unavailable(Unavailable),
+    #[error(transparent)]
+    DidNotStart(DidNotStart),
+    #[error(transparent)]
+    Failed(Failure),
+    /// The shown job has no phase of that name.
+    #[error("the exercise has no function or run {0:?} to run")]
+    NoSuchPhase(String),
+}
+
 /// A student's file: its language and its text.
 #[derive(Clone, Copy, Debug)]
 pub struct Code<'a> {
@@ -153,8 +167,40 @@ impl Sandbox {
         seed: u64,
         hidden: Option<Hidden>,
     ) -> Result<GradeResult, DidNotStart> {
-        let native = match self.tools(code.language) {
-            Ok(tools) => tools.map(|tools| Native {
+        let plan = Plan::new(exercise, seed, hidden);
+        Ok(match self.outputs(exercise, code, plan.job()) {
+            Ok(outputs) => plan.grade(&outputs),
+            Err(Tried::DidNotStart(did_not_start)) => return Err(did_not_start),
+            Err(failed) => GradeResult::not_gradable(exercise, seed, failed.to_string()),
+        })
+    }
+
+    /// One phase of the shown job of `seed` (a function's tests, by the function's name,
+    /// or a run, by its name), carried out with the student's code as a grading carries
+    /// it out: its output, for the browser to grade and show as it does its own (a
+    /// language whose files run on the server only). Nothing is graded or stored here.
+    pub fn phase(
+        &self,
+        exercise: Exercise,
+        code: Code,
+        seed: u64,
+        phase: &str,
+    ) -> Result<Outputs, Tried> {
+        let mut job = Plan::new(exercise, seed, None).job();
+        job.functions.retain(|function| function.function == phase);
+        job.runs.retain(|run| run.name == phase);
+        if job.functions.len() + job.runs.len() != 1 {
+            return Err(Tried::NoSuchPhase(phase.to_owned()));
+        }
+        self.outputs(exercise, code, job)
+    }
+
+    /// The outputs of `job` with the student's code, in a worker.
+    fn outputs(&self, exercise: Exercise, code: Code, job: Job) -> Result<Outputs, Tried> {
+        let native = self
+            .tools(code.language)
+            .map_err(Tried::Unavailable)?
+            .map(|tools| Native {
                 language: code.language,
                 tools: tools.clone(),
                 file: code.language.file_name(exercise.file_name()),
@@ -162,32 +208,15 @@ impl Sandbox {
                     .output_fields()
                     .into_iter()
                     .map(|(function, fields)| {
-                        (
-                            function.to_owned(),
-                            fields.into_iter().map(str::to_owned).collect(),
-                        )
+                        let fields = fields.into_iter().map(str::to_owned).collect();
+                        (function.to_owned(), fields)
                     })
                     .collect(),
-            }),
-            Err(unavailable) => {
-                return Ok(GradeResult::not_gradable(
-                    exercise,
-                    seed,
-                    unavailable.to_string(),
-                ));
-            }
-        };
-        let source = code.text;
-        let plan = Plan::new(exercise, seed, hidden);
-        let job = plan.job();
+            });
         let cpu_limit = SPARE + Duration::from_millis(job.limits_ms() + u64::from(LOAD_LIMIT_MS));
-        let child = self.start(cpu_limit)?;
-        Ok(
-            match self.carry_out(child, source, native, job, cpu_limit) {
-                Ok(outputs) => plan.grade(&outputs),
-                Err(failure) => GradeResult::not_gradable(exercise, seed, failure.to_string()),
-            },
-        )
+        let child = self.start(cpu_limit).map_err(Tried::DidNotStart)?;
+        self.carry_out(child, code.text, native, job, cpu_limit)
+            .map_err(Tried::Failed)
     }
 
     /// A worker, started with its limits, before it is given anything.

@@ -2,7 +2,9 @@
 //! an IPv4 address itself, and an IPv6 client by its /64, which one client usually holds
 //! whole (an IPv4 address mapped into IPv6 is that IPv4 address).
 
-use std::net::IpAddr;
+use axum::extract::ConnectInfo;
+use axum::http::request::Parts;
+use std::net::{IpAddr, Ipv4Addr, SocketAddr};
 
 /// The block `address` is counted in.
 pub fn block(address: IpAddr) -> IpAddr {
@@ -13,6 +15,28 @@ pub fn block(address: IpAddr) -> IpAddr {
             None => IpAddr::V6((u128::from(v6) & !((1u128 << 64) - 1)).into()),
         },
     }
+}
+
+/// The client's address: the peer's, or behind a proxy the last address it added.
+pub fn client_address(parts: &Parts, behind_https: bool) -> IpAddr {
+    let forwarded = behind_https
+        .then(|| {
+            parts
+                .headers
+                .get_all("x-forwarded-for")
+                .iter()
+                .filter_map(|v| v.to_str().ok())
+                .flat_map(|v| v.split(','))
+                .next_back()
+                .and_then(|last| last.trim().parse().ok())
+        })
+        .flatten();
+    forwarded.unwrap_or_else(|| {
+        parts
+            .extensions
+            .get::<ConnectInfo<SocketAddr>>()
+            .map_or(IpAddr::V4(Ipv4Addr::UNSPECIFIED), |info| info.0.ip())
+    })
 }
 
 #[cfg(test)]

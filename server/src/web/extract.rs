@@ -23,6 +23,23 @@ pub const MAX_BODY: usize = 4 << 20;
 static ANONYMOUS_BODIES: LazyLock<Semaphore> = LazyLock::new(|| Semaphore::new(16));
 static SIGNED_IN_BODIES: LazyLock<Semaphore> = LazyLock::new(|| Semaphore::new(64));
 
+/// The client's address, as the limits count it (see `address::client_address`).
+pub struct ClientAddress(pub std::net::IpAddr);
+
+impl FromRequestParts<std::sync::Arc<super::AppState>> for ClientAddress {
+    type Rejection = Infallible;
+
+    async fn from_request_parts(
+        parts: &mut Parts,
+        state: &std::sync::Arc<super::AppState>,
+    ) -> Result<Self, Self::Rejection> {
+        Ok(ClientAddress(super::address::client_address(
+            parts,
+            state.behind_https,
+        )))
+    }
+}
+
 /// A request's body, not yet read: the handler reads it (`json`) once it has checked who
 /// asks, so nobody can make the server buffer a body they may not send.
 pub struct Body(axum::body::Body);

@@ -12,6 +12,7 @@ mod limiter;
 mod me;
 mod origin;
 mod pages;
+pub mod phases;
 mod registry;
 mod setup;
 mod signin;
@@ -36,7 +37,7 @@ use axum::extract::{DefaultBodyLimit, MatchedPath, Request};
 use axum::handler::Handler;
 use axum::http::{HeaderValue, header};
 use axum::routing::{MethodRouter, get, post};
-use labs::Exercise;
+use labs::{Exercise, Language};
 use registry::Page;
 use std::sync::Arc;
 use std::time::Duration;
@@ -61,6 +62,8 @@ pub struct AppState {
     pub behind_https: bool,
     /// The real data sets of `--datasets DIR` (none without it).
     pub datasets: Arc<Datasets>,
+    /// The phases askers run on the server (`POST /api/phases`).
+    pub trials: phases::Trials,
 }
 
 /// The largest sign-in form: a code is 24 characters.
@@ -100,8 +103,10 @@ pub fn router(state: Arc<AppState>) -> Router {
     let mut router = Router::new();
     for page in registry::pages() {
         router = router.route(&page.path, page_route(page));
-        if let (Some(exercise), Some(starter)) = (page.exercise, page.starter_path()) {
-            router = router.route(&starter, get(move || pages::starter(exercise)));
+        for &language in Language::ALL {
+            if let (Some(exercise), Some(starter)) = (page.exercise, page.starter_path(language)) {
+                router = router.route(&starter, get(move || pages::starter(exercise, language)));
+            }
         }
     }
     router
@@ -110,6 +115,7 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/api/me/submissions", get(me::history))
         .route("/api/submissions", post(api::submit))
         .route("/api/submissions/{id}", get(api::submission))
+        .route("/api/phases", post(phases::run))
         .route("/api/courses/{course}", get(setup::course))
         .route("/api/courses/{course}/staff", post(setup::add_staff))
         .route(

@@ -10,8 +10,8 @@ use axum::Json;
 use axum::extract::State;
 use axum::http::{StatusCode, Uri, header};
 use axum::response::{Html, IntoResponse, Response};
-use labs::Exercise;
 use labs::exercises::{Declaration, ekf_localization};
+use labs::{Exercise, Language};
 use std::sync::Arc;
 
 #[derive(Template)]
@@ -195,14 +195,18 @@ pub async fn workbench(
     })
 }
 
-/// An exercise's starter file on its own, to download.
-pub async fn starter(exercise: Exercise) -> Response {
+/// An exercise's starter file in a language, on its own, to download.
+pub async fn starter(exercise: Exercise, language: Language) -> Response {
+    let media_type = match language {
+        Language::JavaScript => "text/javascript; charset=utf-8",
+        Language::Python => "text/x-python; charset=utf-8",
+    };
     (
         [
-            (header::CONTENT_TYPE, "text/javascript; charset=utf-8"),
+            (header::CONTENT_TYPE, media_type),
             (header::CACHE_CONTROL, "no-cache"),
         ],
-        exercise.declaration().starter,
+        exercise.declaration().starter(language),
     )
         .into_response()
 }

@@ -5,8 +5,8 @@
 //! experiment page. The router serves every page of the registry ([`MethodRouter`]s by
 //! name, in `web::router`), and a test checks that each has a handler.
 
-use labs::Exercise;
 use labs::grading::DEFAULT_COURSE;
+use labs::{Exercise, Language};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::sync::LazyLock;
@@ -63,11 +63,12 @@ impl Page {
 }
 
 impl Page {
-    /// A workbench's starter file, to download: `/ekf/starter.js` beside `/ekf/code`.
-    pub fn starter_path(&self) -> Option<String> {
+    /// A workbench's starter file in `language`, to download: `/ekf/starter.js` (and
+    /// `/ekf/starter.py`) beside `/ekf/code`.
+    pub fn starter_path(&self, language: Language) -> Option<String> {
         self.exercise?;
         let folder = self.path.strip_suffix("/code")?;
-        Some(format!("{folder}/starter.js"))
+        Some(format!("{folder}/starter.{}", language.extension()))
     }
 }
 
@@ -225,7 +226,9 @@ mod tests {
                 .filter(|page| page.exercise == Some(exercise))
                 .count();
             assert_eq!(workbenches, 1, "{exercise}");
-            assert!(workbench(exercise).starter_path().is_some());
+            for &language in Language::ALL {
+                assert!(workbench(exercise).starter_path(language).is_some());
+            }
         }
         for (i, page) in pages().iter().enumerate() {
             assert!(

@@ -10,14 +10,14 @@ use crate::courses::codes;
 use crate::store::{CodeCheck, Member};
 use askama::Template;
 use axum::Form;
+use axum::extract::State;
 use axum::extract::rejection::FormRejection;
-use axum::extract::{ConnectInfo, State};
 use axum::http::request::Parts;
 use axum::http::{StatusCode, header};
 use axum::response::{IntoResponse, Redirect, Response};
 use jiff::{SignedDuration, Timestamp};
 use serde::Deserialize;
-use std::net::{IpAddr, Ipv4Addr, SocketAddr};
+use std::net::IpAddr;
 use std::sync::{Arc, LazyLock};
 use std::time::Duration;
 use tokio::sync::Semaphore;
@@ -56,28 +56,6 @@ async fn render(
         problem,
     };
     Ok((status, html(&page)?).into_response())
-}
-
-/// The client's address: the peer's, or behind a proxy the last address it added.
-fn client_address(parts: &Parts, behind_https: bool) -> IpAddr {
-    let forwarded = behind_https
-        .then(|| {
-            parts
-                .headers
-                .get_all("x-forwarded-for")
-                .iter()
-                .filter_map(|v| v.to_str().ok())
-                .flat_map(|v| v.split(','))
-                .next_back()
-                .and_then(|last| last.trim().parse().ok())
-        })
-        .flatten();
-    forwarded.unwrap_or_else(|| {
-        parts
-            .extensions
-            .get::<ConnectInfo<SocketAddr>>()
-            .map_or(IpAddr::V4(Ipv4Addr::UNSPECIFIED), |info| info.0.ip())
-    })
 }
 
 const WRONG_CODE: &str = "This code is not valid: it may be mistyped, replaced by a newer one, or (for a one-time link) used or expired. Ask your teacher for a new one if it keeps failing.";
@@ -180,7 +158,7 @@ pub async fn sign_in(
         }
     };
     let now = state.clock.now();
-    let address = client_address(&parts, state.behind_https);
+    let address = super::address::client_address(&parts, state.behind_https);
     let member = match check(&state, address, form.code, now).await? {
         Ok(member) => member,
         Err(Refused(status, message)) => {

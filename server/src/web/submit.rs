@@ -189,7 +189,7 @@ fn as_named(submit: &Submit) -> Result<Submitter, Error> {
 }
 
 /// The language a request's `language` field names (JavaScript when it names none).
-fn language_field(language: Option<&str>) -> Result<Language, Error> {
+pub fn language_field(language: Option<&str>) -> Result<Language, Error> {
     language.map_or(Ok(Language::JavaScript), |name| {
         name.parse()
             .map_err(|unknown| Error::BadRequest(format!("field `language`: {unknown}")))

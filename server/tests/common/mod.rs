@@ -15,6 +15,7 @@ use estlab::courses::roster;
 use estlab::grading::{Grader, Secret};
 use estlab::sandbox::Sandbox;
 use estlab::store::{Member, NewMember, Role, Status, Store, Submission};
+use estlab::web::phases::Trials;
 use estlab::web::{AppState, Assets, SESSION_COOKIE, SignInLimiter};
 use jiff::{SignedDuration, Timestamp};
 use labs::Exercise;
@@ -97,6 +98,7 @@ impl App {
             limiter: SignInLimiter::default(),
             behind_https: false,
             datasets: Default::default(),
+            trials: Trials::new(1),
         });
         let router = estlab::web::router(Arc::clone(&state));
         App {
@@ -355,7 +357,11 @@ pub fn workbench_routes() -> Vec<String> {
             let folder = path
                 .strip_suffix("/code")
                 .expect("a workbench's path ends in /code");
-            [path.to_owned(), format!("{folder}/starter.js")]
+            std::iter::once(path.to_owned()).chain(
+                labs::Language::ALL
+                    .iter()
+                    .map(move |language| format!("{folder}/starter.{}", language.extension())),
+            )
         })
         .collect()
 }

@@ -173,14 +173,19 @@ impl Files {
     /// implemented", and every run's that its loop stopped at the first function it
     /// called.
     pub fn check_the_starter(&self, seeds: Seeds) {
-        let result = self.grade(self.exercise.declaration().starter, seeds);
+        let result = self.grade(self.exercise.declaration().starter(self.language), seeds);
         assert_eq!(result.score, 0.0);
+        // What the starter's functions throw, as the harness names it.
+        let thrown = match self.language {
+            Language::JavaScript => "Error",
+            Language::Python => "NotImplementedError",
+        };
         for function in self.functions {
             let test = function_test(&result, function);
             assert_eq!(test.points, 0.0, "{}", test.name);
             assert!(
                 test.message
-                    .contains(&format!("threw Error: {function}: not implemented")),
+                    .contains(&format!("threw {thrown}: {function}: not implemented")),
                 "{}: {}",
                 test.name,
                 test.message
@@ -194,7 +199,7 @@ impl Files {
                 test.message.contains(&format!("{run}: at step "))
                     && self.functions.iter().any(|f| {
                         test.message
-                            .contains(&format!(", {f}: threw Error: {f}: not implemented"))
+                            .contains(&format!(", {f}: threw {thrown}: {f}: not implemented"))
                     }),
                 "{}",
                 test.message

@@ -15,7 +15,9 @@ use serde::Deserialize;
 
 pub const CORRECT: &str = include_str!("../../../tests/student/correct.js");
 pub const CORRECT_ALT: &str = include_str!("../../../tests/student/correct-alt.js");
-pub const STARTER: &str = labs::exercises::ekf_localization::EkfLocalization::DECLARATION.starter;
+pub const STARTER: &str = labs::exercises::ekf_localization::EkfLocalization::DECLARATION
+    .starters
+    .javascript;
 const MISTAKES: &str = include_str!("../../../tests/student/mistakes.json");
 
 /// A classic mistake: correct.js with some lines replaced.

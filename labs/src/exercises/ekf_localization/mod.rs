@@ -22,7 +22,7 @@ pub use plan::{Plan, RunSpec, bound, graded_readings, mode_name, run_name, shows
 /// A test case of this exercise.
 pub type Case = crate::grading::Case<Call>;
 
-use crate::exercises::{Declaration, Graded, Runs, Workbench};
+use crate::exercises::{Declaration, Graded, Runs, Starters, Workbench};
 use crate::grading::Hidden;
 
 /// The views of a whole run (`static/src/ekf/runview.js` draws them), on the workbench
@@ -64,7 +64,11 @@ impl Graded for EkfLocalization {
         functions: "the odometry, the prediction, the observation model and its Jacobian, the \
                     maximum-likelihood association with the outlier test, and the sequential \
                     and batch updates",
-        starter: include_str!("web/starter.js"),
+        starter_template: include_str!("web/starter.txt"),
+        starters: Starters {
+            javascript: include_str!("web/starter.js"),
+            python: include_str!("web/starter.py"),
+        },
         harness_loop: include_str!("web/loop.js"),
     };
     type Call = Call;

@@ -22,7 +22,7 @@ pub use plan::{PATH_FUNCTIONS, PathSpec, Plan, RUN_LIMIT_MS};
 /// A test case of this exercise.
 pub type Case = crate::grading::Case<Call>;
 
-use crate::exercises::{Declaration, Graded, Runs, Workbench};
+use crate::exercises::{Declaration, Graded, Runs, Starters, Workbench};
 use crate::grading::Hidden;
 
 /// The exercise, as the registry knows it.
@@ -57,7 +57,11 @@ impl Graded for Odometry {
         functions: "one step of odometry, its Jacobians with respect to the pose and to the \
                     wheels' distances, the wheels' noise, and one step of the propagation of \
                     the pose's covariance",
-        starter: include_str!("web/starter.js"),
+        starter_template: include_str!("web/starter.txt"),
+        starters: Starters {
+            javascript: include_str!("web/starter.js"),
+            python: include_str!("web/starter.py"),
+        },
         harness_loop: include_str!("web/loop.js"),
     };
     type Call = Call;

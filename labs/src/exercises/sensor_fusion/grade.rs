@@ -327,10 +327,15 @@ mod tests {
             "return {{\n    k_xy: {}, k_theta: {}, c_xy: {}, field_of_view: {},\n    lambda: {},\n  }};",
             d.k_xy, d.k_theta, d.c_xy, d.field_of_view, d.lambda
         );
-        let starter = crate::exercises::Exercise::SensorFusion
+        let starters = &crate::exercises::Exercise::SensorFusion
             .declaration()
-            .starter;
-        assert!(starter.contains(&settings), "{settings}");
+            .starters;
+        assert!(starters.javascript.contains(&settings), "{settings}");
+        let settings = format!(
+            "return {{\n        \"k_xy\": {}, \"k_theta\": {}, \"c_xy\": {}, \"field_of_view\": {},\n        \"lambda\": {},\n    }}",
+            d.k_xy, d.k_theta, d.c_xy, d.field_of_view, d.lambda
+        );
+        assert!(starters.python.contains(&settings), "{settings}");
     }
 
     /// What the student's code said after the trial's data reached it is not repeated;

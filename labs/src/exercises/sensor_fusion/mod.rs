@@ -24,7 +24,7 @@ pub use plan::{LOOP_FUNCTIONS, Plan, RUN_LIMIT_MS, TrialSpec};
 /// A test case of this exercise.
 pub type Case = crate::grading::Case<Call>;
 
-use crate::exercises::{Declaration, Graded, Runs, Workbench};
+use crate::exercises::{Declaration, Graded, Runs, Starters, Workbench};
 use crate::grading::Hidden;
 
 /// The exercise, as the registry knows it.
@@ -61,7 +61,11 @@ impl Graded for SensorFusion {
         functions: "the pose from the two platforms, the heading's standard deviation by error \
                     propagation, the measurement noise, the field of view, the prediction \
                     from odometry increments, the gate's Mahalanobis distance and the update",
-        starter: include_str!("web/starter.js"),
+        starter_template: include_str!("web/starter.txt"),
+        starters: Starters {
+            javascript: include_str!("web/starter.js"),
+            python: include_str!("web/starter.py"),
+        },
         harness_loop: include_str!("web/loop.js"),
     };
     type Call = Call;
