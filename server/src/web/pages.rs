@@ -69,6 +69,15 @@ struct Code<'a> {
     /// The workbench's own path, which its links go back to.
     path: &'a str,
     worker: &'a str,
+    /// The languages a student may write the file in, each with its starter.
+    languages: Vec<Written>,
+}
+
+/// A language of the workbench, as its choice and its starter show it.
+struct Written {
+    name: &'static str,
+    title: &'static str,
+    starter: &'static str,
 }
 
 #[derive(Template)]
@@ -192,6 +201,14 @@ pub async fn workbench(
         declared: exercise.declaration(),
         path: &page.path,
         worker: state.assets.worker(),
+        languages: Language::ALL
+            .iter()
+            .map(|&language| Written {
+                name: language.name(),
+                title: language.title(),
+                starter: exercise.declaration().starter(language),
+            })
+            .collect(),
     })
 }
 

@@ -49,9 +49,12 @@ const ui = {
 // on the variant says when the results are of another. The callbacks run only once
 // every part is made.
 const editor = new Editor({
-  // The file is saved per exercise.
-  key: `estlab:${LAB}:source`,
-  starter: byId('starter', HTMLTextAreaElement).value,
+  // The file is saved per exercise and language (JavaScript's where it always was), and
+  // the language chosen per exercise.
+  key: (language) => (language === 'javascript' ? `estlab:${LAB}:source` : `estlab:${LAB}:${language}`),
+  // Each language's starter, as the page holds them.
+  starters: Object.fromEntries([...document.querySelectorAll('textarea[data-starter]')]
+    .map((area) => [/** @type {HTMLElement} */ (area).dataset.starter, /** @type {HTMLTextAreaElement} */ (area).value])),
   file: workbench.file,
   saved: ui.saved,
   error: ui.error,

@@ -1,53 +1,108 @@
-// The workbench's file: edited in CodeMirror, saved in this browser as it is typed, reset
-// to the starter file, downloaded and uploaded.
+// The workbench's file: edited in CodeMirror in the language the student chose, saved in
+// this browser as it is typed (a file per language), reset to the language's starter
+// file, downloaded and uploaded.
 import { javascript } from '@codemirror/lang-javascript';
+import { python } from '@codemirror/lang-python';
+import { Compartment } from '@codemirror/state';
 import { EditorView, basicSetup } from 'codemirror';
 import { byId, download, showError } from '../controls.js';
 
 const MAX_SOURCE = 256 * 1024;
 
 /**
+ * The languages of students' files (`labs::Language`): CodeMirror's mode, the
+ * extension and the media type of each.
+ *
+ * @type {Record<import('../types/Language').Language, { mode: () => import('@codemirror/state').Extension, extension: string, type: string }>}
+ */
+export const LANGUAGES = {
+  javascript: { mode: javascript, extension: 'js', type: 'text/javascript' },
+  python: { mode: python, extension: 'py', type: 'text/x-python' },
+};
+
+/**
+ * The language of a file by its name's extension, or null.
+ *
+ * @param {string} name
+ * @returns {import('../types/Language').Language | null}
+ */
+export function languageOfFile(name) {
+  const extension = name.slice(name.lastIndexOf('.') + 1).toLowerCase();
+  const found = Object.entries(LANGUAGES).find(([, language]) => language.extension === extension);
+  return found ? /** @type {import('../types/Language').Language} */ (found[0]) : null;
+}
+
+/**
  * What both editors share (this one and the read-only one of a submission, viewing.js):
  * long lines wrap (a phone shows a third of an 80-column line), and the text area has a
  * name and a place in the keyboard's order, so that a screen reader says what it is and
- * the keyboard reaches (and scrolls) it, editable or not.
+ * the keyboard reaches (and scrolls) it, editable or not. `mode`: the compartment that
+ * holds the language's highlighting, and the language it starts in.
+ *
+ * @param {string} name
+ * @param {Compartment} mode
+ * @param {import('../types/Language').Language} language
  */
-export const editorBasics = (name) => [
+export const editorBasics = (name, mode, language) => [
   basicSetup,
-  javascript(),
+  mode.of(LANGUAGES[language].mode()),
   EditorView.lineWrapping,
   EditorView.contentAttributes.of({ 'aria-label': name, tabindex: '0' }),
 ];
 
 /**
- * The student's file in the editor of #editor, with its Reset, Download and Upload
- * buttons. `key`: where this browser keeps it; `starter`: the file it starts as when
- * nothing is kept there, and that Reset puts back; `file`: the name it downloads as;
+ * The student's file in the editor of #editor, with its language's choice (#language) and
+ * its Reset, Download and Upload buttons. `key(language)`: where this browser keeps the
+ * file in a language (and the choice itself, under `key('choice')`); `starters`: the
+ * file each language starts as when nothing is kept, and that Reset puts back; `file`:
+ * the name it downloads as, in JavaScript (other languages take their extension);
  * `saved`: the line that says whether it is saved; `error`: the page's error box;
  * `onEdit(text)`: hears of every change, once it is saved.
  */
 export class Editor {
-  constructor({ key, starter, file, saved, error, onEdit }) {
+  /**
+   * @param {{
+   *   key: (language: string) => string,
+   *   starters: Record<string, string>,
+   *   file: string,
+   *   saved: HTMLElement,
+   *   error: HTMLElement,
+   *   onEdit: (text: string) => void,
+   * }} parts
+   */
+  constructor({ key, starters, file, saved, error, onEdit }) {
     this.key = key;
+    this.starters = starters;
+    this.file = file;
     this.saved = saved;
     this.onEdit = onEdit;
+    this.choice = byId('language', HTMLSelectElement);
+    const kept = localStorage.getItem(key('choice'));
+    /** @type {import('../types/Language').Language} */
+    this.language = kept in LANGUAGES && kept in starters ? /** @type {any} */ (kept) : 'javascript';
+    this.choice.value = this.language;
+    this.mode = new Compartment();
+    /** Whether the editor is switching files (a change that is no edit). */
+    this.switching = false;
     this.view = new EditorView({
-      doc: localStorage.getItem(key) ?? starter,
+      doc: this.kept(this.language),
       extensions: [
-        ...editorBasics('your code'),
+        ...editorBasics('your code', this.mode, this.language),
         EditorView.updateListener.of((update) => {
-          if (update.docChanged) this.edited();
+          if (update.docChanged && !this.switching) this.edited();
         }),
       ],
       parent: byId('editor'),
     });
+    this.choice.addEventListener('change', () => this.use(/** @type {any} */ (this.choice.value)));
     byId('reset').addEventListener('click', () => {
+      const starter = this.starters[this.language];
       if (this.source() === starter) return;
       if (confirm('Replace your code with the starter file? Your current code will be lost (download it first to keep it).')) {
         this.replace(starter);
       }
     });
-    byId('download').addEventListener('click', () => download(file, this.source(), 'text/javascript'));
+    byId('download').addEventListener('click', () => download(this.fileName(), this.source(), LANGUAGES[this.language].type));
     // A real button, reachable with the keyboard, opens the file chooser.
     byId('upload-button').addEventListener('click', () => byId('upload').click());
     const chooser = byId('upload', HTMLInputElement);
@@ -60,8 +115,46 @@ export class Editor {
         return;
       }
       showError(error, null);
+      // A file in another language switches the editor to it.
+      const language = languageOfFile(upload.name);
+      if (language && language !== this.language && language in this.starters) this.use(language);
       this.replace(await upload.text());
     });
+  }
+
+  /** The file kept in this browser in `language`, or its starter. */
+  kept(language) {
+    return localStorage.getItem(this.key(language)) ?? this.starters[language];
+  }
+
+  /** The file's name in the language chosen: `ekf_localization.py`. */
+  fileName() {
+    return this.file.replace(/\.[^.]*$/, `.${LANGUAGES[this.language].extension}`);
+  }
+
+  /**
+   * Switches to the file in `language`: its highlighting, and the file kept in it (the
+   * one left stays kept in its own).
+   *
+   * @param {import('../types/Language').Language} language
+   */
+  use(language) {
+    if (language === this.language) return;
+    this.language = language;
+    this.choice.value = language;
+    try {
+      localStorage.setItem(this.key('choice'), language);
+    } catch {
+      // The choice is only a convenience; the files are what must be kept.
+    }
+    this.switching = true;
+    this.view.dispatch({
+      changes: { from: 0, to: this.view.state.doc.length, insert: this.kept(language) },
+      effects: this.mode.reconfigure(LANGUAGES[language].mode()),
+    });
+    this.switching = false;
+    this.saved.textContent = `Your ${this.choice.selectedOptions[0].textContent} file, as saved in this browser.`;
+    this.onEdit(this.source());
   }
 
   source() {
@@ -74,7 +167,7 @@ export class Editor {
 
   edited() {
     try {
-      localStorage.setItem(this.key, this.source());
+      localStorage.setItem(this.key(this.language), this.source());
       this.saved.textContent = 'Saved in this browser.';
     } catch (error) {
       this.saved.textContent = `Not saved in this browser (${error.message}): download your file to keep it.`;

@@ -6,6 +6,7 @@ import { showError } from '../controls.js';
 import { fmt } from '../format.js';
 import { element, notImplemented, testItem } from '../results/render.js';
 import { Runner } from '../sandbox/runner.js';
+import { ServerRunner } from '../sandbox/server-runner.js';
 
 /** @typedef {import('../types/Job').Job} Job */
 /** @typedef {import('../types/RunPhase').RunPhase} RunPhase */
@@ -58,7 +59,11 @@ export class Runs {
     this.estlab = estlab;
     this.lab = lab;
     this.exerciseRuns = exerciseRuns;
-    this.runner = new Runner(worker);
+    // JavaScript runs in this browser's Web Workers; another language on the server.
+    this.runners = {
+      browser: new Runner(worker),
+      server: new ServerRunner({ lab, language: () => editor.language, seed: () => this.state.seed }),
+    };
     this.editor = editor;
     this.identity = identity;
     this.ui = ui;
@@ -91,8 +96,13 @@ export class Runs {
       await this.runLoops();
       this.reportRun();
     });
-    ui.stop.addEventListener('click', () => this.runner.cancel());
+    ui.stop.addEventListener('click', () => this.runner().cancel());
     ui.runChoice.addEventListener('change', () => this.showRun());
+  }
+
+  /** What runs the file in its language. */
+  runner() {
+    return this.editor.language === 'javascript' ? this.runners.browser : this.runners.server;
   }
 
   /** Whether a run goes on. */
@@ -169,7 +179,7 @@ export class Runs {
       for (const phase of phases) {
         const what = 'function' in phase ? phase.function : phase.name;
         ui.status.textContent = `Running ${what}…`;
-        const output = await this.runner.phase(kind, text, phase, (during) => {
+        const output = await this.runner().phase(kind, text, phase, (during) => {
           ui.status.textContent = `Running ${what}: ${during}`;
         });
         into.set(what, output);
@@ -279,7 +289,9 @@ export class Runs {
       const passed = ran.filter((test) => test.status === 'passed').length;
       const notRun = result.tests.length - ran.length;
       const todo = ran.filter((test) => notImplemented(test)).map((test) => test.subject.name);
-      ui.score.textContent = `In your browser: ${fmt(result.points, 4)} of ${result.max_points} points (${Math.round(100 * result.score)}%), ` +
+      // Where the tests ran: JavaScript in this browser, another language on the server.
+      const where = this.editor.language === 'javascript' ? 'In your browser' : 'On the server';
+      ui.score.textContent = `${where}: ${fmt(result.points, 4)} of ${result.max_points} points (${Math.round(100 * result.score)}%), ` +
         `${passed} of ${result.tests.length} tests pass` + (notRun ? `, ${notRun} not run yet.` : '.') +
         (todo.length ? ` ${todo.length === 1 ? '1 function' : `${todo.length} functions`} not implemented yet: ${todo.join(', ')}.` : '');
       if (!state.busy && !ui.tests.classList.contains('stale')) ui.status.textContent = 'Done.';

@@ -25,7 +25,7 @@ export class Submitter {
   async submit() {
     const { identity, ui } = this;
     const text = this.editor.source();
-    const body = { source: text, lab: this.lab };
+    const body = { source: text, lab: this.lab, language: this.editor.language };
     if (identity.typedId()) {
       const student = ui.student.value.trim();
       if (identity.mode === 'open' && !student) {
@@ -86,7 +86,9 @@ export class Submitter {
     let comparison = '';
     const mine = this.runs.completeResult(text, submission.seed);
     if (mine && submission.result?.gradable) {
-      comparison = mine.points === submission.result.points ? 'The same as in your browser.' : `In your browser: ${fmt(mine.points, 4)} points.`;
+      // Where the file's own run was: this browser, or the server for another language.
+      const where = this.editor.language === 'javascript' ? 'in your browser' : 'in your run on the server';
+      comparison = mine.points === submission.result.points ? `The same as ${where}.` : `${where[0].toUpperCase()}${where.slice(1)}: ${fmt(mine.points, 4)} points.`;
     }
     renderSubmission(box, submission, { comparison });
     if (this.identity.mode === 'student') {

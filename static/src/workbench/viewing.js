@@ -6,7 +6,8 @@ import { lateness, localTime } from '../results/format.js';
 import { getJson, pollSubmission } from '../results/http.js';
 import { renderSubmission } from '../results/render.js';
 import { site } from '../site.js';
-import { editorBasics } from './editor.js';
+import { Compartment } from '@codemirror/state';
+import { LANGUAGES, editorBasics } from './editor.js';
 
 /**
  * The viewer of a submission (#viewer). `lab`: this workbench's exercise; `identity`: who reads;
@@ -28,10 +29,16 @@ export class Viewer {
     /** The submission shown, and the read-only editor of its file. */
     this.id = null;
     this.source = null;
+    /** @type {import('../types/Language').Language} */
+    this.language = 'javascript';
     this.view = null;
+    /** @type {Compartment | null} */
+    this.mode = null;
     this.load.addEventListener('click', async () => {
       const text = this.source;
       if (text === null) return;
+      // Into the editor of its own language (the file of another stays kept in its own).
+      editor.use(this.language);
       if (text !== editor.source()) {
         const replace = confirm(`Replace the file in your editor with submission ${this.id}? ` +
           'The file there now, saved in this browser, will be lost (download it first to keep it).');
@@ -45,13 +52,21 @@ export class Viewer {
     });
   }
 
-  showSource(text) {
+  /**
+   * @param {string} text
+   * @param {import('../types/Language').Language} language
+   */
+  showSource(text, language) {
+    this.mode ??= new Compartment();
     this.view ??= new EditorView({
       doc: '',
-      extensions: [...editorBasics('the code submitted, read-only'), EditorView.editable.of(false)],
+      extensions: [...editorBasics('the code submitted, read-only', this.mode, language), EditorView.editable.of(false)],
       parent: byId('viewer-source'),
     });
-    this.view.dispatch({ changes: { from: 0, to: this.view.state.doc.length, insert: text } });
+    this.view.dispatch({
+      changes: { from: 0, to: this.view.state.doc.length, insert: text },
+      effects: this.mode.reconfigure(LANGUAGES[language].mode()),
+    });
   }
 
   async open(id) {
@@ -97,8 +112,9 @@ export class Viewer {
     this.code.hidden = !hasSource;
     if (hasSource) {
       this.source = submission.source;
+      this.language = submission.language;
       this.load.hidden = false;
-      this.showSource(submission.source);
+      this.showSource(submission.source, submission.language);
     } else {
       this.facts.textContent += ' This server runs no course and shows nobody\'s code, only results.';
     }

@@ -1,0 +1,81 @@
+// Writing an exercise in Python on the odometry workbench, in headless Chromium against
+// the real server: the language's choice switches the editor to its starter and keeps
+// each language's file; Run tests and Run paths run the file on the server and show the
+// same views as in the browser; the starter fails every test as not implemented; the
+// correct file scores full marks there and when submitted, graded in Python.
+import assert from 'node:assert/strict';
+import { readFileSync } from 'node:fs';
+import { join } from 'node:path';
+import { test } from 'node:test';
+import {
+  bounded, openPage, root, runAndWait, savedFile, starterOf, testStatus, typeInEditor as type, waitForSubmission,
+  withServerAndBrowser,
+} from './harness.mjs';
+
+const LAB = 'odometry';
+const correct = readFileSync(join(root, 'tests', 'student', 'python', 'odometry.py'), 'utf8');
+const starter = readFileSync(starterOf('odometry').replace(/\.js$/, '.py'), 'utf8');
+const jsStarter = readFileSync(starterOf('odometry'), 'utf8');
+const FUNCTIONS = ['odometry_step', 'pose_jacobian', 'increment_jacobian', 'wheel_noise', 'propagate'];
+const PATHS = ['square', 'figure-eight'];
+
+let server;
+let browser;
+withServerAndBrowser((started, launched) => {
+  server = started;
+  browser = launched;
+});
+
+/** The first line in the workbench's editor (CodeMirror draws the lines in view only). */
+const firstLine = (page) => page.locator('#editor .cm-line').first().textContent();
+const first = (text) => text.split('\n')[0];
+
+test('Python on the workbench: its starter, its tests and paths run on the server, its submission', bounded, async () => {
+  const page = await openPage(browser, `${server.url}/odometry/code`);
+  assert.deepEqual(await page.locator('#language option').allTextContents(), ['JavaScript', 'Python']);
+  assert.equal(await firstLine(page), first(jsStarter), 'JavaScript first');
+  await page.locator('#language').selectOption('python');
+  assert.equal(await firstLine(page), first(starter), 'the Python starter');
+
+  // The starter: every test fails, each function not implemented, as Python says it.
+  await runAndWait(page, '#run-tests');
+  assert.match(await page.locator('#score').textContent(),
+    /^On the server: 0 of 70 points \(0%\), 0 of 7 tests pass, 2 not run yet\. 5 functions not implemented yet: /);
+  assert.match(await page.locator('#test-wheel_noise').textContent(), /threw NotImplementedError: wheel_noise: not implemented/);
+
+  // The correct file: full marks, the paths drawn.
+  await type(page, correct);
+  await runAndWait(page, '#run-tests');
+  await runAndWait(page, '#run-datasets');
+  assert.match(await page.locator('#score').textContent(), /^On the server: 70 of 70 points \(100%\), 7 of 7 tests pass\.$/);
+  for (const key of [...FUNCTIONS, ...PATHS]) assert.equal(await testStatus(page, key), 'passed', key);
+  assert.equal(await page.locator('#runs').isVisible(), true, 'the paths are drawn');
+  assert.deepEqual(await page.locator('#run-choice option').allTextContents(), PATHS);
+
+  // Each language keeps its own file.
+  assert.equal(await page.evaluate(() => localStorage.getItem('estlab:odometry:python')), correct);
+  await page.locator('#language').selectOption('javascript');
+  assert.equal(await firstLine(page), first(jsStarter));
+  assert.equal(await savedFile(page, LAB), null, 'no JavaScript file saved');
+  await page.reload();
+  await page.waitForSelector('body[data-ready=true]');
+  assert.equal(await page.locator('#language').inputValue(), 'javascript', 'the choice is kept');
+  await page.locator('#language').selectOption('python');
+  assert.equal(await firstLine(page), first(correct));
+
+  // Submitted, graded in Python with hidden cases, the same as run on the server.
+  await page.locator('#student').fill('python-student');
+  await page.locator('#student').dispatchEvent('change');
+  await runAndWait(page, '#run-tests');
+  await runAndWait(page, '#run-datasets');
+  await page.locator('#submit').click();
+  await page.waitForSelector('#submission[data-status=graded]', { timeout: 120_000 });
+  const verdict = await page.locator('#submission .verdict').textContent();
+  assert.match(verdict, /^The server's grade for submission \d+: 70 of 70 points \(100%\)\. The same as in your run on the server\./);
+  const id = verdict.match(/submission (\d+)/)[1];
+  const graded = await waitForSubmission(server, `/api/submissions/${id}`);
+  assert.equal(graded.language, 'python');
+  assert.equal(graded.result.hidden_cases, true);
+  assert.deepEqual(page.problems, []);
+  await page.close();
+});
