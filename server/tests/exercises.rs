@@ -155,22 +155,28 @@ async fn a_python_file_is_graded_in_its_language_and_kept_with_it() {
         answer.body
     );
 
-    let answer = app
-        .send(Req::post("/api/submissions").who(&who).json(json!({
-            "source": student::python::EKF_LOCALIZATION.correct,
-            "lab": "ekf-localization",
-            "language": "python",
-        })))
-        .await;
-    assert_eq!(answer.status.as_u16(), 202, "{}", answer.body);
-    let id = answer.json()["id"].as_i64().unwrap();
-    app.graded(id).await;
-    let answer = app
-        .send(Req::get(&format!("/api/submissions/{id}")).who(&who))
-        .await;
-    let written: Written = serde_json::from_str(&answer.body).unwrap();
+    // Submitted, graded, and read back.
+    let graded = async |body: serde_json::Value| {
+        let answer = app
+            .send(Req::post("/api/submissions").who(&who).json(body))
+            .await;
+        assert_eq!(answer.status.as_u16(), 202, "{}", answer.body);
+        let id = answer.json()["id"].as_i64().unwrap();
+        app.graded(id).await;
+        let answer = app
+            .send(Req::get(&format!("/api/submissions/{id}")).who(&who))
+            .await;
+        let written: Written = serde_json::from_str(&answer.body).unwrap();
+        (id, written)
+    };
+    let (id, written) = graded(json!({
+        "source": student::python::EKF_LOCALIZATION.correct,
+        "lab": "ekf-localization",
+        "language": "python",
+    }))
+    .await;
     assert_eq!(written.language, "python");
-    assert_eq!(written.result.score, 1.0, "{}", answer.body);
+    assert_eq!(written.result.score, 1.0);
     assert!(written.result.hidden_cases);
     // Its regrade grades it in its language again.
     let again = app.store().to_grade(id).unwrap();
@@ -178,18 +184,11 @@ async fn a_python_file_is_graded_in_its_language_and_kept_with_it() {
 
     // The same file taken for JavaScript does not compile: the language is the student's
     // to say, and the result says what went wrong.
-    let answer = app
-        .send(Req::post("/api/submissions").who(&who).json(json!({
-            "source": student::python::EKF_LOCALIZATION.correct,
-            "lab": "ekf-localization",
-        })))
-        .await;
-    let id = answer.json()["id"].as_i64().unwrap();
-    app.graded(id).await;
-    let answer = app
-        .send(Req::get(&format!("/api/submissions/{id}")).who(&who))
-        .await;
-    let written: Written = serde_json::from_str(&answer.body).unwrap();
+    let (_, written) = graded(json!({
+        "source": student::python::EKF_LOCALIZATION.correct,
+        "lab": "ekf-localization",
+    }))
+    .await;
     assert_eq!(written.language, "javascript");
     assert_eq!(written.result.score, 0.0);
 }

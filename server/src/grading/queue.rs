@@ -9,9 +9,9 @@
 use super::fair::{FairQueue, Lane, Policy, Tenant, Ticket, Waiting, Work};
 use super::{Secret, grader_version, priority};
 use crate::clock::Clock;
-use crate::sandbox::{Code, DidNotStart, Sandbox, Tried, Unavailable};
-use crate::store::{Error, NewSubmission, Store};
-use labs::{Exercise, Language};
+use crate::sandbox::{Code, DidNotStart, Sandbox};
+use crate::store::{Error, NewSubmission, Store, ToGrade};
+use labs::Exercise;
 use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
@@ -92,20 +92,9 @@ impl Grader {
         &self.store
     }
 
-    /// One phase of the shown job of `seed` with a student's file (`Sandbox::phase`).
-    pub fn phase(
-        &self,
-        exercise: Exercise,
-        code: Code,
-        seed: u64,
-        phase: &str,
-    ) -> Result<labs::grading::Outputs, Tried> {
-        self.sandbox.phase(exercise, code, seed, phase)
-    }
-
-    /// Whether files in `language` can be graded here (its sandbox is tried once).
-    pub fn language(&self, language: Language) -> Result<(), Unavailable> {
-        self.sandbox.language(language)
+    /// The sandbox it grades in (which also runs the workbench's phases on the server).
+    pub fn sandbox(&self) -> &Sandbox {
+        &self.sandbox
     }
 
     /// The version of an exercise's grader, which its results name.
@@ -309,21 +298,17 @@ impl Grader {
         let started = Instant::now();
         let job = self.store.start_grading(id)?;
         let hidden = self.secret.hidden(id, &job.course);
-        let result = match self.sandbox.try_grade(
-            job.exercise,
-            Code {
-                language: job.language,
-                text: &job.source,
-            },
-            job.seed,
-            Some(hidden),
-        ) {
-            Ok(result) => result,
-            Err(err) => {
-                self.store.back_to_queue(id)?;
-                return Err(Failure::DidNotStart(err));
-            }
-        };
+        let result =
+            match self
+                .sandbox
+                .try_grade(job.exercise, code_of(&job), job.seed, Some(hidden))
+            {
+                Ok(result) => result,
+                Err(err) => {
+                    self.store.back_to_queue(id)?;
+                    return Err(Failure::DidNotStart(err));
+                }
+            };
         let score = result.gradable.then_some(result.score);
         self.store
             .finish_grading(id, &result.stored(), Some(self.version(job.exercise)))?;
@@ -345,15 +330,7 @@ impl Grader {
         let hidden = self.secret.hidden(submission, &job.course);
         let result = self
             .sandbox
-            .try_grade(
-                job.exercise,
-                Code {
-                    language: job.language,
-                    text: &job.source,
-                },
-                job.seed,
-                Some(hidden),
-            )
+            .try_grade(job.exercise, code_of(&job), job.seed, Some(hidden))
             .map_err(Failure::DidNotStart)?;
         let score = result.gradable.then_some(result.score);
         self.store.finish_regrade_item(
@@ -380,5 +357,13 @@ fn student(course: &str, student: &str) -> Tenant {
     Tenant::Student {
         course: course.to_owned(),
         student: student.to_owned(),
+    }
+}
+
+/// A stored submission's file, as the sandbox takes it.
+fn code_of(job: &ToGrade) -> Code<'_> {
+    Code {
+        language: job.language,
+        text: &job.source,
     }
 }

@@ -127,7 +127,7 @@ pub async fn run(
             language,
             text: &ask.source,
         };
-        grader.phase(exercise, code, ask.seed, &ask.phase)
+        grader.sandbox().phase(exercise, code, ask.seed, &ask.phase)
     })
     .await
     .map_err(|e| crate::store::Error::Task(e.to_string()))?;

@@ -70,7 +70,7 @@ pub async fn accept(
     check_size(&submit.source)
         .map_err(|problem| Error::TooLarge(format!("field `source`: {problem}")))?;
     let grader = Arc::clone(&state.grader);
-    tokio::task::spawn_blocking(move || grader.language(language))
+    tokio::task::spawn_blocking(move || grader.sandbox().language(language))
         .await
         .map_err(|e| crate::store::Error::Task(e.to_string()))?
         .map_err(|_| {
