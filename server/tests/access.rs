@@ -106,6 +106,9 @@ const MATRIX: &[(&str, &str, [u16; 9])] = &[
     // they get the 400 of a body checked after who asks.
     ("POST", "/api/courses/el2320/labs/ekf-localization/ranking",          [404, 404, 404, 400, 400, 404, 400, 401, 401]),
     ("POST", "/api/courses/other/labs/ekf-localization/ranking",           [404, 404, 404, 404, 404, 400, 404, 401, 401]),
+    // The languages an assignment takes, for the course's staff, alike.
+    ("POST", "/api/courses/el2320/labs/ekf-localization/languages",        [404, 404, 404, 400, 400, 404, 400, 401, 401]),
+    ("POST", "/api/courses/other/labs/ekf-localization/languages",         [404, 404, 404, 404, 404, 400, 404, 401, 401]),
     ("POST", "/api/courses/el2320/regrades",   [404, 404, 404, 202, 202, 404, 202, 401, 401]),
     ("GET",  "/api/courses/el2320/regrades/1", [404, 404, 404, 200, 200, 404, 200, 401, 401]),
     ("POST", "/api/courses/el2320/extensions", [404, 404, 404, 200, 200, 404, 200, 401, 401]),

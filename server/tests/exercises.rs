@@ -272,3 +272,91 @@ async fn a_phase_of_the_shown_cases_runs_on_the_server_for_the_workbench() {
     let answer = app.send(ask("wheel_noise", correct)).await;
     assert_eq!(answer.status.as_u16(), 401, "{}", answer.body);
 }
+
+#[derive(Deserialize)]
+struct LanguagesSet {
+    languages: Vec<String>,
+}
+
+#[tokio::test(flavor = "multi_thread")]
+async fn staff_restrict_an_assignment_to_some_languages() {
+    let app = App::new();
+    app.open_course("el2320");
+    let ada = app.enrol("el2320", "ada");
+    let who = app.signed_in(&ada).await;
+    let teacher = app.staff("el2320", "teacher@example.org", Role::Instructor);
+    let teacher = app.signed_in(&teacher).await;
+    let path = "/api/courses/el2320/labs/odometry/languages";
+    app.store()
+        .assign("el2320", Exercise::Odometry, &open_policy(app.now()))
+        .unwrap();
+
+    // Refused, naming the field: no language, or one not graded here.
+    for body in [
+        json!({ "languages": [] }),
+        json!({ "languages": ["octave"] }),
+    ] {
+        let answer = app.send(Req::post(path).who(&teacher).json(body)).await;
+        assert_eq!(answer.status.as_u16(), 400, "{}", answer.body);
+        assert!(answer.body.contains("field `languages`"), "{}", answer.body);
+    }
+    let answer = app
+        .send(
+            Req::post(path)
+                .who(&teacher)
+                .json(json!({ "languages": ["python"] })),
+        )
+        .await;
+    assert_eq!(answer.status.as_u16(), 200, "{}", answer.body);
+    let set: LanguagesSet = serde_json::from_str(&answer.body).unwrap();
+    assert_eq!(set.languages, ["python"]);
+
+    // A JavaScript file is refused, saying which language the course takes; Python is
+    // taken; the student's view and the class view say so.
+    let submit = |language: &str| {
+        Req::post("/api/submissions").who(&who).json(json!({
+            "source": student::odometry::CORRECT, "lab": "odometry", "language": language,
+        }))
+    };
+    let answer = app.send(submit("javascript")).await;
+    assert_eq!(answer.status.as_u16(), 403, "{}", answer.body);
+    assert!(
+        answer
+            .body
+            .contains("your course takes files of odometry in Python only"),
+        "{}",
+        answer.body
+    );
+    let answer = app.send(submit("python")).await;
+    assert_eq!(answer.status.as_u16(), 202, "{}", answer.body);
+    let me = app.send(Req::get("/api/me").who(&who)).await;
+    assert!(me.body.contains(r#""languages":["python"]"#), "{}", me.body);
+    let class = app
+        .send(Req::get("/api/courses/el2320/labs/odometry/class").who(&teacher))
+        .await;
+    assert!(
+        class.body.contains(r#""languages":["python"]"#),
+        "{}",
+        class.body
+    );
+
+    // Every language again: no restriction.
+    let answer = app
+        .send(
+            Req::post(path)
+                .who(&teacher)
+                .json(json!({ "languages": ["python", "javascript"] })),
+        )
+        .await;
+    let set: LanguagesSet = serde_json::from_str(&answer.body).unwrap();
+    assert_eq!(set.languages, ["javascript", "python"]);
+    app.graded(
+        app.store()
+            .course_submissions("el2320", Exercise::Odometry)
+            .unwrap()[0]
+            .id,
+    )
+    .await;
+    let answer = app.send(submit("javascript")).await;
+    assert_eq!(answer.status.as_u16(), 202, "{}", answer.body);
+}

@@ -131,6 +131,9 @@ const OBJECTS: &[Row] = &[
     // The class challenge's ranks switch names no object but the course's exercise.
     row("POST", "/api/courses/{course}/labs/{lab}/ranking", "/api/courses/{course}/labs/{lab}/ranking")
         .body(r#"{"ranked": true}"#),
+    // So does the choice of its languages.
+    row("POST", "/api/courses/{course}/labs/{lab}/languages", "/api/courses/{course}/labs/{lab}/languages")
+        .body(r#"{"languages": ["javascript", "python"]}"#),
     // A student, by id: the other course's is no student of this one; one on both
     // rosters is this course's member, with this course's submissions only.
     row("GET", STUDENT, STUDENT).other(404),

@@ -2,14 +2,16 @@
 // the real server: the language's choice switches the editor to its starter and keeps
 // each language's file; Run tests and Run paths run the file on the server and show the
 // same views as in the browser; the starter fails every test as not implemented; the
-// correct file scores full marks there and when submitted, graded in Python.
+// correct file scores full marks there and when submitted, graded in Python. A course's
+// instructor takes an exercise's files in Python only, on the class page; the student's
+// workbench then offers Python only.
 import assert from 'node:assert/strict';
-import { readFileSync } from 'node:fs';
+import { readFileSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { test } from 'node:test';
 import {
-  bounded, openPage, root, runAndWait, savedFile, starterOf, testStatus, typeInEditor as type, waitForSubmission,
-  withServerAndBrowser,
+  bounded, estlab, laptop, openIn, openPage, parseCsv, root, runAndWait, savedFile, signIn, signedInContext, starterOf, testStatus,
+  tempDir, typeInEditor as type, waitForSubmission, withServerAndBrowser,
 } from './harness.mjs';
 
 const LAB = 'odometry';
@@ -78,4 +80,41 @@ test('Python on the workbench: its starter, its tests and paths run on the serve
   assert.equal(graded.result.hidden_cases, true);
   assert.deepEqual(page.problems, []);
   await page.close();
+});
+
+test('an instructor takes the files in Python only, and the workbench offers Python only', bounded, async () => {
+  const created = estlab('course', 'create', 'langs', '--title', 'Languages', '--data', server.dataDir, '--url', server.url);
+  const instructorLink = created.trim().split('\n').pop();
+  estlab('course', 'assign', 'langs', LAB, '--due', '2030-01-01T00:00Z', '--data', server.dataDir);
+  const staff = await openPage(browser, instructorLink);
+  await staff.locator('#sign-in').click();
+  await staff.waitForURL(`${server.url}/me`);
+  await staff.goto(`${server.url}/courses/langs/${LAB}`);
+  await staff.waitForSelector('body[data-ready=true]');
+  const box = (language) => staff.locator(`#languages input[value=${language}]`);
+  assert.equal(await box('javascript').isChecked(), true, 'every language at first');
+  assert.equal(await box('python').isChecked(), true);
+  await box('javascript').uncheck();
+  await staff.waitForFunction(() => document.querySelector('#languages-status').textContent !== '');
+  assert.equal(await staff.locator('#languages-status').textContent(), 'Files are taken in Python.');
+  await staff.reload();
+  await staff.waitForSelector('body[data-ready=true]');
+  assert.equal(await box('javascript').isChecked(), false, 'as stored');
+  assert.deepEqual(staff.problems, []);
+  await staff.close();
+
+  // A student of the course: Python only, and the editor in Python.
+  const dir = tempDir();
+  const roster = join(dir, 'roster.csv');
+  const codes = join(dir, 'codes.csv');
+  writeFileSync(roster, 'id,name,email\nl001,Lu One,lu@example.org\n');
+  estlab('course', 'roster', 'langs', roster, '--out', codes, '--data', server.dataDir, '--url', server.url);
+  const [{ code }] = parseCsv(readFileSync(codes, 'utf8'));
+  const context = await signedInContext(browser, server, await signIn(server, code), laptop);
+  const page = await openIn(context, `${server.url}/odometry/code`);
+  assert.equal(await page.locator('#language').inputValue(), 'python');
+  assert.equal(await page.locator('#language option[value=javascript]').isDisabled(), true);
+  assert.equal(await firstLine(page), first(starter));
+  assert.deepEqual(page.problems, []);
+  await context.close();
 });

@@ -5,7 +5,7 @@ use super::{Error, Store, exercise, known_exercises};
 use crate::courses::deadline::{Counts, Policy};
 use crate::courses::roster;
 use jiff::Timestamp;
-use labs::Exercise;
+use labs::{Exercise, Language};
 use rusqlite::{Connection, OptionalExtension, Row, params};
 use serde::{Deserialize, Serialize};
 use ts_rs::TS;
@@ -95,6 +95,8 @@ pub struct Assignment {
     /// Whether its students see their rank in the class challenge (an exercise with
     /// one); on unless staff switch it off.
     pub ranked: bool,
+    /// The languages its files may be written in: every one unless staff restrict them.
+    pub languages: Vec<Language>,
 }
 
 const MEMBER_COLUMNS: &str = "id, course, login, name, email, role, dropped";
@@ -121,10 +123,24 @@ fn assignment(row: &Row) -> rusqlite::Result<Assignment> {
             counts: Counts::parse(&row.get::<_, String>(5)?),
         },
         ranked: row.get(6)?,
+        languages: languages(row.get(7)?),
     })
 }
 
-const ASSIGNMENT_COLUMNS: &str = "course, lab, due, cutoff, late_penalty, counts, ranked";
+const ASSIGNMENT_COLUMNS: &str =
+    "course, lab, due, cutoff, late_penalty, counts, ranked, languages";
+
+/// The languages stored as names (every one when none are): a name this release does
+/// not know is left out.
+fn languages(stored: Option<String>) -> Vec<Language> {
+    match stored {
+        None => Language::ALL.to_vec(),
+        Some(names) => names
+            .split(',')
+            .filter_map(|name| name.parse().ok())
+            .collect(),
+    }
+}
 
 /// The dates in force for one student, from the columns `a.due, a.cutoff, a.late_penalty,
 /// a.counts, e.due, e.cutoff` from `first` on (an assignment and, left-joined, the
@@ -384,6 +400,26 @@ impl Store {
         let changed = self.connection().execute(
             "UPDATE assignments SET ranked = ?3 WHERE course = ?1 AND lab = ?2",
             params![course, lab.name(), ranked],
+        )?;
+        Ok(changed == 1)
+    }
+
+    /// Restricts an assignment to `languages` (every one of them: no restriction); false
+    /// when the course has not opened the exercise.
+    pub fn set_languages(
+        &self,
+        course: &str,
+        lab: Exercise,
+        languages: &[Language],
+    ) -> Result<bool, Error> {
+        let every = Language::ALL.iter().all(|l| languages.contains(l));
+        let stored = (!every).then(|| {
+            let names: Vec<&str> = languages.iter().map(|l| l.name()).collect();
+            names.join(",")
+        });
+        let changed = self.connection().execute(
+            "UPDATE assignments SET languages = ?3 WHERE course = ?1 AND lab = ?2",
+            params![course, lab.name(), stored],
         )?;
         Ok(changed == 1)
     }

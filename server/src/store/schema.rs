@@ -171,6 +171,9 @@ const MIGRATIONS: &[&str] = &[
     // 7: the language a submission is written in (`labs::Language`'s name); every earlier
     // one is JavaScript.
     "ALTER TABLE submissions ADD COLUMN language TEXT NOT NULL DEFAULT 'javascript';",
+    // 8: the languages an assignment takes (names, comma-separated); none: every language
+    // the server grades, those of later releases too.
+    "ALTER TABLE assignments ADD COLUMN languages TEXT;",
 ];
 
 /// Brings the schema up to the newest version, one migration per transaction.

@@ -140,6 +140,10 @@ pub fn router(state: Arc<AppState>) -> Router {
             post(staff::set_ranking),
         )
         .route(
+            "/api/courses/{course}/labs/{lab}/languages",
+            post(staff::set_languages),
+        )
+        .route(
             "/api/courses/{course}/labs/{lab}/students/{student}",
             get(staff::student),
         )

@@ -18,7 +18,7 @@ use axum::Json;
 use axum::extract::{Path, State};
 use axum::http::{StatusCode, header};
 use axum::response::{IntoResponse, Redirect, Response};
-use labs::Exercise;
+use labs::{Exercise, Language};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 use ts_rs::TS;
@@ -37,6 +37,8 @@ pub struct ClassAnswer {
     pub policy: Policy,
     /// Whether students see their rank in the class challenge.
     pub ranked: bool,
+    /// The languages the assignment takes.
+    pub languages: Vec<Language>,
     /// The grader that grades now (a regrade uses it).
     pub grader: String,
     #[serde(flatten)]
@@ -66,6 +68,7 @@ async fn class_answer(
             course,
             policy: assignment.policy,
             ranked: assignment.ranked,
+            languages: assignment.languages,
             lab: exercise,
             grader,
             view,
@@ -129,6 +132,67 @@ pub async fn set_ranking(
         ));
     }
     Ok(Json(RankingSet { ranked }).into_response())
+}
+
+/// The body of `POST /api/courses/{course}/labs/{lab}/languages`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LanguagesRequest {
+    languages: Vec<String>,
+}
+
+/// What the languages' choice answers: the languages as stored.
+#[derive(Serialize, TS)]
+pub(super) struct LanguagesSet {
+    languages: Vec<Language>,
+}
+
+/// `POST /api/courses/{course}/labs/{lab}/languages`: the languages an assignment's
+/// files may be written in (a course that teaches in one language takes files in it
+/// only); submissions already made stay as they are; logged.
+pub async fn set_languages(
+    State(state): State<Arc<AppState>>,
+    viewer: Viewer,
+    Path((course, lab)): Path<(String, String)>,
+    body: Body,
+) -> Result<Response, Error> {
+    viewer.staff_of(&course)?;
+    let exercise = known_lab(&lab)?;
+    let request: LanguagesRequest = body.json(&viewer, "the languages").await?;
+    let mut languages = Vec::new();
+    for name in &request.languages {
+        let language: Language = name
+            .parse()
+            .map_err(|unknown| Error::BadRequest(format!("field `languages`: {unknown}")))?;
+        if !languages.contains(&language) {
+            languages.push(language);
+        }
+    }
+    if languages.is_empty() {
+        return Err(Error::BadRequest(
+            "field `languages`: name one language at least".into(),
+        ));
+    }
+    languages.sort();
+    let who = viewer.actor();
+    let now = state.clock.now();
+    let stored = languages.clone();
+    let found = blocking(&state, move |store| {
+        if !store.set_languages(&course, exercise, &stored)? {
+            return Ok(false);
+        }
+        let names: Vec<&str> = stored.iter().map(|l| l.title()).collect();
+        let detail = format!("{exercise}: files taken in {}", names.join(" and "));
+        store.audit(&course, &who, "languages", &detail, now)?;
+        Ok(true)
+    })
+    .await?;
+    if !found {
+        return Err(Error::NotFound(
+            "the course has not opened this exercise".into(),
+        ));
+    }
+    Ok(Json(LanguagesSet { languages }).into_response())
 }
 
 /// `GET /api/courses/{course}/labs/{lab}/students/{student}`: one student's submissions.
@@ -410,6 +474,13 @@ struct Dashboard<'a> {
     lab: String,
     /// A student's page when set.
     student: Option<String>,
+}
+
+impl Dashboard<'_> {
+    /// Every language a file may be written in, for the assignment's choice.
+    fn languages(&self) -> &'static [Language] {
+        Language::ALL
+    }
 }
 
 async fn dashboard_page(

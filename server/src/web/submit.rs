@@ -81,7 +81,7 @@ pub async fn accept(
         })?;
     let now = state.clock.now();
     let submitter = match member {
-        Some(member) => as_member(state, member, &submit, exercise, now).await?,
+        Some(member) => as_member(state, member, &submit, (exercise, language), now).await?,
         None => as_named(&submit)?,
     };
     let seed = student_seed(&submitter.course, &submitter.student);
@@ -116,12 +116,13 @@ pub async fn accept(
 }
 
 /// The signed-in student as the submitter, if their course's policy takes the submission
-/// now (opened, within the cutoff, under the hourly limit), with its lateness.
+/// now (opened, in a language it takes, within the cutoff, under the hourly limit), with
+/// its lateness.
 async fn as_member(
     state: &Arc<AppState>,
     member: &Member,
     submit: &Submit,
-    exercise: Exercise,
+    (exercise, language): (Exercise, Language),
     now: Timestamp,
 ) -> Result<Submitter, Error> {
     for (field, given) in [("student", &submit.student), ("course", &submit.course)] {
@@ -135,10 +136,11 @@ async fn as_member(
     let course = member.course.clone();
     let id = member.id;
     let hour_ago = now - jiff::SignedDuration::from_hours(1);
-    let (recent, policy) = blocking(state, move |store| {
+    let (recent, policy, assignment) = blocking(state, move |store| {
         Ok((
             store.submitted_since(id, lab, hour_ago)?,
             store.policy_for(&course, lab, id)?,
+            store.assignment(&course, lab)?,
         ))
     })
     .await?;
@@ -152,6 +154,14 @@ async fn as_member(
             "your course has not opened the exercise {exercise}"
         ))
     })?;
+    let taken = assignment.map(|a| a.languages).unwrap_or_default();
+    if !taken.contains(&language) {
+        let names: Vec<&str> = taken.iter().map(|l| l.title()).collect();
+        return Err(Error::Forbidden(format!(
+            "field `language`: your course takes files of {exercise} in {} only",
+            names.join(" and ")
+        )));
+    }
     let (late_seconds, penalty) = match policy.timing(now) {
         Timing::OnTime => (0, 0.0),
         Timing::Late { seconds, penalty } => (seconds, penalty),

@@ -57,6 +57,7 @@ pub fn export(dir: &Path) -> Result<(), ExportError> {
     d.visit::<staff::StudentAnswer>();
     d.visit::<staff::RegradeStarted>();
     d.visit::<staff::RankingSet>();
+    d.visit::<staff::LanguagesSet>();
     d.visit::<store::Regrade>();
     d.visit::<store::Granted>();
     d.visit::<store::Waived>();

@@ -125,6 +125,8 @@ byId('back-to-editor').addEventListener('click', (event) => {
 window.addEventListener('popstate', route);
 
 identity.know(me);
+// A course may take this exercise's files in some languages only.
+editor.restrict(identity.assignment?.languages ?? null);
 runs.useSeed();
 runs.render();
 await route();

@@ -4,7 +4,7 @@
 // submissions, one read beside its result or compared with another line by line, an
 // extension). Everything comes from the course's API; the server checks that the reader
 // is staff.
-import { javascript } from '@codemirror/lang-javascript';
+import { Compartment } from '@codemirror/state';
 import { EditorView, basicSetup } from 'codemirror';
 import { structuredPatch } from 'diff';
 import { BarChart } from 'echarts/charts';
@@ -14,6 +14,7 @@ import { fmt } from '../format.js';
 import { Plot, colours } from '../plots.js';
 import { instant, lateness, moment, percent, zone } from '../results/format.js';
 import { getJson, postJson } from '../results/http.js';
+import { LANGUAGES } from '../workbench/editor.js';
 import { element, fillTable, link, renderSubmission } from '../results/render.js';
 
 /** @typedef {import('../types/Regrade').Regrade} Regrade */
@@ -309,6 +310,7 @@ function showClass(answer) {
   if (answer.mistakes.length === 0) mistakes.replaceChildren(element('li', null, 'No classic mistake in the submissions that count.'));
 
   showChallenge(answer, names);
+  showLanguages(answer.languages);
 
   // Regrades still running (started elsewhere, or before this page was opened) are followed.
   byId('regrades').replaceChildren(...answer.regrades.map((r) => {
@@ -349,6 +351,41 @@ function showChallenge(answer, names) {
       fmt(e.figure, 4),
       String(e.submission),
     ]));
+}
+
+/**
+ * Which languages the assignment takes, as its boxes show them.
+ *
+ * @param {import('../types/Language').Language[]} languages
+ */
+function showLanguages(languages) {
+  for (const box of languageBoxes()) box.checked = languages.includes(/** @type {any} */ (box.value));
+}
+
+/** @returns {HTMLInputElement[]} */
+function languageBoxes() {
+  return [...document.querySelectorAll('#languages input[type=checkbox]')]
+    .filter((box) => box instanceof HTMLInputElement);
+}
+
+/** Takes the assignment's files in the languages checked (one at least). */
+async function setLanguages() {
+  const boxes = languageBoxes();
+  const status = byId('languages-status');
+  const chosen = boxes.filter((box) => box.checked).map((box) => box.value);
+  for (const box of boxes) box.disabled = true;
+  try {
+    /** @type {import('../types/LanguagesSet').LanguagesSet} */
+    const set = await postJson(`${api}/labs/${encodeURIComponent(lab)}/languages`, { languages: chosen });
+    showLanguages(set.languages);
+    status.textContent = `Files are taken in ${boxes.filter((box) => box.checked).map((box) => box.parentElement.textContent.trim()).join(' and ')}.`;
+  } catch (error) {
+    status.textContent = `Not changed: ${error.message}`;
+    const answer = /** @type {ClassAnswer} */ (await getJson(`${api}/labs/${encodeURIComponent(lab)}/class`));
+    showLanguages(answer.languages);
+  } finally {
+    for (const box of boxes) box.disabled = false;
+  }
 }
 
 /** Shows the students their rank in the class challenge, or stops. */
@@ -529,6 +566,7 @@ async function classPage() {
   await showAudit();
   byId('refresh-class').addEventListener('click', refresh);
   byId('ranked').addEventListener('change', switchRanking);
+  for (const box of languageBoxes()) box.addEventListener('change', setLanguages);
   // The class as it fills, while the page is in view: every few seconds while a latest
   // submission waits for its grade (the table follows the gradings as they finish), else
   // every half minute.
@@ -616,10 +654,12 @@ function showDiff(box, before, after) {
 
 async function studentPage() {
   const url = `${api}/labs/${encodeURIComponent(lab)}/students/${encodeURIComponent(student)}`;
+  // The highlighting of each submission's language.
+  const mode = new Compartment();
   const source = new EditorView({
     doc: '',
     extensions: [
-      basicSetup, javascript(), EditorView.editable.of(false), EditorView.lineWrapping,
+      basicSetup, mode.of(LANGUAGES.javascript.mode()), EditorView.editable.of(false), EditorView.lineWrapping,
       // Named, and reachable by keyboard (read only, it is not editable content).
       EditorView.contentAttributes.of({ 'aria-label': "the submission's source, read only", tabindex: '0' }),
     ],
@@ -660,7 +700,10 @@ async function studentPage() {
     } else {
       diff.hidden = true;
       byId('source').hidden = false;
-      source.dispatch({ changes: { from: 0, to: source.state.doc.length, insert: submission.source ?? '' } });
+      source.dispatch({
+        changes: { from: 0, to: source.state.doc.length, insert: submission.source ?? '' },
+        effects: mode.reconfigure(LANGUAGES[submission.language].mode()),
+      });
     }
   };
   const showSafely = () => show().catch((error) => {

@@ -122,6 +122,20 @@ export class Editor {
     });
   }
 
+  /**
+   * Offers only the `languages` a course takes for this exercise (all when null), moving
+   * to the first of them when the file's language is not one.
+   *
+   * @param {import('../types/Language').Language[] | null} languages
+   */
+  restrict(languages) {
+    for (const option of this.choice.options) {
+      option.disabled = languages !== null && !languages.includes(/** @type {any} */ (option.value));
+    }
+    this.choice.title = languages === null ? '' : 'Your course takes files in these languages only';
+    if (languages !== null && languages.length > 0 && !languages.includes(this.language)) this.use(languages[0]);
+  }
+
   /** The file kept in this browser in `language`, or its starter. */
   kept(language) {
     return localStorage.getItem(this.key(language)) ?? this.starters[language];
