@@ -225,6 +225,26 @@ fn ending_the_interpreter_or_writing_on_its_channel_harms_only_the_file() {
 }
 
 #[test]
+fn a_tuple_of_the_wrong_length_says_what_the_function_returns() {
+    let source = format!(
+        "{}\n\ndef predict(mu, sigma, odom_prev, odom, k_xy, k_theta):\n    return mu, sigma, 0\n",
+        SENSOR_FUSION.correct
+    );
+    let result = grade(Exercise::SensorFusion, &source);
+    let test = result
+        .tests
+        .iter()
+        .find(|t| t.subject == Subject::Function("predict".to_owned()))
+        .expect("a test of predict");
+    assert!(
+        test.message
+            .contains("returned a tuple of 3 values, where predict returns 2: mu_bar, sigma_bar"),
+        "{}",
+        test.message
+    );
+}
+
+#[test]
 fn a_missing_function_is_named_with_its_python_declaration() {
     let source = ODOMETRY
         .correct

@@ -136,7 +136,11 @@ def main():
             reply({"error": described(error, file)})
             continue
         named = fields.get(name)
-        if named and isinstance(result, tuple) and len(result) == len(named):
+        if named and isinstance(result, tuple):
+            if len(result) != len(named):
+                reply({"error": f"returned a tuple of {len(result)} values, where "
+                       f"{name} returns {len(named)}: {', '.join(named)}"})
+                continue
             result = dict(zip(named, result))
         try:
             reply({"output": output(result, [MAX_VALUES])})
