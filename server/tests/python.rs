@@ -27,8 +27,23 @@ fn the_correct_files_score_1_with_hidden_cases() {
 
 #[test]
 fn the_starters_score_0_and_say_what_is_not_implemented() {
-    for files in [EKF_LOCALIZATION, ODOMETRY, SENSOR_FUSION] {
+    for files in [ODOMETRY, SENSOR_FUSION] {
         files.check_the_starter(SEEDS[0]);
+    }
+    // The EKF's loop asks init for its settings before any function.
+    let starter = Exercise::EkfLocalization
+        .declaration()
+        .starter(Language::Python);
+    let result = grade(Exercise::EkfLocalization, starter);
+    assert_eq!(result.score, 0.0);
+    for test in &result.tests {
+        let thrown = match &test.subject {
+            Subject::Function(name) => {
+                format!("threw NotImplementedError: {name}: not implemented")
+            }
+            Subject::Run(_) => "threw NotImplementedError: init: not implemented".to_owned(),
+        };
+        assert!(test.message.contains(&thrown), "{}", test.message);
     }
 }
 
@@ -129,6 +144,17 @@ fn the_file_system_holds_the_interpreter_and_nothing_of_the_server() {
          raise RuntimeError(f'pids {pids} uid {os.getuid()}')",
         "pids ['1'] uid 65534",
     );
+    // The kernel's settings are not the student's, even on a server run as root (whose
+    // root, mapped into the sandbox's user namespace, would own them): core_pattern once
+    // ran a program of the student's as root on the host.
+    contained(
+        "def wheel_noise(ds_r, ds_l, k_r, k_l):\n    \
+         try:\n        \
+         with open('/proc/sys/kernel/core_pattern', 'w') as f: f.write('core')\n    \
+         except OSError as e:\n        raise RuntimeError('refused')\n    \
+         raise RuntimeError('written')",
+        "threw RuntimeError: refused",
+    );
     // /usr is read-only.
     contained(
         "def wheel_noise(ds_r, ds_l, k_r, k_l):\n    open('/usr/evil', 'w')",
@@ -159,6 +185,53 @@ fn no_network_processes_threads_or_tracing() {
          raise RuntimeError(f'ptrace {status} errno {ctypes.get_errno()}')",
         "ptrace -1 errno 1",
     );
+}
+
+#[test]
+fn no_channel_between_jails_and_nothing_inherited() {
+    // Locks on the files every jail shares (/usr) would carry data between phases.
+    contained(
+        "import fcntl\ndef wheel_noise(ds_r, ds_l, k_r, k_l):\n    \
+         with open('/usr/lib/python3.11/os.py') as f:\n        \
+         fcntl.lockf(f, fcntl.LOCK_SH | fcntl.LOCK_NB, 1, 7)",
+        "threw PermissionError: [Errno 1] Operation not permitted",
+    );
+    contained(
+        "import fcntl\ndef wheel_noise(ds_r, ds_l, k_r, k_l):\n    \
+         with open('/usr/lib/python3.11/os.py') as f:\n        fcntl.flock(f, fcntl.LOCK_SH)",
+        "threw PermissionError: [Errno 1] Operation not permitted",
+    );
+    // Nothing writable but a small /tmp: not the root, not /dev.
+    contained(
+        "def wheel_noise(ds_r, ds_l, k_r, k_l):\n    open('/dev/shm/x', 'w')",
+        "threw OSError: [Errno 30] Read-only file system",
+    );
+    contained(
+        "def wheel_noise(ds_r, ds_l, k_r, k_l):\n    open('/x', 'w')",
+        "threw OSError: [Errno 30] Read-only file system",
+    );
+    // The signal that ends the interpreter with its jail stays set; an x32 system call
+    // (the filter's rules name x86-64's numbers) is refused too.
+    contained(
+        "import ctypes\ndef wheel_noise(ds_r, ds_l, k_r, k_l):\n    \
+         libc = ctypes.CDLL(None, use_errno=True)\n    \
+         cleared = libc.prctl(1, 0, 0, 0, 0), ctypes.get_errno()\n    \
+         x32 = libc.syscall(0x40000000 | 39), ctypes.get_errno()\n    \
+         raise RuntimeError(f'prctl {cleared} x32 {x32}')",
+        "prctl (-1, 1) x32 (-1, 1)",
+    );
+    // A descriptor the server holds (without close-on-exec) is not the student's.
+    let file = std::fs::File::open(env!("CARGO_MANIFEST_DIR")).unwrap();
+    // SAFETY: dup2 onto a number this test does not otherwise use; the copy is not
+    // close-on-exec, as a descriptor a server inherits might not be.
+    let inherited = unsafe { libc::dup2(std::os::fd::AsRawFd::as_raw_fd(&file), 200) };
+    assert_eq!(inherited, 200);
+    contained(
+        "import os\ndef wheel_noise(ds_r, ds_l, k_r, k_l):\n    os.fstat(200)",
+        "threw OSError: [Errno 9] Bad file descriptor",
+    );
+    // SAFETY: the copy made above, closed once.
+    unsafe { libc::close(200) };
 }
 
 #[test]
@@ -214,7 +287,15 @@ fn ending_the_interpreter_or_writing_on_its_channel_harms_only_the_file() {
         "import sys\ndef wheel_noise(ds_r, ds_l, k_r, k_l):\n    sys.exit(3)",
         "threw SystemExit: 3",
     );
-    // A reply forged on every descriptor answers only the forger's own call.
+    // A reply forged on every descriptor answers only the forger's own call, and the next
+    // request stops the phase: a flood of them cannot fill the pipes and hang the grading.
+    contained(
+        "import os, time\ndef wheel_noise(ds_r, ds_l, k_r, k_l):\n    \
+         for fd in range(3, 64):\n        \
+         try: os.write(fd, b'{\"output\": [[1, 0], [0, 1]]}\\n' * 3000)\n        \
+         except OSError: pass\n    time.sleep(600)",
+        "your code wrote on the harness's own descriptor, out of turn",
+    );
     contained(
         "import os\ndef wheel_noise(ds_r, ds_l, k_r, k_l):\n    \
          for fd in range(64):\n        \

@@ -26,3 +26,20 @@ pub struct DidNotStart(pub std::io::Error);
 pub fn cores() -> usize {
     std::thread::available_parallelism().map_or(1, usize::from)
 }
+
+/// Marks every descriptor from `first` on to be closed at the next exec.
+pub(crate) fn close_others_at_exec(first: std::os::fd::RawFd) -> std::io::Result<()> {
+    // SAFETY: close_range only changes this process's descriptor table.
+    let status = unsafe {
+        libc::syscall(
+            libc::SYS_close_range,
+            first as libc::c_uint,
+            libc::c_uint::MAX,
+            libc::CLOSE_RANGE_CLOEXEC,
+        )
+    };
+    if status < 0 {
+        return Err(std::io::Error::last_os_error());
+    }
+    Ok(())
+}

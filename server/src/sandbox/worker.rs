@@ -364,5 +364,6 @@ fn die_with_parent(parent: u32, cpu_seconds: u64) -> std::io::Result<()> {
             return Err(std::io::Error::last_os_error());
         }
     }
-    Ok(())
+    // Nothing the server inherited (a socket, a log) reaches the worker and what it runs.
+    super::close_others_at_exec(3)
 }

@@ -11,7 +11,7 @@ use serde::Serialize;
 use serde_json::Value;
 use std::collections::BTreeMap;
 use std::io::{Read, Write};
-use std::os::fd::AsRawFd;
+use std::os::fd::{AsRawFd, OwnedFd};
 use std::process::{Child, ChildStdin, ChildStdout};
 use std::thread::JoinHandle;
 use std::time::Duration;
@@ -57,6 +57,8 @@ pub enum Silent {
     Asleep,
     #[error("your code's answer came to more than {} KB", MAX_REPLY >> 10)]
     TooLong,
+    #[error("your code wrote on the harness's own descriptor, out of turn")]
+    OutOfTurn,
     #[error("your file's interpreter ended ({0}){1}")]
     Ended(String, String),
 }
@@ -64,6 +66,8 @@ pub enum Silent {
 /// A student's file in its interpreter, in its jail.
 pub struct Interpreter {
     child: Child,
+    /// The interpreter's process, as a descriptor.
+    pidfd: OwnedFd,
     stdin: ChildStdin,
     stdout: ChildStdout,
     pid: libc::pid_t,
@@ -86,6 +90,7 @@ impl Interpreter {
     ) -> Result<Interpreter, Refused> {
         let Jailed {
             child,
+            pidfd,
             stdin,
             stdout,
             stderr,
@@ -97,6 +102,7 @@ impl Interpreter {
             .map_err(Refused::Setup)?;
         let mut interpreter = Interpreter {
             child,
+            pidfd,
             stdin,
             stdout,
             pid,
@@ -161,7 +167,15 @@ impl Interpreter {
         if let Some(silent) = &self.silent {
             return Err(Silent::Ended("earlier".to_owned(), format!(": {silent}")));
         }
-        let outcome = self.send(line).and_then(|()| self.reply(over));
+        let outcome = if self.pending.is_empty() {
+            let mut line = line.as_bytes().to_vec();
+            line.push(b'\n');
+            self.send(&line, over).and_then(|()| self.reply(over))
+        } else {
+            // The harness answers each request with one line: more is the student's code
+            // writing on the harness's descriptor.
+            Err(Silent::OutOfTurn)
+        };
         match outcome {
             Ok(reply) => Ok(reply),
             Err(silent) => {
@@ -173,13 +187,23 @@ impl Interpreter {
         }
     }
 
-    fn send(&mut self, line: &str) -> Result<(), Silent> {
-        let stdin = &mut self.stdin;
-        let written = stdin
-            .write_all(line.as_bytes())
-            .and_then(|()| stdin.write_all(b"\n"))
-            .and_then(|()| stdin.flush());
-        written.map_err(|_| self.ended())
+    /// Writes `bytes` to the interpreter's input as it reads them, waiting as long as the
+    /// budget lasts (an interpreter that reads nothing fills the pipe).
+    fn send(&mut self, mut bytes: &[u8], over: &dyn Fn() -> bool) -> Result<(), Silent> {
+        let mut asleep = Duration::ZERO;
+        while !bytes.is_empty() {
+            match self.stdin.write(bytes) {
+                Ok(0) => return Err(self.ended()),
+                Ok(n) => bytes = &bytes[n..],
+                Err(e) if e.kind() == std::io::ErrorKind::WouldBlock => {
+                    if !ready(self.stdin.as_raw_fd(), libc::POLLOUT, LOOK) {
+                        self.waited(over, &mut asleep)?;
+                    }
+                }
+                Err(_) => return Err(self.ended()),
+            }
+        }
+        Ok(())
     }
 
     /// The next line the interpreter writes, waiting as long as the budget lasts.
@@ -193,7 +217,7 @@ impl Interpreter {
             if self.pending.len() > MAX_REPLY {
                 return Err(Silent::TooLong);
             }
-            if readable(self.stdout.as_raw_fd(), LOOK) {
+            if ready(self.stdout.as_raw_fd(), libc::POLLIN, LOOK) {
                 let mut chunk = [0u8; 16 << 10];
                 match self.stdout.read(&mut chunk) {
                     Ok(0) | Err(_) => return Err(self.ended()),
@@ -201,16 +225,24 @@ impl Interpreter {
                 }
                 continue;
             }
-            if over() {
-                return Err(Silent::OverTime);
-            }
-            if sleeping(self.pid) {
-                asleep += LOOK;
-                if asleep >= SLEEP_LIMIT {
-                    return Err(Silent::Asleep);
-                }
+            self.waited(over, &mut asleep)?;
+        }
+    }
+
+    /// After a look that found nothing to do: whether to go on waiting. Not when the
+    /// phase's time has run out, nor when the interpreter has been asleep (`asleep`, so
+    /// far in this wait) for too long.
+    fn waited(&self, over: &dyn Fn() -> bool, asleep: &mut Duration) -> Result<(), Silent> {
+        if over() {
+            return Err(Silent::OverTime);
+        }
+        if sleeping(self.pid) {
+            *asleep += LOOK;
+            if *asleep >= SLEEP_LIMIT {
+                return Err(Silent::Asleep);
             }
         }
+        Ok(())
     }
 
     /// Why the interpreter answers no more, once its process has ended.
@@ -234,7 +266,20 @@ impl Interpreter {
         }
     }
 
+    /// Ends the interpreter (through its pidfd, which names it and no later process of
+    /// its number: it may have cleared the signal that ends it with bubblewrap) and
+    /// bubblewrap.
     fn stop(&mut self) {
+        // SAFETY: pidfd_send_signal reads a descriptor of ours and no pointer (none given).
+        unsafe {
+            libc::syscall(
+                libc::SYS_pidfd_send_signal,
+                self.pidfd.as_raw_fd(),
+                libc::SIGKILL,
+                std::ptr::null::<libc::siginfo_t>(),
+                0,
+            );
+        }
         let _ = self.child.kill();
         let _ = self.child.wait();
     }
@@ -246,11 +291,11 @@ impl Drop for Interpreter {
     }
 }
 
-/// Whether `fd` has something to read (or has ended) within `wait`.
-fn readable(fd: std::os::fd::RawFd, wait: Duration) -> bool {
+/// Whether `fd` is ready for `events` (or has ended) within `wait`.
+fn ready(fd: std::os::fd::RawFd, events: libc::c_short, wait: Duration) -> bool {
     let mut poll = libc::pollfd {
         fd,
-        events: libc::POLLIN,
+        events,
         revents: 0,
     };
     // SAFETY: poll reads and writes one valid pollfd.

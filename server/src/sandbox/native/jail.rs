@@ -2,15 +2,19 @@
 //! starts it in fresh namespaces (no network, not even loopback; its own process ids,
 //! where it is process 1; its own mounts: `/usr` read-only with the dynamic linker's few
 //! files of `/etc`, its own `/proc`, `/dev` and a small `/tmp`, and nothing else of the
-//! machine: no server data, no secret, no other student's file), as a user of no
-//! privileges and no capabilities, in a session of its own, with a system-call filter
+//! machine: no server data, no secret, no other student's file; `/proc/sys` read-only),
+//! as a user of no privileges and no capabilities (a server run as root starts it as
+//! `nobody`: inside a user namespace, root outside stays root for the kernel's files), in a session of its own, with a system-call filter
 //! (seccomp, compiled by seccompiler: no new processes or threads, no tracing, no
 //! sockets, no mounts or namespaces, no kernel keyrings, BPF, io_uring or
 //! `perf_event_open`), and with resource limits (address space, file size, open files,
 //! CPU time, no core dumps). It dies with the thread that started it.
 
 use super::super::cpu::CpuClock;
-use seccompiler::{BpfProgram, SeccompAction, SeccompFilter, SeccompRule};
+use seccompiler::{
+    BpfProgram, SeccompAction, SeccompCmpArgLen, SeccompCmpOp, SeccompCondition, SeccompFilter,
+    SeccompRule, sock_filter,
+};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::fs::File;
@@ -29,6 +33,9 @@ const FILE_SIZE_LIMIT: u64 = 1 << 20;
 const TMP_SIZE: u64 = 16 << 20;
 /// Descriptors the interpreter may hold open.
 const OPEN_FILES: u64 = 64;
+/// The user and group a server run as root starts the sandbox as (`nobody`), and the
+/// student's code runs as inside it.
+const NOBODY: libc::uid_t = 65534;
 /// Where the filter and the sandbox's report reach bubblewrap.
 const SECCOMP_FD: RawFd = 3;
 const INFO_FD: RawFd = 4;
@@ -52,6 +59,8 @@ pub struct Invocation<'a> {
 /// An interpreter running in its jail.
 pub struct Jailed {
     pub child: Child,
+    /// The interpreter's process as a descriptor (`pidfd_open`), by which it is ended.
+    pub pidfd: OwnedFd,
     pub stdin: ChildStdin,
     pub stdout: ChildStdout,
     pub stderr: ChildStderr,
@@ -122,8 +131,19 @@ impl Tools {
                 return Err(Refused::NotStarted(complaints));
             }
         };
+        let pidfd = match pidfd_open(pid) {
+            Ok(pidfd) => pidfd,
+            Err(e) => {
+                let _ = child.kill();
+                let _ = child.wait();
+                return Err(Refused::Setup(e));
+            }
+        };
+        let stdin = child.stdin.take().expect("piped stdin");
+        set_nonblocking(&stdin).map_err(Refused::Setup)?;
         Ok(Jailed {
-            stdin: child.stdin.take().expect("piped stdin"),
+            pidfd,
+            stdin,
             stdout: child.stdout.take().expect("piped stdout"),
             stderr,
             clock,
@@ -137,9 +157,9 @@ impl Tools {
             "--unshare-all",
             "--unshare-user",
             "--uid",
-            "65534",
+            &NOBODY.to_string(),
             "--gid",
-            "65534",
+            &NOBODY.to_string(),
             "--hostname",
             "sandbox",
             "--die-with-parent",
@@ -169,6 +189,10 @@ impl Tools {
             "/etc/alternatives",
             "--proc",
             "/proc",
+            // The kernel's settings, read-only whoever runs the sandbox.
+            "--ro-bind",
+            "/proc/sys",
+            "/proc/sys",
             "--dev",
             "/dev",
             "--size",
@@ -177,6 +201,12 @@ impl Tools {
             "/tmp",
             "--chdir",
             "/tmp",
+            // Nothing writable but /tmp: the root and /dev that bubblewrap makes are
+            // memory too, as large as half the machine's.
+            "--remount-ro",
+            "/dev",
+            "--remount-ro",
+            "/",
             "--clearenv",
             "--seccomp",
             &SECCOMP_FD.to_string(),
@@ -197,6 +227,28 @@ impl Tools {
         args.extend(invocation.args.iter().map(|&arg| arg.to_owned()));
         args
     }
+}
+
+/// A descriptor of the process `pid`.
+fn pidfd_open(pid: libc::pid_t) -> std::io::Result<OwnedFd> {
+    // SAFETY: pidfd_open takes a number and flags and makes a new descriptor, ours alone.
+    let fd = unsafe { libc::syscall(libc::SYS_pidfd_open, pid, 0) };
+    if fd < 0 {
+        return Err(std::io::Error::last_os_error());
+    }
+    Ok(unsafe { OwnedFd::from_raw_fd(fd as RawFd) })
+}
+
+/// Writes to `fd` return at once when they cannot go on (the engine waits as it decides).
+fn set_nonblocking(fd: &impl AsRawFd) -> std::io::Result<()> {
+    // SAFETY: fcntl reads and sets the flags of a descriptor of ours.
+    unsafe {
+        let flags = libc::fcntl(fd.as_raw_fd(), libc::F_GETFL);
+        if flags < 0 || libc::fcntl(fd.as_raw_fd(), libc::F_SETFL, flags | libc::O_NONBLOCK) < 0 {
+            return Err(std::io::Error::last_os_error());
+        }
+    }
+    Ok(())
 }
 
 /// What bubblewrap reports on its info descriptor once the interpreter runs.
@@ -247,12 +299,25 @@ fn before_exec(filter: RawFd, info: RawFd, cpu_seconds: u64) -> std::io::Result<
         // SAFETY: setrlimit reads one valid rlimit.
         check(unsafe { libc::setrlimit(resource, &limit) })
     };
-    // SAFETY: plain system calls on this process's own descriptors and state.
+    // SAFETY: plain system calls on this process's own descriptors and credentials.
     unsafe {
         check(libc::dup2(filter, SECCOMP_FD))?;
         check(libc::dup2(info, INFO_FD))?;
+        // A server run as root gives up root first: bubblewrap maps the user inside the
+        // sandbox to the user that starts it, and the root of the machine inside, even
+        // without capabilities, owns what root owns outside (the kernel's sysctls, whose
+        // core_pattern runs a program as root).
+        if libc::geteuid() == 0 {
+            check(libc::setgroups(0, std::ptr::null()))?;
+            check(libc::setgid(NOBODY))?;
+            check(libc::setuid(NOBODY))?;
+        }
+        // After the change of user, which clears it.
         check(libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL))?;
     }
+    // Nothing the server inherited reaches the sandbox: every other descriptor is closed
+    // at exec (marked, not closed, so that the spawn still hears of a failed exec).
+    super::super::close_others_at_exec(INFO_FD + 1)?;
     limit(libc::RLIMIT_AS, MEMORY_LIMIT, MEMORY_LIMIT)?;
     limit(libc::RLIMIT_FSIZE, FILE_SIZE_LIMIT, FILE_SIZE_LIMIT)?;
     limit(libc::RLIMIT_NOFILE, OPEN_FILES, OPEN_FILES)?;
@@ -301,12 +366,47 @@ const DENIED: &[libc::c_long] = &[
     libc::SYS_swapon,
     libc::SYS_swapoff,
     libc::SYS_reboot,
+    // Locks and notifications on files every jail shares (those of /usr) are one kernel
+    // object for all: a channel between the phases of a grading, and between gradings.
+    libc::SYS_flock,
+    libc::SYS_inotify_init,
+    libc::SYS_inotify_init1,
+    libc::SYS_inotify_add_watch,
+    libc::SYS_fanotify_init,
+];
+
+/// The commands of `fcntl` that lock a file (and ask about another's lock): refused, as
+/// `flock` is.
+const LOCKS: &[libc::c_int] = &[
+    libc::F_GETLK,
+    libc::F_SETLK,
+    libc::F_SETLKW,
+    libc::F_OFD_GETLK,
+    libc::F_OFD_SETLK,
+    libc::F_OFD_SETLKW,
 ];
 
 /// The filter as bubblewrap reads it: the program's instructions, as in memory.
 fn filter_program() -> std::io::Result<Vec<u8>> {
-    let rules: BTreeMap<i64, Vec<SeccompRule>> =
+    let when = |arg: u8, value: u64| {
+        SeccompCondition::new(arg, SeccompCmpArgLen::Dword, SeccompCmpOp::Eq, value)
+            .and_then(|condition| SeccompRule::new(vec![condition]))
+            .map_err(std::io::Error::other)
+    };
+    let mut rules: BTreeMap<i64, Vec<SeccompRule>> =
         DENIED.iter().map(|&call| (call, Vec::new())).collect();
+    rules.insert(
+        libc::SYS_fcntl,
+        LOCKS
+            .iter()
+            .map(|&command| when(1, command as u64))
+            .collect::<Result<_, _>>()?,
+    );
+    // The parent-death signal bubblewrap sets: the interpreter would outlive its jail.
+    rules.insert(
+        libc::SYS_prctl,
+        vec![when(0, libc::PR_SET_PDEATHSIG as u64)?],
+    );
     let arch = std::env::consts::ARCH
         .try_into()
         .map_err(std::io::Error::other)?;
@@ -318,8 +418,9 @@ fn filter_program() -> std::io::Result<Vec<u8>> {
     )
     .map_err(std::io::Error::other)?;
     let program: BpfProgram = filter.try_into().map_err(std::io::Error::other)?;
-    Ok(program
+    Ok(X32_REFUSED
         .iter()
+        .chain(program.iter())
         .flat_map(|instruction| {
             let mut bytes = Vec::with_capacity(8);
             bytes.extend(instruction.code.to_ne_bytes());
@@ -330,3 +431,29 @@ fn filter_program() -> std::io::Result<Vec<u8>> {
         })
         .collect())
 }
+
+/// Before the filter: a system call of the x32 ABI (its number with bit 30 set, under the
+/// same architecture as x86-64's) fails with EPERM, since the filter's rules name
+/// x86-64's numbers only. (i386's calls, another architecture, the filter kills.)
+const X32_REFUSED: [sock_filter; 3] = [
+    // Load the call's number (`seccomp_data.nr`, at offset 0).
+    sock_filter {
+        code: 0x20, // BPF_LD | BPF_W | BPF_ABS
+        jt: 0,
+        jf: 0,
+        k: 0,
+    },
+    // Bit 30 set: go on to the refusal; else skip it.
+    sock_filter {
+        code: 0x45, // BPF_JMP | BPF_JSET | BPF_K
+        jt: 0,
+        jf: 1,
+        k: 0x4000_0000,
+    },
+    sock_filter {
+        code: 0x06, // BPF_RET | BPF_K
+        jt: 0,
+        jf: 0,
+        k: 0x0005_0000 | libc::EPERM as u32, // SECCOMP_RET_ERRNO
+    },
+];
