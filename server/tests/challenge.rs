@@ -58,7 +58,7 @@ async fn the_class_is_ranked_on_a_trial_it_never_sees() {
     let sources = [
         (
             &ana,
-            tuned("{ k_xy: 0.04, k_theta: 0.06, c_xy: 90, field_of_view: 2, lambda: 16.27 }"),
+            tuned("{ k_xy: 0.1, k_theta: 0.02, c_xy: 120, field_of_view: 2.5, lambda: 20 }"),
         ),
         (
             &bo,

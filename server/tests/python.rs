@@ -201,6 +201,30 @@ fn no_channel_between_jails_and_nothing_inherited() {
          with open('/usr/lib/python3.11/os.py') as f:\n        fcntl.flock(f, fcntl.LOCK_SH)",
         "threw PermissionError: [Errno 1] Operation not permitted",
     );
+    // Nor may the page cache of those files carry data: no look at it, no emptying it.
+    contained(
+        "import os\ndef wheel_noise(ds_r, ds_l, k_r, k_l):\n    \
+         fd = os.open('/usr/lib/python3.11/os.py', os.O_RDONLY)\n    \
+         os.posix_fadvise(fd, 0, 4096, os.POSIX_FADV_DONTNEED)",
+        "threw PermissionError: [Errno 1] Operation not permitted",
+    );
+    contained(
+        "import os\ndef wheel_noise(ds_r, ds_l, k_r, k_l):\n    \
+         fd = os.open('/usr/lib/python3.11/os.py', os.O_RDONLY)\n    \
+         os.preadv(fd, [bytearray(4096)], 0, os.RWF_NOWAIT)",
+        "threw PermissionError: [Errno 1] Operation not permitted",
+    );
+    contained(
+        "import ctypes, fcntl, os\ndef wheel_noise(ds_r, ds_l, k_r, k_l):\n    \
+         libc = ctypes.CDLL(None, use_errno=True)\n    \
+         notify = os.open('/usr/lib/python3.11', os.O_RDONLY)\n    \
+         notified = libc.fcntl(notify, fcntl.F_NOTIFY, 0x80000001), ctypes.get_errno()\n    \
+         shm = libc.shmget(0, 1 << 20, 0o1600), ctypes.get_errno()\n    \
+         page = ctypes.create_string_buffer(1)\n    \
+         seen = libc.mincore(ctypes.c_void_p(0x400000), 4096, page), ctypes.get_errno()\n    \
+         raise RuntimeError(f'notify {notified} shm {shm} mincore {seen}')",
+        "notify (-1, 1) shm (-1, 1) mincore (-1, 1)",
+    );
     // Nothing writable but a small /tmp: not the root, not /dev.
     contained(
         "def wheel_noise(ds_r, ds_l, k_r, k_l):\n    open('/dev/shm/x', 'w')",

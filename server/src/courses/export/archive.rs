@@ -1,4 +1,4 @@
-//! The zips of an export: one file per student (`ID.js`, `ID/results.json`), unpacked on
+//! The zips of an export: one file per student (`ID.js` or `ID.py`, `ID/results.json`), unpacked on
 //! Windows, macOS and Linux and read by plagiarism checkers. A student's file is named by
 //! their id when the id is safe as a file name everywhere (`ids::is_safe`) and no other
 //! id of the course differs from it only in case; otherwise, for ids stored before the

@@ -12,6 +12,7 @@ use super::class::{self, ClassView, StudentRow};
 use crate::platforms::{GradescopeResults, PrairieLearnResults};
 use crate::store::{self, Store, Submission};
 use archive::{FileNames, zip_of};
+use labs::Language;
 use std::collections::HashMap;
 
 /// What an export holds.
@@ -26,7 +27,7 @@ pub enum Format {
     Gradescope,
     /// A zip of `ID/results.json` in PrairieLearn's format.
     Prairielearn,
-    /// A zip of `ID.js`, each student's source.
+    /// A zip of `ID.js` (or `ID.py`), each student's source.
     Sources,
 }
 
@@ -97,17 +98,17 @@ pub fn results(view: &ClassView, graded: &HashMap<i64, Submission>, format: Form
     zip_of(&names, files)
 }
 
-/// Every student's source (`ID.js`).
-pub fn sources(view: &ClassView, sources: &HashMap<i64, String>) -> Vec<u8> {
+/// Every student's source (`ID.js`, or `ID.py` for a file in Python).
+pub fn sources(view: &ClassView, sources: &HashMap<i64, (Language, String)>) -> Vec<u8> {
     let names = file_names(view);
     let files = view
         .students
         .iter()
         .filter_map(|s| {
-            let source = sources.get(&exported(s)?)?;
+            let (language, source) = sources.get(&exported(s)?)?;
             Some((
                 s.id.clone(),
-                format!("{}.js", names.get(&s.id)),
+                format!("{}.{}", names.get(&s.id), language.extension()),
                 source.clone().into_bytes(),
             ))
         })
@@ -142,8 +143,11 @@ pub fn make(
         Format::Sources => {
             let mut texts = HashMap::new();
             for id in ids {
-                if let Some(source) = store.get(id, true)?.and_then(|s| s.source) {
-                    texts.insert(id, source);
+                if let Some(submission) = store.get(id, true)? {
+                    let language = submission.summary.language;
+                    if let Some(source) = submission.source {
+                        texts.insert(id, (language, source));
+                    }
                 }
             }
             sources(&view, &texts)
