@@ -116,13 +116,28 @@ pub async fn set_ranking(
     let who = viewer.actor();
     let now = state.clock.now();
     let ranked = request.ranked;
-    let found = blocking(&state, move |store| {
-        if !store.set_ranked(&course, exercise, ranked)? {
+    let shown = if ranked { "shown" } else { "hidden" };
+    let detail = format!("{exercise}: the class challenge's ranks {shown} to students");
+    let at = course.clone();
+    let change = move |store: &crate::store::Store| store.set_ranked(&at, exercise, ranked);
+    audited(&state, course, change, (who, "ranking", detail, now)).await?;
+    Ok(Json(RankingSet { ranked }).into_response())
+}
+
+/// Changes a setting of an assignment of `course` with `change` (false: the course has
+/// not opened the exercise, a 404) and logs it in the course's audit as `(who, action,
+/// detail, now)`.
+async fn audited(
+    state: &Arc<AppState>,
+    course: String,
+    change: impl FnOnce(&crate::store::Store) -> Result<bool, crate::store::Error> + Send + 'static,
+    (who, action, detail, now): (String, &'static str, String, jiff::Timestamp),
+) -> Result<(), Error> {
+    let found = blocking(state, move |store| {
+        if !change(store)? {
             return Ok(false);
         }
-        let shown = if ranked { "shown" } else { "hidden" };
-        let detail = format!("{exercise}: the class challenge's ranks {shown} to students");
-        store.audit(&course, &who, "ranking", &detail, now)?;
+        store.audit(&course, &who, action, &detail, now)?;
         Ok(true)
     })
     .await?;
@@ -131,7 +146,7 @@ pub async fn set_ranking(
             "the course has not opened this exercise".into(),
         ));
     }
-    Ok(Json(RankingSet { ranked }).into_response())
+    Ok(())
 }
 
 /// The body of `POST /api/courses/{course}/labs/{lab}/languages`.
@@ -176,22 +191,12 @@ pub async fn set_languages(
     languages.sort();
     let who = viewer.actor();
     let now = state.clock.now();
+    let names: Vec<&str> = languages.iter().map(|l| l.title()).collect();
+    let detail = format!("{exercise}: files taken in {}", names.join(" and "));
     let stored = languages.clone();
-    let found = blocking(&state, move |store| {
-        if !store.set_languages(&course, exercise, &stored)? {
-            return Ok(false);
-        }
-        let names: Vec<&str> = stored.iter().map(|l| l.title()).collect();
-        let detail = format!("{exercise}: files taken in {}", names.join(" and "));
-        store.audit(&course, &who, "languages", &detail, now)?;
-        Ok(true)
-    })
-    .await?;
-    if !found {
-        return Err(Error::NotFound(
-            "the course has not opened this exercise".into(),
-        ));
-    }
+    let at = course.clone();
+    let change = move |store: &crate::store::Store| store.set_languages(&at, exercise, &stored);
+    audited(&state, course, change, (who, "languages", detail, now)).await?;
     Ok(Json(LanguagesSet { languages }).into_response())
 }
 
