@@ -1,7 +1,7 @@
 //! The languages a student may write an exercise's file in. JavaScript runs everywhere (the
 //! browser's worker, QuickJS on the server and in the platforms' packages); the others
-//! run on the server only, each in its interpreter inside the operating-system sandbox,
-//! called by the same harness and graded by the same code.
+//! run on the server only (MATLAB in GNU Octave), each in its interpreter inside the
+//! operating-system sandbox, called by the same harness and graded by the same code.
 
 use serde::{Deserialize, Serialize};
 use std::fmt;
@@ -17,16 +17,20 @@ pub enum Language {
     #[default]
     JavaScript,
     Python,
+    /// MATLAB, graded with GNU Octave.
+    Matlab,
 }
 
 impl Language {
-    pub const ALL: &'static [Language] = &[Language::JavaScript, Language::Python];
+    pub const ALL: &'static [Language] =
+        &[Language::JavaScript, Language::Python, Language::Matlab];
 
     /// The name the API, the command line and the store use: `python`.
     pub fn name(self) -> &'static str {
         match self {
             Language::JavaScript => "javascript",
             Language::Python => "python",
+            Language::Matlab => "matlab",
         }
     }
 
@@ -35,6 +39,7 @@ impl Language {
         match self {
             Language::JavaScript => "JavaScript",
             Language::Python => "Python",
+            Language::Matlab => "MATLAB",
         }
     }
 
@@ -43,6 +48,7 @@ impl Language {
         match self {
             Language::JavaScript => "js",
             Language::Python => "py",
+            Language::Matlab => "m",
         }
     }
 
@@ -113,11 +119,12 @@ mod tests {
             assert_eq!(Language::of_file(&file), Some(language));
         }
         assert_eq!(Language::Python.file_name("odometry.js"), "odometry.py");
-        assert_eq!(Language::of_file("odometry.m"), None);
+        assert_eq!(Language::of_file("odometry.m"), Some(Language::Matlab));
+        assert_eq!(Language::of_file("odometry.mat"), None);
         assert_eq!(Language::of_file("Makefile"), None);
         assert_eq!(
-            "matlab".parse::<Language>().unwrap_err().to_string(),
-            "unknown language \"matlab\"; the languages graded here: javascript, python"
+            "octave".parse::<Language>().unwrap_err().to_string(),
+            "unknown language \"octave\"; the languages graded here: javascript, python, matlab"
         );
     }
 }

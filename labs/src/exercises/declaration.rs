@@ -1,6 +1,7 @@
 //! What an exercise declares once, in its folder, for everything that lists exercises:
 //! its names and texts ([`Declaration`]) and its types ([`Graded`]).
 
+use super::interface::MatlabConventions;
 use crate::Language;
 use crate::grading::{Contract, ExercisePlan, Generator, Hidden};
 use ts_rs::TS;
@@ -27,11 +28,14 @@ pub struct Declaration {
     /// [`super::starter`]): every function of the contract, each throwing "not
     /// implemented", and the conventions in each language.
     pub starter_template: &'static str,
-    /// The starters it makes, as committed: `web/starter.js`, `web/starter.py`.
+    /// The starters it makes, as committed: `web/starter.js`, `web/starter.py`,
+    /// `web/starter.m`.
     pub starters: Starters,
     /// The harness's loop for its runs (`web/loop.js`), which registers itself with the
     /// harness under [`Declaration::run_loop`] before any student code runs.
     pub harness_loop: &'static str,
+    /// Where the lab's MATLAB functions differ from the contract.
+    pub matlab: MatlabConventions,
 }
 
 /// An exercise's starter file in each language.
@@ -39,6 +43,7 @@ pub struct Declaration {
 pub struct Starters {
     pub javascript: &'static str,
     pub python: &'static str,
+    pub matlab: &'static str,
 }
 
 impl Declaration {
@@ -47,6 +52,7 @@ impl Declaration {
         match language {
             Language::JavaScript => self.starters.javascript,
             Language::Python => self.starters.python,
+            Language::Matlab => self.starters.matlab,
         }
     }
 }

@@ -10,6 +10,7 @@
 //! `DESIGN.md`, "Adding an exercise", says how to add one.
 
 mod declaration;
+pub mod interface;
 pub mod starter;
 
 pub use declaration::{Declaration, Graded, Runs, Starters, Visit, Workbench};
@@ -118,7 +119,22 @@ impl Visit for OutputFields {
     }
 }
 
+/// The student functions of an exercise's contract.
+struct Functions;
+
+impl Visit for Functions {
+    type Output = &'static [&'static str];
+    fn visit<G: Graded>(self) -> Self::Output {
+        G::Call::FUNCTIONS
+    }
+}
+
 impl Exercise {
+    /// The student functions its contract's cases call, in the order it introduces them.
+    pub fn functions(self) -> &'static [&'static str] {
+        self.visit(Functions)
+    }
+
     /// The fields of the outputs of the student functions that return named fields (as
     /// `predict` returns `mu_bar` and `sigma_bar`), in the contract's order: how a
     /// language whose functions return several values in a tuple names them.

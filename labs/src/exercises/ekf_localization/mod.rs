@@ -22,6 +22,7 @@ pub use plan::{Plan, RunSpec, bound, graded_readings, mode_name, run_name, shows
 /// A test case of this exercise.
 pub type Case = crate::grading::Case<Call>;
 
+use crate::exercises::interface::MatlabConventions;
 use crate::exercises::{Declaration, Graded, Runs, Starters, Workbench};
 use crate::grading::Hidden;
 
@@ -68,8 +69,23 @@ impl Graded for EkfLocalization {
         starters: Starters {
             javascript: include_str!("web/starter.js"),
             python: include_str!("web/starter.py"),
+            matlab: include_str!("web/starter.m"),
         },
         harness_loop: include_str!("web/loop.js"),
+        matlab: MatlabConventions {
+            index_arguments: &[
+                ("observation_model", "j"),
+                ("jacobian_observation_model", "j"),
+            ],
+            stacked_outputs: &[("associate", "nu"), ("associate", "S"), ("associate", "H")],
+            globals: &[
+                ("M", "map"),
+                ("Lambda_M", "lambda_m"),
+                ("Q", "Q"),
+                ("R", "R"),
+            ],
+            trailing: &[("jacobian_observation_model", 1.0)],
+        },
     };
     type Call = Call;
     type Plan = Plan;

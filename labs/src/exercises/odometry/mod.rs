@@ -22,6 +22,7 @@ pub use plan::{PATH_FUNCTIONS, PathSpec, Plan, RUN_LIMIT_MS};
 /// A test case of this exercise.
 pub type Case = crate::grading::Case<Call>;
 
+use crate::exercises::interface::MatlabConventions;
 use crate::exercises::{Declaration, Graded, Runs, Starters, Workbench};
 use crate::grading::Hidden;
 
@@ -61,8 +62,10 @@ impl Graded for Odometry {
         starters: Starters {
             javascript: include_str!("web/starter.js"),
             python: include_str!("web/starter.py"),
+            matlab: include_str!("web/starter.m"),
         },
         harness_loop: include_str!("web/loop.js"),
+        matlab: MatlabConventions::NONE,
     };
     type Call = Call;
     type Plan = Plan;

@@ -24,6 +24,7 @@ pub use plan::{LOOP_FUNCTIONS, Plan, RUN_LIMIT_MS, TrialSpec};
 /// A test case of this exercise.
 pub type Case = crate::grading::Case<Call>;
 
+use crate::exercises::interface::MatlabConventions;
 use crate::exercises::{Declaration, Graded, Runs, Starters, Workbench};
 use crate::grading::Hidden;
 
@@ -65,8 +66,10 @@ impl Graded for SensorFusion {
         starters: Starters {
             javascript: include_str!("web/starter.js"),
             python: include_str!("web/starter.py"),
+            matlab: include_str!("web/starter.m"),
         },
         harness_loop: include_str!("web/loop.js"),
+        matlab: MatlabConventions::NONE,
     };
     type Call = Call;
     type Plan = Plan;

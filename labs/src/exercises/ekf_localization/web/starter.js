@@ -81,8 +81,8 @@ function observation_model(x, M, j) {
 // ---- Jacobian of the observation model (lab eq. 6) ----
 //   x, M, j  as for observation_model
 //   z_hat    observation_model(x, M, j), given so you can reuse its range
-// Returns H, 2 x 3: row H[0] holds the partial derivatives of the range with
-// respect to x, y and theta, row H[1] those of the bearing.
+// Returns H, 2 x 3: its first row holds the partial derivatives of the range
+// with respect to x, y and theta, its second row those of the bearing.
 function jacobian_observation_model(x, M, j, z_hat) {
   throw new Error("jacobian_observation_model: not implemented");
 }
@@ -98,7 +98,7 @@ function jacobian_observation_model(x, M, j, z_hat) {
 //   Lambda_M   the outlier threshold on the squared Mahalanobis distance: a
 //              number >= 0, or Infinity, which flags nothing (see init)
 //   Q          2 x 2 measurement noise covariance
-// For every landmark j = 0 .. N-1, with z_hat_j and H_j from the two functions
+// For every landmark j of the map, with z_hat_j and H_j from the two functions
 // above:
 //   nu_j  = z_i - z_hat_j                        innovation, bearing wrapped
 //   S_j   = H_j sigma_bar H_j^T + Q               innovation covariance, 2 x 2
