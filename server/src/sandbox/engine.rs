@@ -156,7 +156,7 @@ impl Engine {
                     &foreign.native.tools,
                     &invocation,
                     (foreign.source, &foreign.native.file),
-                    &foreign.native.fields,
+                    &foreign.native.exercise.interface(),
                 )
                 .map(Bridge::new)
                 .map_err(|refused| Failure::Jail(refused.to_string()))

@@ -204,14 +204,7 @@ impl Sandbox {
                 language: code.language,
                 tools: tools.clone(),
                 file: code.language.file_name(exercise.file_name()),
-                fields: exercise
-                    .output_fields()
-                    .into_iter()
-                    .map(|(function, fields)| {
-                        let fields = fields.into_iter().map(str::to_owned).collect();
-                        (function.to_owned(), fields)
-                    })
-                    .collect(),
+                exercise,
             });
         let cpu_limit = SPARE + Duration::from_millis(job.limits_ms() + u64::from(LOAD_LIMIT_MS));
         let child = self.start(cpu_limit).map_err(Tried::DidNotStart)?;

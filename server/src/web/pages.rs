@@ -217,6 +217,7 @@ pub async fn starter(exercise: Exercise, language: Language) -> Response {
     let media_type = match language {
         Language::JavaScript => "text/javascript; charset=utf-8",
         Language::Python => "text/x-python; charset=utf-8",
+        Language::Matlab => "text/x-matlab; charset=utf-8",
     };
     (
         [

@@ -56,7 +56,7 @@ impl Bridge {
             asked(&|interpreter, over| interpreter.load(over))
         })?;
         let call = Function::new(ctx.clone(), move |name: String, args: String| {
-            let args = serde_json::from_str(&args).unwrap_or_default();
+            let args: Vec<serde_json::Value> = serde_json::from_str(&args).unwrap_or_default();
             ask(&|interpreter, over| interpreter.call(&name, &args, over))
         })?;
         ctx.globals().set("estlabNativeLoad", load)?;

@@ -1,20 +1,21 @@
 # The harness of a student's Python file, inside the operating-system sandbox (see
 # `server/src/sandbox/native`). It does not grade and it does not run the exercise's loop:
 # the harness in JavaScript does both, outside the sandbox, and asks this one for each call
-# of a student function, one JSON object a line each way:
+# of a student function, one JSON object a line each way (an empty line after each
+# request, which is skipped):
 #
-#   first line      {"source": ..., "file": "ekf_localization.py", "fields": {...}}
+#   first line      {"source": ..., "file": "ekf_localization.py", "functions": [...]}
 #                   answered {"ready": true} once NumPy is imported
 #   {"load": true}  the file evaluated afresh (a fresh copy of its functions):
 #                   {"defined": [names of its top-level functions]} or {"error": text}
-#   {"call": name, "args": [...]}
+#   {"call": name, "args": [{"value": ...}, ...]}
 #                   {"output": value} or {"error": text}
 #
 # Arguments arrive as JSON (numbers JSON has none for as the strings "Infinity",
 # "-Infinity" and "NaN") and reach the student's function as NumPy arrays: a vector as a
 # 1-D array, a matrix as a 2-D array, a list of equal arrays stacked. What it returns goes
 # back as JSON: arrays as nested lists, a tuple as the contract's named fields when the
-# contract's output has that many fields ("fields"), numbers JSON cannot hold as the
+# contract's output has that many ("functions": `Exercise::interface`), numbers JSON cannot hold as the
 # strings. Nothing here is trusted by the grader: whatever the student's code does to this
 # process, all it can change is what its own functions answer.
 import json
@@ -112,10 +113,15 @@ def described(error, file):
 
 def main():
     setup = json.loads(sys.stdin.readline())
-    source, file, fields = setup["source"], setup["file"], setup["fields"]
+    source, file = setup["source"], setup["file"]
+    # The names of the values of the functions that return several.
+    fields = {function["name"]: [output["name"] for output in function["outputs"]]
+              for function in setup["functions"] if len(function["outputs"]) > 1}
     reply({"ready": True})
     functions = {}
     for line in sys.stdin:
+        if not line.strip():
+            continue
         request = json.loads(line)
         if "load" in request:
             namespace = {"__name__": "__main__", "__file__": file}
@@ -129,7 +135,7 @@ def main():
             reply({"defined": sorted(functions)})
             continue
         name = request["call"]
-        args = [argument(value) for value in request["args"]]
+        args = [argument(item["value"]) for item in request["args"]]
         try:
             result = functions[name](*args)
         except BaseException as error:

@@ -7,9 +7,9 @@
 
 use super::super::cpu::CpuClock;
 use super::jail::{Invocation, Jailed, Refused, Tools};
+use labs::exercises::interface::Function;
 use serde::Serialize;
 use serde_json::Value;
-use std::collections::BTreeMap;
 use std::io::{Read, Write};
 use std::os::fd::{AsRawFd, OwnedFd};
 use std::process::{Child, ChildStdin, ChildStdout};
@@ -33,7 +33,7 @@ const COMPLAINTS: u64 = 8 << 10;
 struct Setup<'a> {
     source: &'a str,
     file: &'a str,
-    fields: &'a BTreeMap<String, Vec<String>>,
+    functions: &'a [Function],
 }
 
 /// A request of the harness in JavaScript.
@@ -41,7 +41,17 @@ struct Setup<'a> {
 #[serde(untagged)]
 enum Request<'a> {
     Load { load: bool },
-    Call { call: &'a str, args: &'a Value },
+    Call {
+        call: &'a str,
+        args: Vec<Argument<'a>>,
+    },
+}
+
+/// One argument of a call, in an object of its own: a reader that makes one matrix of a
+/// list of equal lists (Octave's `jsondecode`) keeps the arguments apart.
+#[derive(Serialize)]
+struct Argument<'a> {
+    value: &'a Value,
 }
 
 /// Why an interpreter gives no answer.
@@ -86,7 +96,7 @@ impl Interpreter {
         tools: &Tools,
         invocation: &Invocation,
         (source, file): (&str, &str),
-        fields: &BTreeMap<String, Vec<String>>,
+        functions: &[Function],
     ) -> Result<Interpreter, Refused> {
         let Jailed {
             child,
@@ -114,7 +124,7 @@ impl Interpreter {
         let setup = serde_json::to_string(&Setup {
             source,
             file,
-            fields,
+            functions,
         })
         .expect("a setup serialises");
         let over = || clock.read().is_none_or(|cpu| cpu > START_LIMIT);
@@ -147,9 +157,9 @@ impl Interpreter {
         self.request(&Request::Load { load: true }, over)
     }
 
-    /// Calls the student's function `name` with `args` (a JSON array): the answer's JSON
-    /// text.
-    pub fn call(&mut self, name: &str, args: &Value, over: &dyn Fn() -> bool) -> String {
+    /// Calls the student's function `name` with `args`: the answer's JSON text.
+    pub fn call(&mut self, name: &str, args: &[Value], over: &dyn Fn() -> bool) -> String {
+        let args = args.iter().map(|value| Argument { value }).collect();
         self.request(&Request::Call { call: name, args }, over)
     }
 
@@ -168,8 +178,10 @@ impl Interpreter {
             return Err(Silent::Ended("earlier".to_owned(), format!(": {silent}")));
         }
         let outcome = if self.pending.is_empty() {
+            // An empty line after each: a reader that looks a character past the end of a
+            // line (Octave's `fgetl`) has one to look at without waiting for the next.
             let mut line = line.as_bytes().to_vec();
-            line.push(b'\n');
+            line.extend(b"\n\n");
             self.send(&line, over).and_then(|()| self.reply(over))
         } else {
             // The harness answers each request with one line: more is the student's code

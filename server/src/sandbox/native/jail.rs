@@ -5,7 +5,7 @@
 //! machine: no server data, no secret, no other student's file; `/proc/sys` read-only),
 //! as a user of no privileges and no capabilities (a server run as root starts it as
 //! `nobody`: inside a user namespace, root outside stays root for the kernel's files), in a session of its own, with a system-call filter
-//! (seccomp, compiled by seccompiler: no new processes or threads, no tracing, no
+//! (seccomp, compiled by seccompiler: no new processes, threads only, no tracing, no
 //! sockets, no mounts or namespaces, no kernel keyrings, BPF, io_uring or
 //! `perf_event_open`), and with resource limits (address space, file size, open files,
 //! CPU time, no core dumps). It dies with the thread that started it.
@@ -66,7 +66,7 @@ pub struct Jailed {
     pub stderr: ChildStderr,
     /// The interpreter's process id as the server sees it.
     pub pid: libc::pid_t,
-    /// Its CPU clock (every thread of it; the filter lets it make none).
+    /// Its CPU clock (every thread of it).
     pub clock: CpuClock,
 }
 
@@ -330,8 +330,6 @@ fn before_exec(filter: RawFd, info: RawFd, cpu_seconds: u64) -> std::io::Result<
 /// process's memory, the network, mounts and namespaces, the kernel's keyrings, BPF,
 /// io_uring, performance counters) or is of no use to a student's computation.
 const DENIED: &[libc::c_long] = &[
-    libc::SYS_clone,
-    libc::SYS_clone3,
     libc::SYS_fork,
     libc::SYS_vfork,
     libc::SYS_execveat,
@@ -430,6 +428,22 @@ fn filter_program() -> std::io::Result<Vec<u8>> {
             .map(|&command| when(1, command as u64))
             .collect::<Result<_, _>>()?,
     );
+    // A new process; a thread of its own is allowed (Octave's signal thread), and its CPU
+    // time counts in the process's. (`clone3`, whose flags no filter can read, fails
+    // with ENOSYS before the filter, and the C library falls back on `clone`.)
+    rules.insert(
+        libc::SYS_clone,
+        vec![
+            SeccompCondition::new(
+                0,
+                SeccompCmpArgLen::Qword,
+                SeccompCmpOp::MaskedEq(libc::CLONE_THREAD as u64),
+                0,
+            )
+            .and_then(|condition| SeccompRule::new(vec![condition]))
+            .map_err(std::io::Error::other)?,
+        ],
+    );
     // The parent-death signal bubblewrap sets: the interpreter would outlive its jail.
     rules.insert(
         libc::SYS_prctl,
@@ -453,7 +467,7 @@ fn filter_program() -> std::io::Result<Vec<u8>> {
     )
     .map_err(std::io::Error::other)?;
     let program: BpfProgram = filter.try_into().map_err(std::io::Error::other)?;
-    Ok(X32_REFUSED
+    Ok(BEFORE_THE_FILTER
         .iter()
         .chain(program.iter())
         .flat_map(|instruction| {
@@ -469,8 +483,10 @@ fn filter_program() -> std::io::Result<Vec<u8>> {
 
 /// Before the filter: a system call of the x32 ABI (its number with bit 30 set, under the
 /// same architecture as x86-64's) fails with EPERM, since the filter's rules name
-/// x86-64's numbers only. (i386's calls, another architecture, the filter kills.)
-const X32_REFUSED: [sock_filter; 3] = [
+/// x86-64's numbers only (i386's calls, another architecture, the filter kills); and
+/// `clone3` fails with ENOSYS, as on a kernel without it, so that threads are made with
+/// `clone`, whose flags the filter reads.
+const BEFORE_THE_FILTER: [sock_filter; 5] = [
     // Load the call's number (`seccomp_data.nr`, at offset 0).
     sock_filter {
         code: 0x20, // BPF_LD | BPF_W | BPF_ABS
@@ -490,5 +506,18 @@ const X32_REFUSED: [sock_filter; 3] = [
         jt: 0,
         jf: 0,
         k: 0x0005_0000 | libc::EPERM as u32, // SECCOMP_RET_ERRNO
+    },
+    // `clone3`: go on to its refusal; else skip it.
+    sock_filter {
+        code: 0x15, // BPF_JMP | BPF_JEQ | BPF_K
+        jt: 0,
+        jf: 1,
+        k: libc::SYS_clone3 as u32,
+    },
+    sock_filter {
+        code: 0x06, // BPF_RET | BPF_K
+        jt: 0,
+        jf: 0,
+        k: 0x0005_0000 | libc::ENOSYS as u32, // SECCOMP_RET_ERRNO
     },
 ];

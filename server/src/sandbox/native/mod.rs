@@ -1,7 +1,7 @@
 //! Students' files in languages other than JavaScript: each phase's file in its
-//! interpreter (Python 3 with NumPy), inside an operating-system sandbox of its own
+//! interpreter (Python 3 with NumPy, MATLAB in GNU Octave), inside an operating-system sandbox of its own
 //! (`jail`), answering the calls of the same harness in JavaScript that grades
-//! JavaScript (`interpreter`, `harness.py`). The harness and the exercise's loop run in
+//! JavaScript (`interpreter`, `harness.py`, `harness.m`). The harness and the exercise's loop run in
 //! QuickJS as for a JavaScript file, outside the jail, with a file of stand-ins for the
 //! student's functions (`bridge`): the loop's bookkeeping and the run's data stay out of
 //! the student's reach, and the grading is the same code whatever the language.
@@ -14,10 +14,10 @@ pub use bridge::Bridge;
 pub use interpreter::Interpreter;
 pub use jail::{Invocation, Tools};
 
-use labs::Language;
+use labs::{Exercise, Language};
 use serde::{Deserialize, Serialize};
-use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+use std::sync::LazyLock;
 
 /// How a native language's files are run: its interpreter in its jail.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -27,8 +27,9 @@ pub struct Native {
     /// The student's file, as its language names it (`ekf_localization.py`): its
     /// interpreter's messages name it.
     pub file: String,
-    /// The named fields of the functions' outputs (`Exercise::output_fields`).
-    pub fields: BTreeMap<String, Vec<String>>,
+    /// Whose functions the file holds: their arguments and outputs, as the harness in
+    /// the interpreter carries them (`Exercise::interface`).
+    pub exercise: Exercise,
 }
 
 /// Why a language cannot be graded on this machine.
@@ -49,6 +50,7 @@ impl Native {
     pub fn detect(language: Language) -> Result<Tools, Unavailable> {
         let program = match language {
             Language::Python => "python3",
+            Language::Matlab => "octave-cli",
             Language::JavaScript => unreachable!("JavaScript runs in QuickJS"),
         };
         let tools = Tools {
@@ -59,7 +61,7 @@ impl Native {
             &tools,
             &invocation(language, 15),
             ("", "check.py"),
-            &BTreeMap::new(),
+            &[],
         );
         check
             .map(|_| tools)
@@ -89,17 +91,53 @@ pub fn invocation(language: Language, cpu_seconds: u64) -> Invocation<'static> {
             env: &[("OPENBLAS_NUM_THREADS", "1"), ("OMP_NUM_THREADS", "1")],
             cpu_seconds,
         },
+        Language::Matlab => Invocation {
+            args: &OCTAVE_ARGS[..],
+            env: &[("OPENBLAS_NUM_THREADS", "1"), ("OMP_NUM_THREADS", "1")],
+            cpu_seconds,
+        },
         Language::JavaScript => unreachable!("JavaScript runs in QuickJS"),
     }
 }
+
+/// Octave's arguments: no start-up files of the user's or the site's, no history, no
+/// window system, and a few lines that write the harness (`harness.m`) into the
+/// sandbox's `/tmp` and run it (a function file, so that its helpers are its own and the
+/// student's `clear all` leaves them be).
+static OCTAVE_ARGS: LazyLock<[&'static str; 8]> = LazyLock::new(|| {
+    [
+        "--norc",
+        "--no-history",
+        "--no-init-file",
+        "--no-site-file",
+        "--no-window-system",
+        "--quiet",
+        "--eval",
+        OCTAVE_BOOT.as_str(),
+    ]
+});
+
+static OCTAVE_BOOT: LazyLock<String> = LazyLock::new(|| {
+    let text = HARNESS_M
+        .replace('\\', "\\\\")
+        .replace('"', "\\\"")
+        .replace('\n', "\\n");
+    format!(
+        "mkdir('/tmp/estlab-harness'); fid = fopen('/tmp/estlab-harness/estlab_harness.m', 'w'); \
+         fputs(fid, \"{text}\"); fclose(fid); clear fid; addpath('/tmp/estlab-harness'); \
+         estlab_harness();"
+    )
+});
 
 /// How a function missing from a file is to be declared, in the harness's message: its
 /// name takes the place of `NAME`.
 pub fn declaring(language: Language) -> &'static str {
     match language {
         Language::Python => "def NAME(...):",
+        Language::Matlab => "function ... = NAME(...)",
         Language::JavaScript => "function NAME(...) { ... }",
     }
 }
 
 const HARNESS_PY: &str = include_str!("harness.py");
+const HARNESS_M: &str = include_str!("harness.m");
