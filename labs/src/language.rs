@@ -43,6 +43,17 @@ impl Language {
         }
     }
 
+    /// How many times the phases' time limits a file in this language is given: Octave
+    /// runs the lab's loops of small matrices several times slower than QuickJS and
+    /// NumPy (`BENCHMARKS.md`, "Students' files in MATLAB"), and a correct file must not
+    /// be held to QuickJS's pace.
+    pub fn time_factor(self) -> u32 {
+        match self {
+            Language::JavaScript | Language::Python => 1,
+            Language::Matlab => 4,
+        }
+    }
+
     /// The extension of its files, without the dot.
     pub fn extension(self) -> &'static str {
         match self {

@@ -90,6 +90,18 @@ pub enum Phase<'a> {
 }
 
 impl Job {
+    /// The job with every phase's time limit `factor` times as long (for a language
+    /// whose interpreter is that much slower: [`crate::Language::time_factor`]).
+    pub fn with_time_factor(mut self, factor: u32) -> Job {
+        for phase in &mut self.functions {
+            phase.limit_ms *= factor;
+        }
+        for run in &mut self.runs {
+            run.limit_ms *= factor;
+        }
+        self
+    }
+
     /// Every phase, the runs of the loop (the longest) first.
     pub fn phases(&self) -> impl Iterator<Item = Phase<'_>> {
         self.runs

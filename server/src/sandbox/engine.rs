@@ -257,7 +257,8 @@ impl Engine {
         // when it ended (what the harness said last).
         let out_of_memory = self.out_of_memory.borrow().clone();
         let stopped = |label: String, cause: Cause| Stopped {
-            limit_ms: None,
+            // The limit the message names: the phase's own.
+            limit_ms: (cause == Cause::Time).then(|| limit.as_millis() as u32),
             during: if label.is_empty() {
                 "your file".to_owned()
             } else {

@@ -197,6 +197,7 @@ impl Sandbox {
 
     /// The outputs of `job` with the student's code, in a worker.
     fn outputs(&self, exercise: Exercise, code: Code, job: Job) -> Result<Outputs, Tried> {
+        let job = job.with_time_factor(code.language.time_factor());
         let native = self
             .tools(code.language)
             .map_err(Tried::Unavailable)?

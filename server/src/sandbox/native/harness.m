@@ -25,9 +25,13 @@ function estlab_harness ()
   % Each request comes with an empty line after it: fgetl looks a character past the
   % end of the line it reads, and has the empty one to look at.
   setup = jsondecode (fgetl (stdin));
-  functions = setup.functions;
-  if (iscell (functions))
-    functions = [functions{:}];
+  specs = struct ();
+  for k = 1:numel (setup.functions)
+    spec = listed (setup.functions, k);
+    spec.arguments = listed (spec.arguments);
+    spec.outputs = listed (spec.outputs);
+    spec.declared = [];
+    specs.(spec.name) = spec;
   end
   reply ('{"ready":true}');
   while (true)
@@ -41,8 +45,21 @@ function estlab_harness ()
     if (isfield (request, 'load'))
       reply (load_file (setup.source, setup.file));
     else
-      reply (call (request.call, request.args, functions, setup.file));
+      [text, specs] = call (request.call, request.args, specs, setup.file);
+      reply (text);
     end
+  end
+end
+
+% The `k`th of a list jsondecode made (a struct array, or a cell array where the items'
+% fields differ), or all of it as a struct array.
+function item = listed (list, k)
+  if (iscell (list))
+    list = [list{:}];
+  end
+  item = list;
+  if (nargin > 1)
+    item = list(k);
   end
 end
 
@@ -137,11 +154,21 @@ function put (path, text)
   fclose (fid);
 end
 
-function text = call (name, args, functions, file)
-  spec = functions(strcmp ({functions.name}, name));
-  args = arrayfun (@(a) argument (a.value), args, 'UniformOutput', false);
+function [text, specs] = call (name, args, specs, file)
+  values = cell (1, numel (args));
+  for k = 1:numel (args)
+    values{k} = argument (args(k).value);
+  end
+  spec = [];
+  if (isfield (specs, name))
+    spec = specs.(name);
+    if (isempty (spec.declared))
+      specs.(name).declared = nargin (name);
+      spec = specs.(name);
+    end
+  end
   try
-    [args, outputs] = arguments_for (name, args, spec);
+    [args, outputs] = arguments_for (name, values, spec);
     out = cell (1, outputs);
     evalc ('[out{1:outputs}] = feval (name, args{:});');
     text = ['{"output":' output_text(out, spec) '}'];
@@ -158,15 +185,12 @@ function [args, outputs] = arguments_for (name, args, spec)
   end
   outputs = numel (spec.outputs);
   given = spec.arguments;
-  if (iscell (given))
-    given = [given{:}];
-  end
   for k = 1:numel (given)
     if (given(k).index)
       args{k} = args{k} + 1;
     end
   end
-  declared = nargin (name);
+  declared = spec.declared;
   if (declared >= 0 && declared < numel (args))
     % An edition of the lab that reads these from globals; then as many as declared.
     keep = true (1, numel (args));
@@ -213,9 +237,6 @@ function text = output_text (out, spec)
     return;
   end
   described = spec.outputs;
-  if (iscell (described))
-    described = [described{:}];
-  end
   if (numel (out) == 1)
     text = value_text (out{1}, described(1));
     return;
@@ -224,7 +245,7 @@ function text = output_text (out, spec)
   for k = 1:numel (out)
     parts{k} = [jsonencode(described(k).name) ':' value_text(out{k}, described(k))];
   end
-  text = ['{' strjoin(parts, ',') '}'];
+  text = ['{' joined(parts) '}'];
 end
 
 % One returned value in the contract's shape, as `described` says it is.
@@ -260,49 +281,74 @@ function text = value_text (value, described)
   end
   switch (rank)
     case 0
-      text = numbers (value);
+      text = numbers (value, '%s,');
       if (! isscalar (value))
         text = ['[' text ']'];
       end
     case 1
-      text = ['[' numbers(value) ']'];
+      text = ['[' numbers(value, '%s,') ']'];
     case 2
       text = rows_text (value);
     otherwise
-      items = cell (1, size (value, 1));
-      for k = 1:size (value, 1)
-        items{k} = rows_text (reshape (value(k, :, :), size (value, 2), size (value, 3)));
-      end
-      text = ['[' strjoin(items, ',') ']'];
+      % The last index fastest: the order of the contract's nested lists.
+      [~, rows, columns] = size (value);
+      item = ['[' times(['[' times('%s,', columns) '],'], rows) '],'];
+      text = ['[' numbers(permute (value, [3 2 1]), item) ']'];
   end
 end
 
 function text = rows_text (matrix)
-  rows = cell (1, size (matrix, 1));
-  for k = 1:size (matrix, 1)
-    rows{k} = ['[' numbers(matrix(k, :)) ']'];
-  end
-  text = ['[' strjoin(rows, ',') ']'];
+  text = ['[' numbers(matrix.', ['[' times('%s,', columns (matrix)) '],']) ']'];
 end
 
-% The numbers of `value`, in MATLAB's order, comma-separated: in full precision, true and
-% false for logicals, the contract's strings for numbers JSON has none for.
-function text = numbers (value)
+% `format` written `n` times.
+function text = times (format, n)
+  text = reshape (format(ones (1, n), :).', 1, []);
+end
+
+% The numbers of `value` in MATLAB's order (a column after another), printed with
+% `format` over and over, `%s` standing for a number: in full precision, true and false
+% for logicals, the contract's strings for numbers JSON has none for; a comma before a
+% closing bracket, and at the end, dropped.
+function text = numbers (value, format)
   if (iscomplex (value))
     error ('returned a complex number, where the contract has real ones');
   end
-  if (islogical (value))
-    words = {'false', 'true'};
-    text = strjoin (words(value(:).' + 1), ',');
+  if (isempty (value))
+    text = '';
     return;
+  elseif (islogical (value))
+    words = {'false', 'true'};
+    text = sprintf (format, words{value(:).' + 1});
+  elseif (all (isfinite (value(:))))
+    text = sprintf (strrep (format, '%s', '%.17g'), double (value));
+  else
+    text = sprintf (format, arrayfun (@number, double (value(:)).', ...
+                                      'UniformOutput', false){:});
   end
-  value = double (value);
-  text = sprintf ('%.17g,', value);
+  text = strrep (text, ',]', ']');
+  if (text(end) == ',')
+    text = text(1:end - 1);
+  end
+end
+
+% One number as JSON has it, the contract's strings for those it has not.
+function text = number (x)
+  if (isfinite (x))
+    text = sprintf ('%.17g', x);
+  elseif (isnan (x))
+    text = '"NaN"';
+  elseif (x > 0)
+    text = '"Infinity"';
+  else
+    text = '"-Infinity"';
+  end
+end
+
+% Parts of JSON text, comma-separated.
+function text = joined (parts)
+  text = sprintf ('%s,', parts{:});
   text = text(1:end - 1);
-  if (! all (isfinite (value(:))))
-    text = regexprep (text, '(-?)Inf', '"$1Infinity"');
-    text = regexprep (text, 'NaN', '"NaN"');
-  end
 end
 
 % A value whose shape the contract leaves open (the settings `init` and `tuning` return):
@@ -314,20 +360,20 @@ function text = any_text (value)
     for k = 1:numel (fields)
       parts{k} = [jsonencode(fields{k}) ':' any_text(value.(fields{k}))];
     end
-    text = ['{' strjoin(parts, ',') '}'];
+    text = ['{' joined(parts) '}'];
   elseif (ischar (value))
     text = jsonencode (value);
   elseif (iscell (value))
-    text = ['[' strjoin(cellfun (@any_text, value(:).', 'UniformOutput', false), ',') ']'];
+    text = ['[' joined(cellfun (@any_text, value(:).', 'UniformOutput', false)) ']'];
   elseif ((isnumeric (value) || islogical (value)) && ndims (value) == 2)
     if (numel (value) > max_values ())
       error ('returned %d values, more than the %d a call may return', ...
              numel (value), max_values ());
     end
     if (isscalar (value))
-      text = numbers (value);
+      text = numbers (value, '%s');
     elseif (isvector (value) || isempty (value))
-      text = ['[' numbers(value) ']'];
+      text = ['[' numbers(value, '%s,') ']'];
     else
       text = rows_text (value);
     end
