@@ -57,7 +57,7 @@ pub struct Argument {
     /// A 0-based index in the contract, 1-based in MATLAB.
     pub index: bool,
     /// The global variable some editions of the lab read it from.
-    pub global: Option<&'static str>,
+    pub global_variable: Option<&'static str>,
 }
 
 /// One returned value, and what the contract makes of it.
@@ -119,7 +119,7 @@ fn function(signature: Signature, shape: Option<&Shape>, matlab: &MatlabConventi
         .map(|&argument| Argument {
             name: argument,
             index: matlab.index_arguments.contains(&(name, argument)),
-            global: matlab
+            global_variable: matlab
                 .globals
                 .iter()
                 .find(|(given, _)| *given == argument)
@@ -242,7 +242,7 @@ mod tests {
             ]
         );
         let m = associate.arguments.iter().find(|a| a.name == "M").unwrap();
-        assert_eq!(m.global, Some("map"));
+        assert_eq!(m.global_variable, Some("map"));
 
         let observation = find(Exercise::EkfLocalization, "observation_model");
         assert!(observation.arguments[2].index);
@@ -279,7 +279,7 @@ mod tests {
                     function
                         .arguments
                         .iter()
-                        .all(|a| !a.index && a.global.is_none())
+                        .all(|a| !a.index && a.global_variable.is_none())
                 );
                 assert!(function.outputs.iter().all(|o| !o.stacked && !o.index));
             }

@@ -179,6 +179,7 @@ impl Files {
         let thrown = match self.language {
             Language::JavaScript => "Error",
             Language::Python => "NotImplementedError",
+            Language::Matlab => "error",
         };
         for function in self.functions {
             let test = function_test(&result, function);

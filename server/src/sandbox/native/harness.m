@@ -133,7 +133,7 @@ function [split, text] = write_file (code, file, names, folder)
   end
   delete (script);
   split = true;
-  lines = strsplit (code, "\n");
+  lines = strsplit (code, "\n", "CollapseDelimiters", false);
   starts = find (! cellfun (@isempty, regexp (lines, '^[ \t]*function\>', 'once')));
   starts(end + 1) = numel (lines) + 1;
   for k = 1:numel (starts) - 1
@@ -195,8 +195,9 @@ function [args, outputs] = arguments_for (name, args, spec)
     % An edition of the lab that reads these from globals; then as many as declared.
     keep = true (1, numel (args));
     for k = 1:numel (given)
-      if (! isempty (given(k).global))
-        eval (sprintf ('global %s; %s = args{k};', given(k).global, given(k).global));
+      variable = given(k).global_variable;
+      if (! isempty (variable))
+        eval (sprintf ('global %s; %s = args{k};', variable, variable));
         keep(k) = false;
       end
     end

@@ -40,7 +40,9 @@ struct Setup<'a> {
 #[derive(Serialize)]
 #[serde(untagged)]
 enum Request<'a> {
-    Load { load: bool },
+    Load {
+        load: bool,
+    },
     Call {
         call: &'a str,
         args: Vec<Argument<'a>>,

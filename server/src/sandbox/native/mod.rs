@@ -57,12 +57,7 @@ impl Native {
             bwrap: find("bwrap")?,
             interpreter: find(program)?,
         };
-        let check = Interpreter::start(
-            &tools,
-            &invocation(language, 15),
-            ("", "check.py"),
-            &[],
-        );
+        let check = Interpreter::start(&tools, &invocation(language, 15), ("", "check.py"), &[]);
         check
             .map(|_| tools)
             .map_err(|refused| Unavailable::NoSandbox {
