@@ -302,7 +302,7 @@ fn errors_name_the_line_of_the_students_file() {
             .lines()
             .enumerate()
             .find(|(_, line)| {
-                line.starts_with(&format!("function ")) && line.contains(&format!(" {function}("))
+                line.starts_with("function ") && line.contains(&format!(" {function}("))
             })
             .unwrap();
         let broken = source.replacen(line, &format!("{line}\n  [1 2] * [3 4];"), 1);

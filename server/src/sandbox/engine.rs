@@ -258,7 +258,7 @@ impl Engine {
         let out_of_memory = self.out_of_memory.borrow().clone();
         let stopped = |label: String, cause: Cause| Stopped {
             // The limit the message names: the phase's own.
-            limit_ms: (cause == Cause::Time).then(|| limit.as_millis() as u32),
+            limit_ms: (cause == Cause::Time).then_some(limit.as_millis() as u32),
             during: if label.is_empty() {
                 "your file".to_owned()
             } else {
