@@ -10,14 +10,15 @@ use labs::{Exercise, Language};
 use std::path::PathBuf;
 use std::str::FromStr;
 
-/// Grade a student's file (JavaScript, or Python with NumPy) and print the result. The exit code is 0 whenever a
-/// result was produced, whatever the score.
+/// Grade a student's file (JavaScript, Python with NumPy, or MATLAB in GNU Octave) and
+/// print the result. The exit code is 0 whenever a result was produced, whatever the score.
 #[derive(clap::Args)]
 pub struct Args {
     /// The exercise, by name.
     #[arg(long, value_parser = Exercise::from_str, default_value_t = Exercise::default())]
     lab: Exercise,
-    /// The student's file: `.js` is JavaScript and `.py` Python, unless --language says.
+    /// The student's file: `.js` is JavaScript, `.py` Python and `.m` MATLAB, unless
+    /// --language says.
     file: PathBuf,
     /// The file's language, when its name does not tell it.
     #[arg(long, value_parser = Language::from_str)]

@@ -23,7 +23,7 @@ use std::time::Instant;
 #[derive(clap::Args)]
 pub struct Args {
     /// The folder: one file per student, named by the student's id and its language's
-    /// extension (u123.js, u124.py).
+    /// extension (u123.js, u124.py, u125.m).
     dir: PathBuf,
     /// The exercise; for now the EKF localization exercise.
     #[arg(long, value_parser = Exercise::from_str, default_value_t = Exercise::default())]

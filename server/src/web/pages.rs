@@ -77,6 +77,8 @@ struct Code<'a> {
 struct Written {
     name: &'static str,
     title: &'static str,
+    /// Its files' extension, which the upload's choice of files accepts.
+    extension: &'static str,
     starter: &'static str,
 }
 
@@ -206,6 +208,7 @@ pub async fn workbench(
             .map(|&language| Written {
                 name: language.name(),
                 title: language.title(),
+                extension: language.extension(),
                 starter: exercise.declaration().starter(language),
             })
             .collect(),

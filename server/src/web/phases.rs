@@ -25,8 +25,9 @@ use std::collections::{HashMap, VecDeque};
 use std::sync::{Arc, Mutex};
 use tokio::sync::Semaphore;
 
-/// Phases one asker may run in a minute: a whole run of the tests and of the loop, twice.
-pub const PER_MINUTE: usize = 30;
+/// Phases one asker may run in a minute: a whole run of the tests and of the loop, four
+/// times (the CPU they take is held by `--parallel` besides).
+pub const PER_MINUTE: usize = 60;
 const WINDOW: SignedDuration = SignedDuration::from_mins(1);
 /// Askers remembered at most; beyond it the quietest are forgotten first.
 const MAX_KEYS: usize = 100_000;

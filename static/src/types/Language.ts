@@ -3,4 +3,4 @@
 /**
  * A language of students' files.
  */
-export type Language = "javascript" | "python";
+export type Language = "javascript" | "python" | "matlab";

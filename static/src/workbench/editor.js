@@ -3,6 +3,8 @@
 // file, downloaded and uploaded.
 import { javascript } from '@codemirror/lang-javascript';
 import { python } from '@codemirror/lang-python';
+import { StreamLanguage } from '@codemirror/language';
+import { octave } from '@codemirror/legacy-modes/mode/octave';
 import { Compartment } from '@codemirror/state';
 import { EditorView, basicSetup } from 'codemirror';
 import { byId, download, showError } from '../controls.js';
@@ -18,6 +20,7 @@ const MAX_SOURCE = 256 * 1024;
 export const LANGUAGES = {
   javascript: { mode: javascript, extension: 'js', type: 'text/javascript' },
   python: { mode: python, extension: 'py', type: 'text/x-python' },
+  matlab: { mode: () => StreamLanguage.define(octave), extension: 'm', type: 'text/x-matlab' },
 };
 
 /**
