@@ -337,3 +337,28 @@ fn errors_name_the_line_of_the_students_file() {
         result.tests.iter().map(|t| &t.message).collect::<Vec<_>>()
     );
 }
+
+#[test]
+fn hints_speak_matlab() {
+    contained(
+        "  Sigma_delta = [k_r * abs(ds_r), k_l * abs(ds_l)];",
+        "`Sigma_delta` should be a 2 x 2 matrix, but is a 1 x 2 matrix.",
+    );
+    let source = EKF_LOCALIZATION.correct.replace(
+        "z_hat = [hypot(dx, dy); wrap(atan2(dy, dx) - x(3))];",
+        "z_hat = [hypot(dx, dy); atan2(dy, dx) - x(3)];",
+    );
+    let result = grade(Exercise::EkfLocalization, &source);
+    let test = result
+        .tests
+        .iter()
+        .find(|t| t.subject == Subject::Function("observation_model".to_owned()))
+        .unwrap();
+    assert!(
+        test.message
+            .contains("with mod, whose result takes the sign of 2 pi")
+            && !test.message.contains("JavaScript"),
+        "{}",
+        test.message
+    );
+}

@@ -5,6 +5,7 @@
 //! more methods of [`Grader`]).
 
 use super::{exercise, from_json, seed};
+use labs::Language;
 use labs::grading::{self, Plan, Reports};
 use wasm_bindgen::prelude::*;
 
@@ -36,11 +37,13 @@ impl Grader {
     }
 
     /// The result (JSON) for the harness's outputs (JSON: `{ functions, runs }`, each
-    /// phase's report as the worker gave it); functions and runs missing from the outputs
-    /// fail as not run, and a report that does not read fails its phase, as on the server.
-    pub fn grade(&self, outputs: &str) -> Result<String, JsError> {
+    /// phase's report as the worker gave it) of a file in `language` (whose terms its
+    /// hints use); functions and runs missing from the outputs fail as not run, and a
+    /// report that does not read fails its phase, as on the server.
+    pub fn grade(&self, outputs: &str, language: &str) -> Result<String, JsError> {
         let reports: Reports = from_json("outputs", outputs)?;
-        let result = self.plan.grade(&reports.outputs());
+        let language: Language = language.parse()?;
+        let result = self.plan.grade(&reports.outputs()).in_language(language);
         Ok(serde_json::to_string(&result).expect("results serialise"))
     }
 }

@@ -17,6 +17,7 @@
 mod beliefs;
 mod compare;
 mod contract;
+mod dialect;
 mod functions;
 mod hints;
 pub mod infinity;

@@ -168,8 +168,9 @@ impl Sandbox {
         hidden: Option<Hidden>,
     ) -> Result<GradeResult, DidNotStart> {
         let plan = Plan::new(exercise, seed, hidden);
+        let language = code.language;
         Ok(match self.outputs(exercise, code, plan.job()) {
-            Ok(outputs) => plan.grade(&outputs),
+            Ok(outputs) => plan.grade(&outputs).in_language(language),
             Err(Tried::DidNotStart(did_not_start)) => return Err(did_not_start),
             Err(failed) => GradeResult::not_gradable(exercise, seed, failed.to_string()),
         })

@@ -274,7 +274,7 @@ export class Runs {
     if (!state.grader) return;
     const outputs = { functions: [...state.functions.values()], runs: [...state.runs.values()] };
     /** @type {GradeResult} */
-    const result = JSON.parse(state.grader.grade(JSON.stringify(outputs)));
+    const result = JSON.parse(state.grader.grade(JSON.stringify(outputs), this.editor.language));
     state.result = result;
     ui.tests.classList.toggle('stale', state.source !== null && state.source !== this.editor.source());
     ui.tests.replaceChildren(...result.tests.map((test) => testItem(test, {
