@@ -89,6 +89,18 @@ test('the fusion page writes its settings as the exercise\'s tuning()', bounded,
     'function tuning() { return { k_xy: 0.05, k_theta: 0.05, c_xy: 90, field_of_view: 2, lambda: 16.266236196238 }; }');
   await page.locator('#gate').fill('6');
   assert.match(await code(), /lambda: Infinity \}; \}$/);
+  // In the student's other languages, as their starters write it.
+  await page.locator('#tuning-language').selectOption('python');
+  assert.equal(await code(),
+    'def tuning(): return {"k_xy": 0.05, "k_theta": 0.05, "c_xy": 90, "field_of_view": 2, "lambda": float("inf")}');
+  await page.locator('#tuning-language').selectOption('matlab');
+  assert.equal(await code(), "function settings = tuning(), settings = struct('k_xy', 0.05, 'k_theta', 0.05, " +
+    "'c_xy', 90, 'field_of_view', 2, 'lambda', Inf); end");
+  // The language last chosen on the exercise's workbench comes first.
+  await page.evaluate(() => localStorage.setItem('estlab:sensor-fusion:choice', 'matlab'));
+  await page.reload();
+  await page.waitForSelector('body[data-ready=true]');
+  assert.equal(await page.locator('#tuning-language').inputValue(), 'matlab');
   // Copied, or where the browser does not let a page copy, said so.
   await page.locator('#copy-tuning').click();
   await page.waitForFunction(() => document.querySelector('#copy-status').textContent !== '');

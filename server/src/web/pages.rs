@@ -46,6 +46,8 @@ struct Fusion<'a> {
     nav: Nav,
     /// How many of the report's trials the server was given (`--datasets`).
     real_trials: usize,
+    /// The languages `tuning()` can be copied in: (name, title).
+    languages: Vec<(&'static str, &'static str)>,
 }
 
 #[derive(Template)]
@@ -170,6 +172,10 @@ pub async fn fusion(State(state): State<Arc<AppState>>, viewer: Viewer) -> Resul
         assets: state.assets.page("fusion"),
         nav: Nav::of(&state, &viewer).await?,
         real_trials: state.datasets.northstar.len(),
+        languages: Language::ALL
+            .iter()
+            .map(|language| (language.name(), language.title()))
+            .collect(),
     })
 }
 

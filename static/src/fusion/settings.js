@@ -104,17 +104,37 @@ export function settingsFromAddress(address, defaults) {
 }
 
 /**
- * The sensor-fusion exercise's `tuning()` that returns `settings` (`lambda`, the gate on
- * the squared Mahalanobis distance, is `threshold`: chi2inv(gate, 3)). The heading's
- * noise comes from the platforms' there, so c_θ has no place in it.
+ * The sensor-fusion exercise's `tuning()` in `language` that returns `settings` (`lambda`,
+ * the gate on the squared Mahalanobis distance, is `threshold`: chi2inv(gate, 3)). The
+ * heading's noise comes from the platforms' there, so c_θ has no place in it.
  *
  * @param {FusionSettings} settings
  * @param {number} threshold
+ * @param {import('../types/Language').Language} language
  */
-export function tuningFunction(settings, threshold) {
-  const lambda = Number.isFinite(threshold) ? String(threshold) : 'Infinity';
-  return `function tuning() { return { k_xy: ${settings.process_xy}, k_theta: ${settings.process_theta}, ` +
-    `c_xy: ${settings.noise.c_xy}, field_of_view: ${settings.field_of_view}, lambda: ${lambda} }; }`;
+export function tuningFunction(settings, threshold, language) {
+  const finite = Number.isFinite(threshold);
+  const values = [
+    ['k_xy', settings.process_xy], ['k_theta', settings.process_theta], ['c_xy', settings.noise.c_xy],
+    ['field_of_view', settings.field_of_view],
+  ];
+  switch (language) {
+    case 'python': {
+      const lambda = finite ? String(threshold) : 'float("inf")';
+      const fields = [...values.map(([name, value]) => `"${name}": ${value}`), `"lambda": ${lambda}`];
+      return `def tuning(): return {${fields.join(', ')}}`;
+    }
+    case 'matlab': {
+      const lambda = finite ? String(threshold) : 'Inf';
+      const fields = [...values.map(([name, value]) => `'${name}', ${value}`), `'lambda', ${lambda}`];
+      return `function settings = tuning(), settings = struct(${fields.join(', ')}); end`;
+    }
+    default: {
+      const lambda = finite ? String(threshold) : 'Infinity';
+      const fields = [...values.map(([name, value]) => `${name}: ${value}`), `lambda: ${lambda}`];
+      return `function tuning() { return { ${fields.join(', ')} }; }`;
+    }
+  }
 }
 
 /** The settings other than the process noise, in words (what a tuning kept). */

@@ -56,6 +56,7 @@ const ui = {
   stale: byId('run-stale'),
   command: byId('command'),
   tuningCode: byId('tuning-code'),
+  tuningLanguage: byId('tuning-language', HTMLSelectElement),
   timing: byId('timing'),
   tuneReal: byId('tune-real'),
   tuneGenerated: byId('tune-generated'),
@@ -195,7 +196,8 @@ function update() {
   const s = filterSettings(ui, defaults.settings);
   showAddress(s);
   showValues(s);
-  setText(ui.tuningCode, tuningFunction(s, estlab.fusionGateThreshold(s.gate)));
+  setText(ui.tuningCode, tuningFunction(s, estlab.fusionGateThreshold(s.gate),
+    /** @type {import('../types/Language').Language} */ (ui.tuningLanguage.value)));
   showTuneButtons();
   ui.download.disabled = current?.kind !== 'generated';
   if (!current) {
@@ -245,6 +247,10 @@ const asked = new URLSearchParams(location.search);
 showSettings(ui, settingsFromAddress(asked, defaults.settings));
 ui.seed.value = /^\d{1,15}$/.test(asked.get('seed') ?? '') ? asked.get('seed') : String(defaults.trial.seed);
 ui.waypoints.value = /^\d{1,3}$/.test(asked.get('waypoints') ?? '') ? asked.get('waypoints') : String(defaults.trial.waypoints);
+// tuning() in the language the student last chose on the exercise's workbench.
+const chosen = localStorage.getItem('estlab:sensor-fusion:choice');
+if ([...ui.tuningLanguage.options].some((option) => option.value === chosen)) ui.tuningLanguage.value = chosen ?? '';
+ui.tuningLanguage.addEventListener('change', update);
 ui.trial.addEventListener('change', loadTrial);
 ui.seed.addEventListener('input', loadTrial);
 ui.waypoints.addEventListener('input', loadTrial);
