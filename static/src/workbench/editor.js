@@ -36,6 +36,25 @@ export function languageOfFile(name) {
 }
 
 /**
+ * Why the files chosen to upload cannot be taken, or null: one file, or several MATLAB
+ * files (the lab's, a function in each), together within the size a file may have.
+ *
+ * @param {File[]} uploads
+ * @returns {string | null}
+ */
+function uploadProblem(uploads) {
+  if (uploads.length > 1 && !uploads.every((upload) => languageOfFile(upload.name) === 'matlab')) {
+    return `${uploads.length} files were chosen: choose one file, or several MATLAB files (.m), which become one.`;
+  }
+  const size = uploads.reduce((sum, upload) => sum + upload.size, 0);
+  if (size > MAX_SOURCE) {
+    const name = uploads.length === 1 ? uploads[0].name : `${uploads.length} files`;
+    return `${name}: ${size} bytes; a file may have at most ${MAX_SOURCE / 1024} KB.`;
+  }
+  return null;
+}
+
+/**
  * What both editors share (this one and the read-only one of a submission, viewing.js):
  * long lines wrap (a phone shows a third of an 80-column line), and the text area has a
  * name and a place in the keyboard's order, so that a screen reader says what it is and
@@ -110,18 +129,18 @@ export class Editor {
     byId('upload-button').addEventListener('click', () => byId('upload').click());
     const chooser = byId('upload', HTMLInputElement);
     chooser.addEventListener('change', async () => {
-      const upload = chooser.files[0];
+      const uploads = [...(chooser.files ?? [])];
       chooser.value = '';
-      if (!upload) return;
-      if (upload.size > MAX_SOURCE) {
-        showError(error, `${upload.name}: ${upload.size} bytes; a file may have at most ${MAX_SOURCE / 1024} KB.`);
-        return;
-      }
-      showError(error, null);
+      if (uploads.length === 0) return;
+      const problem = uploadProblem(uploads);
+      showError(error, problem);
+      if (problem) return;
       // A file in another language switches the editor to it.
-      const language = languageOfFile(upload.name);
+      const language = languageOfFile(uploads[0].name);
       if (language && language !== this.language && language in this.starters) this.use(language);
-      this.replace(await upload.text());
+      // The lab's MATLAB files, a function each, become one file, in the order chosen.
+      const texts = await Promise.all(uploads.map((upload) => upload.text()));
+      this.replace(texts.map((text) => text.replace(/\n*$/, '\n')).join('\n'));
     });
   }
 
