@@ -1,5 +1,6 @@
 //! Which of the files a student submitted on a platform is the one to grade.
 
+use labs::Language;
 use std::path::{Path, PathBuf};
 
 /// Folders below the submission's that are looked into (a zip of a folder adds one).
@@ -32,10 +33,26 @@ pub fn student_file(dir: &Path, name: &str) -> Result<PathBuf, String> {
         [] if found.files.is_empty() => Err(format!(
             "nothing was submitted (files more than {DEPTH} folders deep are not looked at): submit your {name}"
         )),
-        [] => Err(format!(
-            "no JavaScript file was submitted (found {}): submit your {name}",
-            list(found.files.iter().map(relative))
-        )),
+        [] => {
+            let found_files = list(found.files.iter().map(relative));
+            // A file in a language the packages do not grade: said as such.
+            let other = found.files.iter().find_map(|path| {
+                Language::of_file(&path.file_name()?.to_string_lossy())
+                    .filter(|&language| language != Language::JavaScript)
+            });
+            Err(match other {
+                Some(language) => format!(
+                    "a {} file was submitted ({found_files}), and this grader takes JavaScript \
+                     only: {} files are graded on an estlab server, whose sandbox the \
+                     platform's container does not allow; submit your {name}",
+                    language.title(),
+                    language.title()
+                ),
+                None => format!(
+                    "no JavaScript file was submitted (found {found_files}): submit your {name}"
+                ),
+            })
+        }
         several => {
             let named: Vec<&&PathBuf> = several
                 .iter()
@@ -209,6 +226,20 @@ mod tests {
             error.contains("more than 1000 files and folders"),
             "{error}"
         );
+    }
+
+    #[test]
+    fn a_file_in_another_language_is_named_as_such() {
+        let error = pick(&["ekf_localization.m", "notes.txt"]).unwrap_err();
+        assert!(
+            error.starts_with(
+                "a MATLAB file was submitted (ekf_localization.m, notes.txt), and this grader \
+                 takes JavaScript only"
+            ),
+            "{error}"
+        );
+        let error = pick(&["lab/odometry.py"]).unwrap_err();
+        assert!(error.starts_with("a Python file was submitted"), "{error}");
     }
 
     #[test]
