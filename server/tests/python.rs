@@ -188,6 +188,14 @@ fn no_network_processes_or_tracing() {
          raise RuntimeError(f'clone3 {status} errno {ctypes.get_errno()}')",
         "clone3 -1 errno 38",
     );
+    // Threads, but a few: a loop of them would take the machine's every process id.
+    contained(
+        "import threading, time\ndef wheel_noise(ds_r, ds_l, k_r, k_l):\n    \
+         for n in range(100000):\n        \
+         try: threading.Thread(target=time.sleep, args=(5,), daemon=True).start()\n        \
+         except RuntimeError: raise RuntimeError(f'threads {n < 32}')",
+        "threw RuntimeError: threads True",
+    );
     contained(
         "import ctypes\ndef wheel_noise(ds_r, ds_l, k_r, k_l):\n    \
          libc = ctypes.CDLL(None, use_errno=True)\n    \
@@ -282,6 +290,20 @@ fn endless_work_sleep_memory_disk_and_huge_answers_are_stopped_with_a_message() 
     );
     contained(
         "import time\ndef wheel_noise(ds_r, ds_l, k_r, k_l):\n    time.sleep(600)",
+        "your code waited for 2 s without computing",
+    );
+    // The time asleep adds up over the calls of a phase: a little less in each of many
+    // calls would otherwise outlast the worker, and the grading would be no grading.
+    contained(
+        "import time\ndef wheel_noise(ds_r, ds_l, k_r, k_l):\n    time.sleep(0.3)\n    \
+         return [[k_r * abs(ds_r), 0], [0, k_l * abs(ds_l)]]",
+        "your code waited for 2 s without computing",
+    );
+    // A main thread that ends while another sleeps is asleep too.
+    contained(
+        "import ctypes, threading, time\ndef wheel_noise(ds_r, ds_l, k_r, k_l):\n    \
+         threading.Thread(target=lambda: time.sleep(10**6), daemon=True).start()\n    \
+         ctypes.CDLL(None).syscall(60, 0)",
         "your code waited for 2 s without computing",
     );
     contained(

@@ -73,16 +73,19 @@ pub fn in_language(text: &str, language: Language) -> String {
 }
 
 impl GradeResult {
-    /// The result with its hints (and the messages that say them) in the terms of the
+    /// The result with its hints (and where the messages say them) in the terms of the
     /// student's `language`.
     pub fn in_language(mut self, language: Language) -> GradeResult {
         if language == Language::JavaScript {
             return self;
         }
         for test in &mut self.tests {
-            test.message = in_language(&test.message, language);
             for hint in test.failures.iter_mut().filter_map(|f| f.hint.as_mut()) {
-                hint.text = in_language(&hint.text, language);
+                // The message says the hint: said anew there, and nothing else of it
+                // (the student's own error, the harness's words) changed.
+                let said = in_language(&hint.text, language);
+                test.message = test.message.replace(&hint.text, &said);
+                hint.text = said;
             }
         }
         self

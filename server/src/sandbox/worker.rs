@@ -251,9 +251,9 @@ impl Sandbox {
         })
         .expect("worker inputs serialise");
         let mut stdin = child.stdin.take().expect("piped stdin");
-        let writer = thread::spawn(move || stdin.write_all(input.as_bytes()));
+        let writer = beside(&mut child, move || stdin.write_all(input.as_bytes()))?;
         let stdout = child.stdout.take().expect("piped stdout");
-        let reader = thread::spawn(move || {
+        let reader = beside(&mut child, move || {
             // One byte past the limit tells a report that is too large; stopping there
             // ends the worker, whose next write fails.
             let mut text = String::new();
@@ -261,13 +261,13 @@ impl Sandbox {
                 .take(MAX_OUTPUT + 1)
                 .read_to_string(&mut text)
                 .map(|_| text)
-        });
+        })?;
         let stderr = child.stderr.take().expect("piped stderr");
-        let complaints = thread::spawn(move || {
+        let complaints = beside(&mut child, move || {
             let mut text = String::new();
             let _ = stderr.take(64 << 10).read_to_string(&mut text);
             text
-        });
+        })?;
 
         let started = Instant::now();
         let status = loop {
@@ -303,6 +303,20 @@ impl Sandbox {
 
 /// Why a worker's end is the student's code's doing, not the sandbox's, if it is: then
 /// every test fails with this message, and the submission stays gradable.
+/// A thread of this process beside the worker `child` (feeding it, reading it): one the
+/// machine will not give (out of threads, as a loop of them elsewhere could leave it) is
+/// a fault of the sandbox's, and the worker is ended.
+fn beside<T: Send + 'static>(
+    child: &mut std::process::Child,
+    work: impl FnOnce() -> T + Send + 'static,
+) -> Result<thread::JoinHandle<T>, Failure> {
+    thread::Builder::new().spawn(work).map_err(|e| {
+        let _ = child.kill();
+        let _ = child.wait();
+        Failure::Unwatched(e)
+    })
+}
+
 fn student_fault(
     output_bytes: usize,
     status: std::process::ExitStatus,

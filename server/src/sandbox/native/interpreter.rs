@@ -1,9 +1,11 @@
 //! A student's file in an interpreter in its jail, answering the calls of the harness in
 //! JavaScript one line of JSON at a time (see `harness.py`). Waiting for an answer, the
 //! engine's thread looks every few milliseconds at the phase's budget (which counts the
-//! interpreter's CPU time) and at what the interpreter does: one that sleeps (a `sleep`,
-//! a read of its input, a lock it waits for) rather than computes is stopped after
-//! [`SLEEP_LIMIT`] asleep, since its CPU time would never run out.
+//! interpreter's CPU time) and at what the interpreter does: one that is not running (a
+//! `sleep`, a read of its input, a lock it waits for, a main thread that has ended while
+//! another waits) rather than computing is stopped once it has been so for
+//! [`SLEEP_LIMIT`] in all, over every call of its phase, since its CPU time would never
+//! run out.
 
 use super::super::cpu::CpuClock;
 use super::jail::{Invocation, Jailed, Refused, Tools};
@@ -19,7 +21,9 @@ use std::time::Duration;
 /// The longest answer read from the interpreter: the JavaScript harness then holds it to
 /// the contract's own bounds (2,000 values, 4,000 characters of text).
 const MAX_REPLY: usize = 1 << 20;
-/// How long the interpreter may be asleep, waiting rather than computing, during one call.
+/// How long the interpreter may be asleep, waiting rather than computing, while the engine
+/// waits for it, over all the calls of its phase (a wait per call would let a file that
+/// sleeps a little less in each of a run's hundreds of calls outlast its worker).
 pub const SLEEP_LIMIT: Duration = Duration::from_secs(2);
 /// How often the engine's thread looks while it waits.
 const LOOK: Duration = Duration::from_millis(5);
@@ -89,6 +93,8 @@ pub struct Interpreter {
     complaints: Option<JoinHandle<String>>,
     /// Why it answers no more, once it does not.
     silent: Option<Silent>,
+    /// How long it has been found asleep while the engine waited for it.
+    asleep: Duration,
 }
 
 impl Interpreter {
@@ -122,6 +128,7 @@ impl Interpreter {
             pending: Vec::new(),
             complaints: Some(complaints),
             silent: None,
+            asleep: Duration::ZERO,
         };
         let setup = serde_json::to_string(&Setup {
             source,
@@ -204,14 +211,13 @@ impl Interpreter {
     /// Writes `bytes` to the interpreter's input as it reads them, waiting as long as the
     /// budget lasts (an interpreter that reads nothing fills the pipe).
     fn send(&mut self, mut bytes: &[u8], over: &dyn Fn() -> bool) -> Result<(), Silent> {
-        let mut asleep = Duration::ZERO;
         while !bytes.is_empty() {
             match self.stdin.write(bytes) {
                 Ok(0) => return Err(self.ended()),
                 Ok(n) => bytes = &bytes[n..],
                 Err(e) if e.kind() == std::io::ErrorKind::WouldBlock => {
                     if !ready(self.stdin.as_raw_fd(), libc::POLLOUT, LOOK) {
-                        self.waited(over, &mut asleep)?;
+                        self.waited(over)?;
                     }
                 }
                 Err(_) => return Err(self.ended()),
@@ -222,7 +228,6 @@ impl Interpreter {
 
     /// The next line the interpreter writes, waiting as long as the budget lasts.
     fn reply(&mut self, over: &dyn Fn() -> bool) -> Result<String, Silent> {
-        let mut asleep = Duration::ZERO;
         loop {
             if let Some(end) = self.pending.iter().position(|&b| b == b'\n') {
                 let line: Vec<u8> = self.pending.drain(..=end).collect();
@@ -239,20 +244,19 @@ impl Interpreter {
                 }
                 continue;
             }
-            self.waited(over, &mut asleep)?;
+            self.waited(over)?;
         }
     }
 
     /// After a look that found nothing to do: whether to go on waiting. Not when the
-    /// phase's time has run out, nor when the interpreter has been asleep (`asleep`, so
-    /// far in this wait) for too long.
-    fn waited(&self, over: &dyn Fn() -> bool, asleep: &mut Duration) -> Result<(), Silent> {
+    /// phase's time has run out, nor when the interpreter has been asleep for too long.
+    fn waited(&mut self, over: &dyn Fn() -> bool) -> Result<(), Silent> {
         if over() {
             return Err(Silent::OverTime);
         }
-        if sleeping(self.pid) {
-            *asleep += LOOK;
-            if *asleep >= SLEEP_LIMIT {
+        if !running(self.pid) {
+            self.asleep += LOOK;
+            if self.asleep >= SLEEP_LIMIT {
                 return Err(Silent::Asleep);
             }
         }
@@ -317,12 +321,14 @@ fn ready(fd: std::os::fd::RawFd, events: libc::c_short, wait: Duration) -> bool 
     ready > 0
 }
 
-/// Whether the process sleeps (waits for something) rather than runs: `S` in
-/// `/proc/PID/stat`, the state after the command's name in parentheses.
-fn sleeping(pid: libc::pid_t) -> bool {
+/// Whether the process runs or waits only for a processor: `R` in `/proc/PID/stat`, the
+/// state after the command's name in parentheses. Every other state is a wait of its own
+/// making: asleep (`S`, `D`), stopped (`T`, `t`), or a main thread that has ended (`Z`)
+/// while another thread of it waits. A busy machine makes a process wait runnable, `R`.
+fn running(pid: libc::pid_t) -> bool {
     std::fs::read_to_string(format!("/proc/{pid}/stat")).is_ok_and(|stat| {
         stat.rsplit_once(')')
-            .is_some_and(|(_, rest)| rest.trim_start().starts_with('S'))
+            .is_some_and(|(_, rest)| rest.trim_start().starts_with('R'))
     })
 }
 

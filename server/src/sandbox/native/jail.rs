@@ -3,12 +3,13 @@
 //! where it is process 1; its own mounts: `/usr` read-only with the dynamic linker's few
 //! files of `/etc`, its own `/proc`, `/dev` and a small `/tmp`, and nothing else of the
 //! machine: no server data, no secret, no other student's file; `/proc/sys` read-only),
-//! as a user of no privileges and no capabilities (a server run as root starts it as
-//! `nobody`: inside a user namespace, root outside stays root for the kernel's files), in a session of its own, with a system-call filter
-//! (seccomp, compiled by seccompiler: no new processes, threads only, no tracing, no
-//! sockets, no mounts or namespaces, no kernel keyrings, BPF, io_uring or
-//! `perf_event_open`), and with resource limits (address space, file size, open files,
-//! CPU time, no core dumps). It dies with the thread that started it.
+//! as a user of no privileges and no capabilities (a server run as root starts it as a
+//! user of its own: inside a user namespace, root outside stays root for the kernel's
+//! files), in a session of its own, with a system-call filter (seccomp, compiled by
+//! seccompiler: no new processes, threads only, no tracing, no sockets, no mounts or
+//! namespaces, no kernel keyrings, BPF, io_uring or `perf_event_open`), and with
+//! resource limits (address space, file size, open files, tasks, CPU time, no core
+//! dumps). It dies with the thread that started it.
 
 use super::super::cpu::CpuClock;
 use seccompiler::{
@@ -33,9 +34,17 @@ const FILE_SIZE_LIMIT: u64 = 1 << 20;
 const TMP_SIZE: u64 = 16 << 20;
 /// Descriptors the interpreter may hold open.
 const OPEN_FILES: u64 = 64;
-/// The user and group a server run as root starts the sandbox as (`nobody`), and the
-/// student's code runs as inside it.
+/// The user and group the student's code runs as inside the sandbox (`nobody`), and the
+/// group a server run as root starts it as.
 const NOBODY: libc::uid_t = 65534;
+/// A server run as root starts each sandbox as a user of its own, this plus the pid of
+/// the process that becomes bubblewrap (unique among the living): no user of the machine,
+/// and the one the count of processes below is kept for.
+const JAIL_USERS: libc::uid_t = 0x6000_0000;
+/// Processes and threads the sandbox may have at once, bubblewrap's own included (Octave
+/// makes one thread, Python none): threads are allowed, and a loop that makes them would
+/// otherwise take the machine's every process id.
+const TASKS: u64 = 32;
 /// Where the filter and the sandbox's report reach bubblewrap.
 const SECCOMP_FD: RawFd = 3;
 const INFO_FD: RawFd = 4;
@@ -108,10 +117,19 @@ impl Tools {
             .stderr(Stdio::piped());
         let (filter_fd, info_fd) = (filter_read.as_raw_fd(), info_write.as_raw_fd());
         let cpu = invocation.cpu_seconds;
+        // A server run as root counts each sandbox's tasks under a user of its own; any
+        // other counts its user's tasks, the server's too, and lets the sandbox add
+        // [`TASKS`] to those it has now.
+        // SAFETY: geteuid reads this process's credentials.
+        let tasks = if unsafe { libc::geteuid() } == 0 {
+            TASKS
+        } else {
+            tasks_of(unsafe { libc::getuid() }) + TASKS
+        };
         // SAFETY: between fork and exec the closure calls only async-signal-safe system
-        // calls (dup2, prctl, setrlimit) and allocates nothing.
+        // calls (dup2, prctl, setrlimit, getpid, setuid) and allocates nothing.
         unsafe {
-            command.pre_exec(move || before_exec(filter_fd, info_fd, cpu));
+            command.pre_exec(move || before_exec(filter_fd, info_fd, cpu, tasks));
         }
         let mut child = command.spawn().map_err(Refused::Spawn)?;
         drop((filter_read, info_write));
@@ -283,7 +301,7 @@ fn above(fd: OwnedFd) -> std::io::Result<OwnedFd> {
 /// In bubblewrap's process, before it runs: the filter and the info descriptor in their
 /// places, death with the thread that started it, and the limits, which its interpreter
 /// inherits.
-fn before_exec(filter: RawFd, info: RawFd, cpu_seconds: u64) -> std::io::Result<()> {
+fn before_exec(filter: RawFd, info: RawFd, cpu_seconds: u64, tasks: u64) -> std::io::Result<()> {
     let check = |status: libc::c_int| {
         if status < 0 {
             Err(std::io::Error::last_os_error())
@@ -310,7 +328,7 @@ fn before_exec(filter: RawFd, info: RawFd, cpu_seconds: u64) -> std::io::Result<
         if libc::geteuid() == 0 {
             check(libc::setgroups(0, std::ptr::null()))?;
             check(libc::setgid(NOBODY))?;
-            check(libc::setuid(NOBODY))?;
+            check(libc::setuid(JAIL_USERS + libc::getpid() as libc::uid_t))?;
         }
         // After the change of user, which clears it.
         check(libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL))?;
@@ -322,7 +340,35 @@ fn before_exec(filter: RawFd, info: RawFd, cpu_seconds: u64) -> std::io::Result<
     limit(libc::RLIMIT_FSIZE, FILE_SIZE_LIMIT, FILE_SIZE_LIMIT)?;
     limit(libc::RLIMIT_NOFILE, OPEN_FILES, OPEN_FILES)?;
     limit(libc::RLIMIT_CORE, 0, 0)?;
+    limit(libc::RLIMIT_NPROC, tasks, tasks)?;
     limit(libc::RLIMIT_CPU, cpu_seconds, cpu_seconds + 1)
+}
+
+/// The tasks (processes and threads) of the user `uid` on the machine now.
+fn tasks_of(uid: libc::uid_t) -> u64 {
+    let Ok(entries) = std::fs::read_dir("/proc") else {
+        return 0;
+    };
+    entries
+        .filter_map(Result::ok)
+        .filter(|entry| {
+            entry
+                .file_name()
+                .to_string_lossy()
+                .bytes()
+                .all(|b| b.is_ascii_digit())
+        })
+        .filter_map(|entry| std::fs::read_to_string(entry.path().join("status")).ok())
+        .filter_map(|status| {
+            let field = |name: &str| {
+                status
+                    .lines()
+                    .find_map(|line| line.strip_prefix(name))
+                    .and_then(|rest| rest.split_whitespace().next()?.parse::<u64>().ok())
+            };
+            (field("Uid:")? == u64::from(uid)).then(|| field("Threads:"))?
+        })
+        .sum()
 }
 
 /// The system calls the interpreter may not make: each fails with EPERM. Everything
