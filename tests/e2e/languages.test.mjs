@@ -91,6 +91,37 @@ for (const language of LANGUAGES) test(`${language.title} on the workbench: its 
   await page.close();
 });
 
+// Before any course exists (the next test makes one), anyone runs files on the server.
+test('the lab\'s MATLAB files, a function in each, upload together as one file', bounded, async () => {
+  const [matlab] = LANGUAGES.filter((language) => language.name === 'matlab');
+  // The correct file cut into a file a function, as the lab's skeleton has them.
+  const dir = tempDir();
+  const chunks = correctIn(matlab).split(/\n(?=function )/).filter((chunk) => chunk.startsWith('function '));
+  const files = chunks.map((chunk) => {
+    const name = chunk.match(/^function [^=]*= *(\w+)/)[1];
+    const path = join(dir, `${name}.m`);
+    writeFileSync(path, chunk);
+    return path;
+  });
+  assert.ok(files.length >= 5, 'a file a function');
+  const page = await openPage(browser, `${server.url}/odometry/code`);
+  await page.locator('#upload').setInputFiles(files);
+  await page.waitForFunction(() => document.getElementById('language').value === 'matlab');
+  assert.equal(await page.locator('#error').isVisible(), false);
+  await runAndWait(page, '#run-tests');
+  for (const key of FUNCTIONS) assert.equal(await testStatus(page, key), 'passed', `${key}: ${await page.locator(`#test-${key}`).textContent()}`);
+
+  // Several files of another language are refused, and the file stays as it was.
+  const scripts = ['a.js', 'b.js'].map((name) => join(dir, name));
+  for (const path of scripts) writeFileSync(path, jsStarter);
+  await page.locator('#upload').setInputFiles(scripts);
+  await page.waitForSelector('#error:not([hidden])');
+  assert.match(await page.locator('#error').textContent(), /^2 files were chosen: choose one file, or several MATLAB files \(\.m\), which become one\.$/);
+  assert.equal(await page.locator('#language').inputValue(), 'matlab');
+  assert.deepEqual(page.problems, []);
+  await page.close();
+});
+
 test('an instructor takes the files in Python only, and the workbench offers Python only', bounded, async () => {
   const starter = starterIn(LANGUAGES[0]);
   const created = estlab('course', 'create', 'langs', '--title', 'Languages', '--data', server.dataDir, '--url', server.url);
@@ -132,34 +163,4 @@ test('an instructor takes the files in Python only, and the workbench offers Pyt
   assert.equal(await firstLine(page), first(starter));
   assert.deepEqual(page.problems, []);
   await context.close();
-});
-
-test('the lab\'s MATLAB files, a function in each, upload together as one file', bounded, async () => {
-  const [matlab] = LANGUAGES.filter((language) => language.name === 'matlab');
-  // The correct file cut into a file a function, as the lab's skeleton has them.
-  const dir = tempDir();
-  const chunks = correctIn(matlab).split(/\n(?=function )/).filter((chunk) => chunk.startsWith('function '));
-  const files = chunks.map((chunk) => {
-    const name = chunk.match(/^function [^=]*= *(\w+)/)[1];
-    const path = join(dir, `${name}.m`);
-    writeFileSync(path, chunk);
-    return path;
-  });
-  assert.ok(files.length >= 5, 'a file a function');
-  const page = await openPage(browser, `${server.url}/odometry/code`);
-  await page.locator('#upload').setInputFiles(files);
-  await page.waitForFunction(() => document.getElementById('language').value === 'matlab');
-  assert.equal(await page.locator('#error').isVisible(), false);
-  await runAndWait(page, '#run-tests');
-  for (const key of FUNCTIONS) assert.equal(await testStatus(page, key), 'passed', key);
-
-  // Several files of another language are refused, and the file stays as it was.
-  const scripts = ['a.js', 'b.js'].map((name) => join(dir, name));
-  for (const path of scripts) writeFileSync(path, jsStarter);
-  await page.locator('#upload').setInputFiles(scripts);
-  await page.waitForSelector('#error:not([hidden])');
-  assert.match(await page.locator('#error').textContent(), /^2 files were chosen: choose one file, or several MATLAB files \(\.m\), which become one\.$/);
-  assert.equal(await page.locator('#language').inputValue(), 'matlab');
-  assert.deepEqual(page.problems, []);
-  await page.close();
 });
