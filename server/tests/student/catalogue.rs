@@ -351,6 +351,21 @@ fn test_of<'a>(result: &'a GradeResult, subject: &Subject) -> &'a Test {
         })
 }
 
+/// What the test of `function` says, once it is known that it alone of the functions
+/// failed, with the runs (which call it), and that the result is gradable: the student's
+/// code, not the sandbox.
+pub fn failing_alone(result: &GradeResult, function: &str) -> String {
+    assert!(result.gradable, "not gradable: {:?}", result.reason);
+    for test in &result.tests {
+        let expected = match &test.subject {
+            Subject::Function(name) if name != function => Status::Passed,
+            _ => Status::Failed,
+        };
+        assert_eq!(test.status, expected, "{}: {}", test.name, test.message);
+    }
+    function_test(result, function).message.clone()
+}
+
 pub fn function_test<'a>(result: &'a GradeResult, function: &str) -> &'a Test {
     test_of(result, &Subject::Function(function.to_owned()))
 }
