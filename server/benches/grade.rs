@@ -1,7 +1,8 @@
 //! Grading one whole submission as the server does it (`estlab grade`, which starts the
 //! same sandbox worker process): the plan from the seed, every function suite and every
-//! data-set run of the correct student file in QuickJS, the comparison. Run with
-//! `cargo bench -p estlab --bench grade`; the budget (DESIGN.md) is 1 s.
+//! data-set run of the correct student file, the comparison; on V8 over the whole data
+//! sets, and on QuickJS over their first readings. Run with `cargo bench -p estlab
+//! --bench grade`; the budget (DESIGN.md) is 1 s.
 //!
 //! `cargo test --all-targets` (as `scripts/test` runs it) runs it once as a test, which
 //! asserts only that `estlab grade` exits with 0, as it does whatever the score: the
@@ -19,9 +20,13 @@ fn grade(c: &mut Criterion) {
         .sample_size(10)
         .measurement_time(Duration::from_secs(15));
     for (name, args) in [
-        ("correct.js, whole submission", vec!["--seed", "1"]),
+        ("correct.js on V8, whole data sets", vec!["--seed", "1"]),
         (
-            "correct.js, a student's variant",
+            "correct.js on QuickJS, first readings",
+            vec!["--seed", "1", "--javascript", "quickjs"],
+        ),
+        (
+            "correct.js on V8, a student's variant",
             vec!["--student", "alice"],
         ),
     ] {

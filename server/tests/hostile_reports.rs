@@ -1,6 +1,7 @@
 //! Hostile student files (`tests/student/hostile/`, each put after the EKF exercise's
 //! correct.js) that once broke the harness's report or were blamed on the sandbox, graded
-//! through the real sandbox (a worker process of `estlab`, as the server grades):
+//! through the real sandbox (a worker process of `estlab` running QuickJS, as the server
+//! grades where V8's sandbox does not start; `v8.rs` holds V8 to the same):
 //!
 //! - a text clipped in the middle of an emoji no longer spoils the report, and the cases
 //!   that pass keep their points;
@@ -14,7 +15,7 @@
 
 mod student;
 
-use estlab::sandbox::{Code, Sandbox};
+use estlab::sandbox::{Code, JavaScript, Sandbox};
 use labs::Exercise;
 use labs::exercises::ekf_localization::FUNCTIONS;
 use labs::grading::{GradeResult, Status, Test};
@@ -32,7 +33,8 @@ fn grade(name: &str) -> (String, GradeResult) {
     );
     let hostile = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
     let source = format!("{CORRECT}\n{hostile}");
-    let sandbox = Sandbox::new(PathBuf::from(env!("CARGO_BIN_EXE_estlab")), 2);
+    let sandbox = Sandbox::new(PathBuf::from(env!("CARGO_BIN_EXE_estlab")), 2)
+        .with_javascript(JavaScript::QuickJs);
     let result = sandbox.grade(
         Exercise::EkfLocalization,
         Code::javascript(&source),

@@ -56,4 +56,7 @@ declare var estlabHarness: {
   callFunction(source: string, phaseJson: string, progress: Progress): string;
   run(source: string, runJson: string, progress: Progress): string;
   defineLoop<Run, Kept>(name: string, make: (tools: LoopTools) => Loop<Run, Kept>): void;
+  /** The host's way to find the line of a syntax error (given the Function constructor's
+   * arguments), where the engine's error does not say it. */
+  defineSyntaxLocator(locate: (params: string[]) => number | null): void;
 };

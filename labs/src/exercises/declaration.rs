@@ -3,7 +3,7 @@
 
 use super::interface::MatlabConventions;
 use crate::Language;
-use crate::grading::{Contract, ExercisePlan, Generator, Hidden};
+use crate::grading::{Contract, ExercisePlan, Generator, Hidden, Reach};
 use ts_rs::TS;
 
 /// An exercise's names and texts, and its JavaScript: the pages, the workbench, the
@@ -116,8 +116,9 @@ pub trait Graded: 'static {
 
     /// The plan of the variant `seed`; with `hidden`, hidden cases (and runs) drawn from it
     /// besides, as the server grades (and, for an exercise with a class challenge, the
-    /// class's held-out run).
-    fn plan(seed: u64, hidden: Option<Hidden>) -> Self::Plan;
+    /// class's held-out run). Its runs go as far into their data as `reach` says (an
+    /// exercise whose runs are short runs them whole either way).
+    fn plan(seed: u64, hidden: Option<Hidden>, reach: Reach) -> Self::Plan;
 }
 
 /// Something done with an exercise's [`Graded`] type, whichever exercise it is

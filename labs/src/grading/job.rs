@@ -76,7 +76,8 @@ impl RunPhase {
 }
 
 /// Which of the harness's entry points a phase goes to.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
 pub enum PhaseKind {
     Function,
     Run,

@@ -98,24 +98,47 @@ pub trait ExercisePlan: Any + Debug + Send + Sync {
     fn grade(&self, outputs: &Outputs) -> GradeResult;
 }
 
+/// How much of each data set a grading's runs go through, as fast as the engine that
+/// runs the student's code is.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Reach {
+    /// The first few hundred readings: what an interpreter (QuickJS, Python, Octave) gets
+    /// through within its budget, and what the browser checks.
+    #[default]
+    Prefix,
+    /// Every reading (JavaScript on V8).
+    Whole,
+}
+
 /// The plan of an exercise, made by its [`Graded`](crate::exercises::Graded) type.
 struct Planned {
     seed: u64,
     hidden: Option<Hidden>,
+    reach: Reach,
 }
 
 impl Visit for Planned {
     type Output = Plan;
     fn visit<G: Graded>(self) -> Plan {
-        Plan(Arc::new(G::plan(self.seed, self.hidden)))
+        Plan(Arc::new(G::plan(self.seed, self.hidden, self.reach)))
     }
 }
 
 impl Plan {
     /// The plan of `exercise` for the variant `seed`; with `hidden`, hidden cases (and
-    /// runs) drawn from it besides, as the server grades.
+    /// runs) drawn from it besides, as the server grades. Its runs go through the first
+    /// readings of each data set ([`Reach::Prefix`]).
     pub fn new(exercise: Exercise, seed: u64, hidden: Option<Hidden>) -> Plan {
-        exercise.visit(Planned { seed, hidden })
+        Plan::reaching(exercise, seed, hidden, Reach::Prefix)
+    }
+
+    /// The plan, its runs going as far into each data set as `reach` says.
+    pub fn reaching(exercise: Exercise, seed: u64, hidden: Option<Hidden>, reach: Reach) -> Plan {
+        exercise.visit(Planned {
+            seed,
+            hidden,
+            reach,
+        })
     }
 
     pub fn exercise(&self) -> Exercise {

@@ -4,7 +4,7 @@ use super::{print, read};
 use crate::error::Error;
 use crate::grading::{Secret, grader_version};
 use crate::platforms::{GradescopeResults, PrairieLearnResults};
-use crate::sandbox::{Code, Sandbox, check_size, cores};
+use crate::sandbox::{Code, JavaScript, Sandbox, check_size, cores};
 use labs::grading::{DEFAULT_COURSE, GradeResult, student_seed};
 use labs::{Exercise, Language};
 use std::path::PathBuf;
@@ -23,6 +23,11 @@ pub struct Args {
     /// The file's language, when its name does not tell it.
     #[arg(long, value_parser = Language::from_str)]
     language: Option<Language>,
+    /// The engine of students' JavaScript: V8 in the operating system's sandbox, on the
+    /// whole data sets (QuickJS where that sandbox does not start), or QuickJS always,
+    /// on their first readings, as the platform packages grade.
+    #[arg(long, value_enum, default_value_t)]
+    javascript: JavaScript,
     /// The seed of the student's variant (as the browser shows it).
     #[arg(long, conflicts_with = "student")]
     seed: Option<u64>,
@@ -73,7 +78,9 @@ pub fn run(args: &Args) -> Result<(), Error> {
     };
     let secret = args.secret.as_deref().map(Secret::read).transpose()?;
     let grader = grader_version(args.lab, secret.as_ref());
-    let sandbox = Sandbox::current(cores()).map_err(Error::io("the estlab executable"))?;
+    let sandbox = Sandbox::current(cores())
+        .map_err(Error::io("the estlab executable"))?
+        .with_javascript(args.javascript);
     // Without a secret there are no hidden cases: the result says so.
     let key = secret.is_some().then_some(args.submission);
     let hidden = secret.map(|secret| secret.hidden(args.submission, &args.course));

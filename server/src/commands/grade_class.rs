@@ -6,7 +6,7 @@ use super::serve::default_parallel;
 use super::{file_name, print};
 use crate::courses::export::inert;
 use crate::error::Error;
-use crate::sandbox::{Code, Sandbox, check_size, cores};
+use crate::sandbox::{Code, JavaScript, Sandbox, check_size, cores};
 use indicatif::{ProgressBar, ProgressStyle};
 use labs::grading::{DEFAULT_COURSE, GradeResult, student_seed};
 use labs::{Exercise, Language};
@@ -37,6 +37,11 @@ pub struct Args {
     /// Files graded at once (each in a worker process of its own).
     #[arg(long, default_value_t = default_parallel())]
     parallel: usize,
+    /// The engine of students' JavaScript: V8 in the operating system's sandbox, on the
+    /// whole data sets (QuickJS where that sandbox does not start), or QuickJS always,
+    /// on their first readings, as the platform packages grade.
+    #[arg(long, value_enum, default_value_t)]
+    javascript: JavaScript,
 }
 
 /// One student's file.
@@ -188,8 +193,9 @@ pub fn run(args: &Args) -> Result<(), Error> {
         )));
     }
     let parallel = args.parallel.clamp(1, cores());
-    let sandbox =
-        Sandbox::current(cores() / parallel).map_err(Error::io("the estlab executable"))?;
+    let sandbox = Sandbox::current(cores() / parallel)
+        .map_err(Error::io("the estlab executable"))?
+        .with_javascript(args.javascript);
     let started = Instant::now();
     let progress = Progress::new(entries.len());
     let next = AtomicUsize::new(0);

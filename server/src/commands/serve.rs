@@ -4,7 +4,7 @@ use crate::clock::{Clock, SystemClock};
 use crate::datasets::Datasets;
 use crate::error::Error;
 use crate::grading::{Grader, Secret};
-use crate::sandbox::{Sandbox, cores};
+use crate::sandbox::{JavaScript, Sandbox, cores};
 use crate::store::Store;
 use crate::web::connections::{self, Limits, raise_descriptor_limit};
 use crate::web::phases::Trials;
@@ -31,6 +31,11 @@ pub struct Args {
     /// engines run at once than there are cores.
     #[arg(long, default_value_t = default_parallel())]
     parallel: usize,
+    /// The engine of students' JavaScript: V8 in the operating system's sandbox, on the
+    /// whole data sets (QuickJS where that sandbox does not start), or QuickJS always,
+    /// on their first readings, as the platform packages grade.
+    #[arg(long, value_enum, default_value_t)]
+    javascript: JavaScript,
     /// The server is reached through a TLS reverse proxy: session cookies are marked
     /// Secure, and the client's address (for the sign-in limits) is the last one the
     /// proxy adds to X-Forwarded-For.
@@ -72,10 +77,17 @@ async fn serve(args: &Args) -> Result<(), Error> {
     let store = Store::open(&args.data_dir)?;
     let secret = Secret::load_or_create(&args.data_dir)?;
     let parallel = args.parallel.clamp(1, cores());
-    let sandbox =
-        Sandbox::current(cores() / parallel).map_err(Error::io("the estlab executable"))?;
+    let sandbox = Sandbox::current(cores() / parallel)
+        .map_err(Error::io("the estlab executable"))?
+        .with_javascript(args.javascript);
     // Each language's sandbox tried once, and said: a language that cannot be graded
     // here is refused at submission with a message that points to this log.
+    match sandbox.v8() {
+        Ok(()) => println!("estlab: JavaScript files are graded on V8, on whole data sets"),
+        Err(why) => println!(
+            "estlab: JavaScript files are graded on QuickJS, on the first readings of each data set: {why}"
+        ),
+    }
     for &language in Language::ALL {
         match sandbox.language(language) {
             Ok(()) => tracing::info!(%language, "students' files in this language are graded"),

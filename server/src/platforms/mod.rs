@@ -4,8 +4,9 @@
 //! A package carries the statically linked estlab binary, the exercise's settings
 //! ([`Settings`]) and a secret that draws the hidden cases; the platform runs `estlab
 //! autograde` on every submission, which finds the student's file, takes the student's
-//! variant from what the platform passes, grades it exactly as `estlab grade` would with
-//! that secret, and writes the platform's `results.json`.
+//! variant from what the platform passes, grades it exactly as `estlab grade
+//! --javascript quickjs` would with that secret, and writes the platform's
+//! `results.json`.
 
 pub mod elf;
 pub mod gradescope;
@@ -15,7 +16,7 @@ mod submitted;
 
 use crate::error::Error;
 use crate::grading::{Secret, grader_version};
-use crate::sandbox::{Code, Sandbox, check_length, cores};
+use crate::sandbox::{Code, JavaScript, Sandbox, check_length, cores};
 use labs::Exercise;
 use labs::grading::GradeResult;
 use serde::{Deserialize, Serialize};
@@ -76,9 +77,9 @@ impl PackagedGrader {
     }
 
     /// Grades the student's file in `submitted` for the variant `seed`, with the hidden
-    /// cases `drawn` says (as `estlab grade --secret --submission KEY` does with the key
-    /// returned beside the result); a submission without one gradable file is not
-    /// gradable, and says why.
+    /// cases `drawn` says (as `estlab grade --javascript quickjs --secret --submission
+    /// KEY` does with the key returned beside the result); a submission without one
+    /// gradable file is not gradable, and says why.
     pub fn grade(&self, submitted: &Path, seed: u64, drawn: Drawn) -> (GradeResult, Option<i64>) {
         let lab = self.settings.lab;
         let not_gradable = |reason: String| (GradeResult::not_gradable(lab, seed, reason), None);
@@ -102,8 +103,10 @@ impl PackagedGrader {
             },
             Err(e) => return not_gradable(format!("{name} could not be read: {e}")),
         };
+        // QuickJS, the portable engine, whatever the machine: a platform's image grades
+        // in a container whose own sandbox refuses the operating system's.
         let sandbox = match Sandbox::current(cores()) {
-            Ok(sandbox) => sandbox,
+            Ok(sandbox) => sandbox.with_javascript(JavaScript::QuickJs),
             Err(e) => return not_gradable(format!("the grader could not start: {e}")),
         };
         let key = drawn.key(&source);

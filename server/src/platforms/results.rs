@@ -55,8 +55,9 @@ pub struct GraderData {
     /// None when the package could not be read, which says which exercise it grades.
     pub lab: Option<Exercise>,
     pub seed: u64,
-    /// What drew the hidden cases with the grader's secret (`estlab grade --secret FILE
-    /// --submission KEY` grades the same file the same way); none without hidden cases.
+    /// What drew the hidden cases with the grader's secret (`estlab grade --javascript
+    /// quickjs --secret FILE --submission KEY` grades the same file the same way); none
+    /// without hidden cases.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub hidden_key: Option<i64>,
 }

@@ -1,5 +1,6 @@
-//! Student code on the server: a worker process per grading, running JavaScript in QuickJS
-//! and other languages in their interpreters, each in an operating-system sandbox.
+//! Student code on the server: a worker process per grading, running JavaScript on V8 in an
+//! operating-system sandbox (in QuickJS where that does not start) and other languages in
+//! their interpreters, each in a sandbox of its own.
 
 mod cpu;
 mod engine;
@@ -12,7 +13,9 @@ mod worker;
 pub use engine::carry_out;
 pub use error::{Failure, TooLarge};
 pub use native::Unavailable;
-pub use worker::{Code, MAX_SOURCE, Sandbox, Tried, WorkerInput, check_length, check_size};
+pub use worker::{
+    Code, JavaScript, MAX_SOURCE, Sandbox, Tried, WorkerInput, check_length, check_size,
+};
 
 /// A worker that could not be started (`Command::spawn` failed: no descriptors left for
 /// its pipes, no memory or processes for a fork, the executable missing). The student's

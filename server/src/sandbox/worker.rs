@@ -12,7 +12,7 @@ use super::error::{Failure, TooLarge};
 use super::native::{Native, Tools, Unavailable};
 use super::watchdog::{OVERRUN_EXIT, OVERRUN_PREFIX};
 use labs::grading::{
-    FunctionOutput, GradeResult, Hidden, Job, Outputs, PhaseOutput, Plan, RunOutput,
+    FunctionOutput, GradeResult, Hidden, Job, Outputs, PhaseOutput, Plan, Reach, RunOutput,
 };
 use labs::{Exercise, Language};
 use serde::{Deserialize, Serialize};
@@ -95,18 +95,34 @@ impl<'a> Code<'a> {
     }
 }
 
+/// The engine that runs students' JavaScript.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum JavaScript {
+    /// V8 (Node) in the operating system's sandbox, where it starts: compiled, it gets
+    /// through the whole data sets. QuickJS where it does not.
+    #[default]
+    V8,
+    /// QuickJS in the worker process, always: the portable engine, which the platform
+    /// packages run, on the first few hundred readings of each data set.
+    #[value(name = "quickjs")]
+    QuickJs,
+}
+
 /// Starts workers from the `estlab` executable.
 #[derive(Clone, Debug)]
 pub struct Sandbox {
     executable: PathBuf,
     threads: usize,
-    /// The tools of each language other than JavaScript, found and tried the first time a
-    /// file in it is graded (or when the server starts: `Sandbox::languages`).
+    /// The tools of each native engine (V8 for JavaScript, Python's, Octave's), found
+    /// and tried the first time a file in its language is graded (or when the server
+    /// starts: `Sandbox::language`).
     natives: Arc<BTreeMap<Language, OnceLock<Result<Tools, Unavailable>>>>,
+    javascript: JavaScript,
 }
 
 impl Sandbox {
-    /// Workers of `executable`, each running at most `threads` engines at once.
+    /// Workers of `executable`, each running at most `threads` engines at once, with
+    /// JavaScript on V8 where its sandbox starts.
     pub fn new(executable: PathBuf, threads: usize) -> Sandbox {
         Sandbox {
             executable,
@@ -114,10 +130,10 @@ impl Sandbox {
             natives: Arc::new(
                 Language::ALL
                     .iter()
-                    .filter(|&&language| language != Language::JavaScript)
                     .map(|&language| (language, OnceLock::new()))
                     .collect(),
             ),
+            javascript: JavaScript::default(),
         }
     }
 
@@ -126,22 +142,54 @@ impl Sandbox {
         Ok(Sandbox::new(std::env::current_exe()?, threads))
     }
 
+    /// The same sandbox with students' JavaScript on `engine`.
+    pub fn with_javascript(self, engine: JavaScript) -> Sandbox {
+        Sandbox {
+            javascript: engine,
+            ..self
+        }
+    }
+
     /// Whether files in `language` can be graded here, and if not, why not (its tools are
-    /// looked for and tried once).
+    /// looked for and tried once). JavaScript always can: see [`Sandbox::v8`].
     pub fn language(&self, language: Language) -> Result<(), Unavailable> {
         self.tools(language).map(|_| ())
     }
 
-    /// The tools of a language other than JavaScript (None for JavaScript).
-    fn tools(&self, language: Language) -> Result<Option<&Tools>, Unavailable> {
-        match self.natives.get(&language) {
-            None => Ok(None),
-            Some(found) => found
-                .get_or_init(|| Native::detect(language))
-                .as_ref()
-                .map(Some)
-                .map_err(Clone::clone),
+    /// Whether students' JavaScript runs on V8 here, and if not, why it runs on QuickJS.
+    pub fn v8(&self) -> Result<(), Unavailable> {
+        self.v8_tools().map(|_| ())
+    }
+
+    /// How much of each data set a grading of a file in `language` goes through: the
+    /// whole on V8, the first readings where the student's code is interpreted.
+    pub fn reach(&self, language: Language) -> Reach {
+        match (language, self.v8()) {
+            (Language::JavaScript, Ok(())) => Reach::Whole,
+            _ => Reach::Prefix,
         }
+    }
+
+    fn v8_tools(&self) -> Result<&Tools, Unavailable> {
+        match self.javascript {
+            JavaScript::V8 => self.detected(Language::JavaScript),
+            JavaScript::QuickJs => Err(Unavailable::Declined),
+        }
+    }
+
+    /// The tools of a file's native engine (None for JavaScript on QuickJS).
+    fn tools(&self, language: Language) -> Result<Option<&Tools>, Unavailable> {
+        match language {
+            Language::JavaScript => Ok(self.v8_tools().ok()),
+            _ => self.detected(language).map(Some),
+        }
+    }
+
+    fn detected(&self, language: Language) -> Result<&Tools, Unavailable> {
+        self.natives[&language]
+            .get_or_init(|| Native::detect(language))
+            .as_ref()
+            .map_err(Clone::clone)
     }
 
     /// Grades a source file of an exercise for a seed (and, on the server, the seed of its
@@ -154,8 +202,7 @@ impl Sandbox {
         seed: u64,
         hidden: Option<Hidden>,
     ) -> GradeResult {
-        self.try_grade(exercise, code, seed, hidden)
-            .unwrap_or_else(|e| GradeResult::not_gradable(exercise, seed, e.to_string()))
+        self.grade_plan(&self.plan(exercise, seed, hidden, code.language), code)
     }
 
     /// As `grade`, but a worker that did not start is an error rather than a result "not
@@ -167,12 +214,35 @@ impl Sandbox {
         seed: u64,
         hidden: Option<Hidden>,
     ) -> Result<GradeResult, DidNotStart> {
-        let plan = Plan::new(exercise, seed, hidden);
-        let language = code.language;
+        self.try_grade_plan(&self.plan(exercise, seed, hidden, code.language), code)
+    }
+
+    /// Grades `code` on a plan of the caller's, however far into the data sets it goes
+    /// (engines compared on the same plan).
+    pub fn grade_plan(&self, plan: &Plan, code: Code) -> GradeResult {
+        self.try_grade_plan(plan, code).unwrap_or_else(|e| {
+            GradeResult::not_gradable(plan.exercise(), plan.seed(), e.to_string())
+        })
+    }
+
+    /// The plan of a grading of a file in `language`, as far into the data sets as its
+    /// engine gets here.
+    fn plan(
+        &self,
+        exercise: Exercise,
+        seed: u64,
+        hidden: Option<Hidden>,
+        language: Language,
+    ) -> Plan {
+        Plan::reaching(exercise, seed, hidden, self.reach(language))
+    }
+
+    fn try_grade_plan(&self, plan: &Plan, code: Code) -> Result<GradeResult, DidNotStart> {
+        let (exercise, language) = (plan.exercise(), code.language);
         Ok(match self.outputs(exercise, code, plan.job()) {
             Ok(outputs) => plan.grade(&outputs).in_language(language),
             Err(Tried::DidNotStart(did_not_start)) => return Err(did_not_start),
-            Err(failed) => GradeResult::not_gradable(exercise, seed, failed.to_string()),
+            Err(failed) => GradeResult::not_gradable(exercise, plan.seed(), failed.to_string()),
         })
     }
 

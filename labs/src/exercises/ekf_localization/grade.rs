@@ -9,8 +9,8 @@ use crate::Exercise;
 use crate::dataset::Kind;
 use crate::ekf::{self, Belief, Decision, UpdateMode};
 use crate::grading::{
-    FunctionVerdicts, GradeResult, HEADING_TURNS, Mistake, Outputs, RunOutput, Subject, Test,
-    describe, function_tests, heading_within_turns, infinity,
+    FunctionVerdicts, GradeResult, HEADING_TURNS, Mistake, Outputs, Reach, RunOutput, Subject,
+    Test, describe, function_tests, heading_within_turns, infinity,
 };
 use nalgebra::{Matrix2, Matrix3, Vector3};
 use serde::Deserialize;
@@ -59,8 +59,12 @@ fn dataset_test(plan: &Plan, outputs: &Outputs, kind: Kind, functions: &Function
     let describe_run = |spec: &RunSpec, run: &ekf::Run| {
         let e = mae(run);
         format!(
-            "{} update over the first {} s ({} readings): mean absolute error (x, y, theta) = ({:.5}, {:.5}, {:.5}); {} readings rejected.",
+            "{} update over the {} {} s ({} readings): mean absolute error (x, y, theta) = ({:.5}, {:.5}, {:.5}); {} readings rejected.",
             mode_name(spec.mode),
+            match spec.reach {
+                Reach::Prefix => "first",
+                Reach::Whole => "whole",
+            },
             spec.data
                 .log
                 .steps

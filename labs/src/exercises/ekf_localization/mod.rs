@@ -24,7 +24,7 @@ pub type Case = crate::grading::Case<Call>;
 
 use crate::exercises::interface::MatlabConventions;
 use crate::exercises::{Declaration, Graded, Runs, Starters, Workbench};
-use crate::grading::Hidden;
+use crate::grading::{Hidden, Reach};
 
 /// The views of a whole run (`static/src/ekf/runview.js` draws them), on the workbench
 /// and on the experiment page alike.
@@ -93,7 +93,7 @@ impl Graded for EkfLocalization {
     type Record = job::FilterRecord;
     const GENERATE: crate::grading::Generator<Call> = generate;
 
-    fn plan(seed: u64, hidden: Option<Hidden>) -> Plan {
-        Plan::new(seed, hidden.map(|h| h.cases))
+    fn plan(seed: u64, hidden: Option<Hidden>, reach: Reach) -> Plan {
+        Plan::reaching(seed, hidden.map(|h| h.cases), reach)
     }
 }

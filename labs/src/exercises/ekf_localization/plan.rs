@@ -12,7 +12,8 @@ use crate::dataset::{Dataset, Kind, simulate};
 use crate::ekf::{self, UpdateMode, increments};
 use crate::exercises::Graded;
 use crate::grading::{
-    ExercisePlan, GradeResult, Job, Outputs, PlannedCase, RunPhase, function_phases, planned_cases,
+    ExercisePlan, GradeResult, Job, Outputs, PlannedCase, Reach, RunPhase, function_phases,
+    planned_cases,
 };
 use crate::rng::Rng;
 use nalgebra::Vector3;
@@ -31,15 +32,18 @@ pub struct Plan {
     pub runs: Vec<RunSpec>,
 }
 
-/// The readings of each data set that grading runs through: the first few hundred, so
-/// that the student's code, interpreted by QuickJS on the server, gets through all of
-/// them within the budget of a second (the associations dominate, one per reading and
-/// landmark: 17, 10 and 40 landmarks).
-pub fn graded_readings(kind: Kind) -> usize {
-    match kind {
-        Kind::O3 => 300,
-        Kind::Outliers => 400,
-        Kind::NoOdometry => 150,
+/// The readings of each data set that grading runs through where the student's code is
+/// interpreted ([`Reach::Prefix`]): the first few hundred, so that QuickJS gets through
+/// all of them within the budget of a second (the associations dominate, one per reading
+/// and landmark: 17, 10 and 40 landmarks). On V8, every reading.
+pub fn graded_readings(kind: Kind, reach: Reach) -> Option<usize> {
+    match reach {
+        Reach::Whole => None,
+        Reach::Prefix => Some(match kind {
+            Kind::O3 => 300,
+            Kind::Outliers => 400,
+            Kind::NoOdometry => 150,
+        }),
     }
 }
 
@@ -52,8 +56,9 @@ pub struct RunSpec {
     pub mode: UpdateMode,
     /// The seed the data set was simulated from.
     pub data_seed: u64,
-    /// The first `graded_readings(kind)` readings of that data set.
+    /// That data set, or its first `graded_readings(kind, reach)` readings.
     pub data: Dataset,
+    pub reach: Reach,
 }
 
 impl Plan {
@@ -63,10 +68,15 @@ impl Plan {
     /// cases (`hidden`), hidden cases of every function besides, and the data sets drawn
     /// from `hidden` instead of `seed`: what the server checks.
     pub fn new(seed: u64, hidden: Option<u64>) -> Plan {
+        Plan::reaching(seed, hidden, Reach::Prefix)
+    }
+
+    /// The plan, its runs going as far into each data set as `reach` says.
+    pub fn reaching(seed: u64, hidden: Option<u64>, reach: Reach) -> Plan {
         let cases = planned_cases(generate, seed, hidden);
         let mut runs = Vec::new();
         for kind in Kind::ALL {
-            let (data_seed, data) = qualified_data(kind, hidden.unwrap_or(seed));
+            let (data_seed, data) = qualified_data(kind, hidden.unwrap_or(seed), reach);
             let modes: &[UpdateMode] = match kind {
                 Kind::NoOdometry => &[UpdateMode::Batch, UpdateMode::Sequential],
                 _ => &[UpdateMode::Sequential],
@@ -78,6 +88,7 @@ impl Plan {
                     mode,
                     data_seed,
                     data: data.clone(),
+                    reach,
                 });
             }
         }
@@ -129,18 +140,20 @@ pub fn mode_name(mode: UpdateMode) -> &'static str {
 }
 
 /// The first data set of this kind drawn from the student's seed (cut to the graded
-/// readings) on which the reference filter with the lab's settings keeps within 80% of
+/// readings, if `reach` cuts it) on which the reference filter with the lab's settings keeps within 80% of
 /// the lab's bound, so that a correct implementation passes with room to spare, and where
 /// there is no odometry, the sequential update does clearly worse than the batch one.
 /// Most draws qualify; after a hundred that did not, the last is taken.
-fn qualified_data(kind: Kind, seed: u64) -> (u64, Dataset) {
+fn qualified_data(kind: Kind, seed: u64, reach: Reach) -> (u64, Dataset) {
     let mut draws = Rng::substream(seed, 0x6461_7461 + kind as u64);
     let mut draw = || {
         let data_seed = (draws.uniform() * (1u64 << 53) as f64) as u64;
-        (
-            data_seed,
-            first_readings(simulate(kind, data_seed), graded_readings(kind)),
-        )
+        let data = simulate(kind, data_seed);
+        let data = match graded_readings(kind, reach) {
+            Some(n) => first_readings(data, n),
+            None => data,
+        };
+        (data_seed, data)
     };
     let mut candidate = draw();
     for _ in 1..100 {

@@ -24,7 +24,7 @@ pub type Case = crate::grading::Case<Call>;
 
 use crate::exercises::interface::MatlabConventions;
 use crate::exercises::{Declaration, Graded, Runs, Starters, Workbench};
-use crate::grading::Hidden;
+use crate::grading::{Hidden, Reach};
 
 /// The exercise, as the registry knows it.
 pub struct Odometry;
@@ -73,7 +73,8 @@ impl Graded for Odometry {
     type Record = job::PathRecord;
     const GENERATE: crate::grading::Generator<Call> = generate;
 
-    fn plan(seed: u64, hidden: Option<Hidden>) -> Plan {
+    /// Its paths are a few hundred steps: whole whatever the reach.
+    fn plan(seed: u64, hidden: Option<Hidden>, _: Reach) -> Plan {
         Plan::new(seed, hidden.map(|h| h.cases))
     }
 }

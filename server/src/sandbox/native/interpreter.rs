@@ -10,7 +10,8 @@
 use super::super::cpu::CpuClock;
 use super::jail::{Invocation, Jailed, Refused, Tools};
 use labs::exercises::interface::Function;
-use serde::Serialize;
+use labs::grading::PhaseKind;
+use serde::{Deserialize, Serialize};
 use serde_json::Value;
 use std::io::{Read, Write};
 use std::os::fd::{AsRawFd, OwnedFd};
@@ -21,6 +22,9 @@ use std::time::Duration;
 /// The longest answer read from the interpreter: the JavaScript harness then holds it to
 /// the contract's own bounds (2,000 values, 4,000 characters of text).
 const MAX_REPLY: usize = 1 << 20;
+/// The longest report of a phase from the harness inside the jail (JavaScript on V8):
+/// a whole data set's run records a few megabytes.
+const MAX_REPORT: usize = 32 << 20;
 /// How long the interpreter may be asleep, waiting rather than computing, while the engine
 /// waits for it, over all the calls of its phase (a wait per call would let a file that
 /// sleeps a little less in each of a run's hundreds of calls outlast its worker).
@@ -40,7 +44,8 @@ struct Setup<'a> {
     functions: &'a [Function],
 }
 
-/// A request of the harness in JavaScript.
+/// A request of the harness in JavaScript, or (JavaScript on V8) of the server to the
+/// harness inside the jail.
 #[derive(Serialize)]
 #[serde(untagged)]
 enum Request<'a> {
@@ -51,6 +56,18 @@ enum Request<'a> {
         call: &'a str,
         args: Vec<Argument<'a>>,
     },
+    Phase {
+        kind: PhaseKind,
+        phase: &'a str,
+    },
+}
+
+/// What the harness inside the jail says while it carries out a phase.
+#[derive(Deserialize)]
+#[serde(untagged)]
+enum Said {
+    At { at: String },
+    Report { report: String },
 }
 
 /// One argument of a call, in an object of its own: a reader that makes one matrix of a
@@ -71,12 +88,18 @@ pub enum Silent {
         SLEEP_LIMIT.as_secs()
     )]
     Asleep,
-    #[error("your code's answer came to more than {} KB", MAX_REPLY >> 10)]
-    TooLong,
+    #[error("your code's answer came to more than {} KB", .0 >> 10)]
+    TooLong(usize),
     #[error("your code wrote on the harness's own descriptor, out of turn")]
     OutOfTurn,
     #[error("your file's interpreter ended ({0}){1}")]
     Ended(String, String),
+    /// V8's heap was full (JavaScript on V8).
+    #[error(
+        "out of memory (the limit is {} MB): far too much data allocated",
+        super::V8_HEAP_MB
+    )]
+    OutOfMemory,
 }
 
 /// A student's file in its interpreter, in its jail.
@@ -182,7 +205,44 @@ impl Interpreter {
         }
     }
 
+    /// Carries out a whole phase (`phase`, its job as JSON) with the harness inside the
+    /// jail (JavaScript on V8): the harness's report, or why none came. `at` follows
+    /// where the harness says it is.
+    pub fn phase(
+        &mut self,
+        kind: PhaseKind,
+        phase: &str,
+        over: &dyn Fn() -> bool,
+        at: &mut String,
+    ) -> Result<String, Silent> {
+        let request =
+            serde_json::to_string(&Request::Phase { kind, phase }).expect("requests serialise");
+        self.converse(&request, over, MAX_REPORT, |line| {
+            match serde_json::from_str::<Said>(&line) {
+                Ok(Said::At { at: label }) => {
+                    *at = label;
+                    None
+                }
+                Ok(Said::Report { report }) => Some(Ok(report)),
+                // Only the student's code, writing on the harness's descriptor.
+                Err(_) => Some(Err(Silent::OutOfTurn)),
+            }
+        })?
+    }
+
     fn exchange(&mut self, line: &str, over: &dyn Fn() -> bool) -> Result<String, Silent> {
+        self.converse(line, over, MAX_REPLY, Some)
+    }
+
+    /// Sends `line`, then reads lines of at most `longest` bytes until `heard` makes an
+    /// answer of one.
+    fn converse<T>(
+        &mut self,
+        line: &str,
+        over: &dyn Fn() -> bool,
+        longest: usize,
+        mut heard: impl FnMut(String) -> Option<T>,
+    ) -> Result<T, Silent> {
         if let Some(silent) = &self.silent {
             return Err(Silent::Ended("earlier".to_owned(), format!(": {silent}")));
         }
@@ -191,14 +251,20 @@ impl Interpreter {
             // line (Octave's `fgetl`) has one to look at without waiting for the next.
             let mut line = line.as_bytes().to_vec();
             line.extend(b"\n\n");
-            self.send(&line, over).and_then(|()| self.reply(over))
+            self.send(&line, over).and_then(|()| {
+                loop {
+                    if let Some(answer) = heard(self.reply(over, longest)?) {
+                        break Ok(answer);
+                    }
+                }
+            })
         } else {
             // The harness answers each request with one line: more is the student's code
             // writing on the harness's descriptor.
             Err(Silent::OutOfTurn)
         };
         match outcome {
-            Ok(reply) => Ok(reply),
+            Ok(answer) => Ok(answer),
             Err(silent) => {
                 self.stop();
                 let message = silent.to_string();
@@ -227,14 +293,14 @@ impl Interpreter {
     }
 
     /// The next line the interpreter writes, waiting as long as the budget lasts.
-    fn reply(&mut self, over: &dyn Fn() -> bool) -> Result<String, Silent> {
+    fn reply(&mut self, over: &dyn Fn() -> bool, longest: usize) -> Result<String, Silent> {
         loop {
             if let Some(end) = self.pending.iter().position(|&b| b == b'\n') {
                 let line: Vec<u8> = self.pending.drain(..=end).collect();
                 return Ok(String::from_utf8_lossy(&line[..end]).into_owned());
             }
-            if self.pending.len() > MAX_REPLY {
-                return Err(Silent::TooLong);
+            if self.pending.len() > longest {
+                return Err(Silent::TooLong(longest));
             }
             if ready(self.stdout.as_raw_fd(), libc::POLLIN, LOOK) {
                 let mut chunk = [0u8; 16 << 10];
@@ -269,17 +335,24 @@ impl Interpreter {
             .child
             .wait()
             .map_or_else(|e| e.to_string(), |status| status.to_string());
-        Silent::Ended(status, self.complaints())
+        let complaints = self.stderr();
+        if complaints.contains(super::V8_OUT_OF_MEMORY) {
+            return Silent::OutOfMemory;
+        }
+        Silent::Ended(status, last_line(&complaints))
     }
 
     /// What the interpreter wrote on stderr, once it has ended, as the end of a message.
     fn complaints(&mut self) -> String {
+        let text = self.stderr();
+        last_line(&text)
+    }
+
+    /// What the interpreter wrote on stderr (its start), once it has ended.
+    fn stderr(&mut self) -> String {
         self.stop();
         match self.complaints.take().map(JoinHandle::join) {
-            Some(Ok(text)) if !text.trim().is_empty() => {
-                let last = text.trim().lines().last().unwrap_or_default().to_owned();
-                format!(": {last}")
-            }
+            Some(Ok(text)) => text,
             _ => String::new(),
         }
     }
@@ -330,6 +403,14 @@ fn running(pid: libc::pid_t) -> bool {
         stat.rsplit_once(')')
             .is_some_and(|(_, rest)| rest.trim_start().starts_with('R'))
     })
+}
+
+/// The last line of what an interpreter wrote on stderr, as the end of a message.
+fn last_line(text: &str) -> String {
+    match text.trim().lines().last() {
+        Some(last) => format!(": {last}"),
+        None => String::new(),
+    }
 }
 
 /// Reads stderr to its end, keeping the start.

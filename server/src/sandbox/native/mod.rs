@@ -1,10 +1,13 @@
-//! Students' files in languages other than JavaScript: each phase's file in its
-//! interpreter (Python 3 with NumPy, MATLAB in GNU Octave), inside an operating-system sandbox of its own
-//! (`jail`), answering the calls of the same harness in JavaScript that grades
-//! JavaScript (`interpreter`, `harness.py`, `harness.m`). The harness and the exercise's loop run in
+//! Students' files in native engines, each phase's in an interpreter inside an
+//! operating-system sandbox of its own (`jail`). Python 3 with NumPy and MATLAB in GNU
+//! Octave answer the calls of the same harness in JavaScript that grades JavaScript
+//! (`interpreter`, `harness.py`, `harness.m`): the harness and the exercise's loop run in
 //! QuickJS as for a JavaScript file, outside the jail, with a file of stand-ins for the
-//! student's functions (`bridge`): the loop's bookkeeping and the run's data stay out of
-//! the student's reach, and the grading is the same code whatever the language.
+//! student's functions (`bridge`), so the loop's bookkeeping and the run's data stay out
+//! of the student's reach, and the grading is the same code whatever the language.
+//! JavaScript on V8 (Node) runs that harness itself, with the student's file, inside the
+//! jail (`harness.node.js`): compiled rather than interpreted, it gets through whole data
+//! sets.
 
 mod bridge;
 mod interpreter;
@@ -14,6 +17,7 @@ pub use bridge::Bridge;
 pub use interpreter::Interpreter;
 pub use jail::{Invocation, Tools};
 
+use super::engine::HARNESS;
 use labs::{Exercise, Language};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -39,6 +43,9 @@ pub enum Unavailable {
     Missing(&'static str, String),
     #[error("the sandbox for {language} does not start on this machine: {reason}")]
     NoSandbox { language: Language, reason: String },
+    /// JavaScript on QuickJS was asked for.
+    #[error("QuickJS was chosen (--javascript quickjs)")]
+    Declined,
 }
 
 /// Where the programs are looked for: Debian's places.
@@ -51,7 +58,7 @@ impl Native {
         let program = match language {
             Language::Python => "python3",
             Language::Matlab => "octave-cli",
-            Language::JavaScript => unreachable!("JavaScript runs in QuickJS"),
+            Language::JavaScript => "node",
         };
         let tools = Tools {
             bwrap: find("bwrap")?,
@@ -91,9 +98,48 @@ pub fn invocation(language: Language, cpu_seconds: u64) -> Invocation<'static> {
             env: &[("OPENBLAS_NUM_THREADS", "1"), ("OMP_NUM_THREADS", "1")],
             cpu_seconds,
         },
-        Language::JavaScript => unreachable!("JavaScript runs in QuickJS"),
+        Language::JavaScript => Invocation {
+            args: &NODE_ARGS[..],
+            env: &[],
+            cpu_seconds,
+        },
     }
 }
+
+/// V8's heap for the student's data and the harness's records of a whole data set.
+pub const V8_HEAP_MB: u32 = 256;
+
+/// What Node says on stderr when V8's heap is full, before it aborts.
+pub const V8_OUT_OF_MEMORY: &str = "JavaScript heap out of memory";
+
+/// Node's arguments: V8's heap limit, one helper thread of V8's, and the program of
+/// `harness.node.js` called with the harness and every exercise's loop.
+static NODE_ARGS: LazyLock<[&'static str; 4]> = LazyLock::new(|| {
+    [
+        NODE_HEAP.as_str(),
+        "--v8-pool-size=1",
+        "-e",
+        NODE_PROGRAM.as_str(),
+    ]
+});
+
+static NODE_HEAP: LazyLock<String> = LazyLock::new(|| format!("--max-old-space-size={V8_HEAP_MB}"));
+
+static NODE_PROGRAM: LazyLock<String> = LazyLock::new(|| {
+    let loops: Vec<(&str, &str)> = Exercise::ALL
+        .iter()
+        .map(|exercise| {
+            let declared = exercise.declaration();
+            (declared.run_loop, declared.harness_loop)
+        })
+        .collect();
+    format!(
+        "{}({}, {});",
+        HARNESS_NODE.trim_end(),
+        serde_json::Value::from(HARNESS),
+        serde_json::json!(loops)
+    )
+});
 
 /// Octave's arguments: no start-up files of the user's or the site's, no history, no
 /// window system, and a few lines that write the harness (`harness.m`) into the
@@ -134,5 +180,6 @@ pub fn declaring(language: Language) -> &'static str {
     }
 }
 
+const HARNESS_NODE: &str = include_str!("harness.node.js");
 const HARNESS_PY: &str = include_str!("harness.py");
 const HARNESS_M: &str = include_str!("harness.m");
