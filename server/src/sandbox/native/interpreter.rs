@@ -17,7 +17,7 @@ use std::io::{Read, Write};
 use std::os::fd::{AsRawFd, OwnedFd};
 use std::process::{Child, ChildStdin, ChildStdout};
 use std::thread::JoinHandle;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 /// The longest answer read from the interpreter: the JavaScript harness then holds it to
 /// the contract's own bounds (2,000 values, 4,000 characters of text).
@@ -33,6 +33,11 @@ pub const SLEEP_LIMIT: Duration = Duration::from_secs(2);
 const LOOK: Duration = Duration::from_millis(5);
 /// CPU time for the interpreter to start and load its libraries (NumPy: about 0.1 s).
 const START_LIMIT: Duration = Duration::from_secs(10);
+/// How long a start may take by the clock. While it starts, the interpreter reads its
+/// libraries from disk (Octave's, cold, take seconds on a busy machine): a wait of the
+/// machine's, not the student's, so the start is held to no limit of sleep, only this.
+/// A start that outlasts it is the sandbox's failure, never a grade.
+const START_WAIT: Duration = Duration::from_secs(60);
 /// What of the interpreter's stderr is kept, for a start that failed.
 const COMPLAINTS: u64 = 8 << 10;
 
@@ -116,8 +121,9 @@ pub struct Interpreter {
     complaints: Option<JoinHandle<String>>,
     /// Why it answers no more, once it does not.
     silent: Option<Silent>,
-    /// How long it has been found asleep while the engine waited for it.
-    asleep: Duration,
+    /// How long it has been found asleep while the engine waited for it, once started
+    /// (None while it starts).
+    asleep: Option<Duration>,
 }
 
 impl Interpreter {
@@ -151,7 +157,7 @@ impl Interpreter {
             pending: Vec::new(),
             complaints: Some(complaints),
             silent: None,
-            asleep: Duration::ZERO,
+            asleep: None,
         };
         let setup = serde_json::to_string(&Setup {
             source,
@@ -159,9 +165,14 @@ impl Interpreter {
             functions,
         })
         .expect("a setup serialises");
-        let over = || clock.read().is_none_or(|cpu| cpu > START_LIMIT);
+        let began = Instant::now();
+        let over =
+            || clock.read().is_none_or(|cpu| cpu > START_LIMIT) || began.elapsed() > START_WAIT;
         match interpreter.exchange(&setup, &over) {
-            Ok(_) => Ok(interpreter),
+            Ok(_) => {
+                interpreter.asleep = Some(Duration::ZERO);
+                Ok(interpreter)
+            }
             Err(silent) => Err(Refused::NotStarted(format!(
                 "{silent}{}",
                 interpreter.complaints()
@@ -320,9 +331,11 @@ impl Interpreter {
         if over() {
             return Err(Silent::OverTime);
         }
-        if !running(self.pid) {
-            self.asleep += LOOK;
-            if self.asleep >= SLEEP_LIMIT {
+        if let Some(asleep) = &mut self.asleep
+            && !running(self.pid)
+        {
+            *asleep += LOOK;
+            if *asleep >= SLEEP_LIMIT {
                 return Err(Silent::Asleep);
             }
         }
