@@ -447,7 +447,9 @@ test('the student sees on /me and in the workbench that their submission was reg
   });
   assert.ok(expected.length > 0);
   assert.deepEqual(tests, expected);
-  assert.ok(tests.every((t) => t.startsWith('calculate_odometry')), tests.join('\n'));
+  // The other hidden cases change calculate_odometry's share; the whole data sets drawn
+  // from the other secret may pass or fail a run of the mistake besides.
+  assert.ok(tests.some((t) => t.startsWith('calculate_odometry')), tests.join('\n'));
 
   // The same in the workbench, where the submission opens read-only.
   await visit(page, `/ekf/code?submission=${sent.mistake.id}`);
