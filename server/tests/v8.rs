@@ -1,10 +1,11 @@
 //! Students' JavaScript on V8, graded as the server grades it: Node in the operating
-//! system's sandbox, running the harness and the student's file in a context of their own
-//! (`server/src/sandbox/native/harness.node.js`), one phase a process, on the whole data
-//! sets. The correct files score 1 and a sample of classic mistakes is caught; on the
-//! same plan V8 and QuickJS give the same results; and what a student might try is
-//! stopped with a precise message, while the other tests of the file pass. Needs `bwrap`
-//! and Node (which `scripts/test` installs, and the browser side requires).
+//! system's sandbox running the harness and the student's file
+//! (`server/src/sandbox/native/harness.node.js`), a run in a process of its own, function
+//! phases each in a fresh realm, on the whole data sets. The correct files score 1 and a
+//! sample of classic mistakes is caught; on the same plan V8 and QuickJS give the same
+//! results; and what a student might try is stopped with a precise message, while the
+//! other tests of the file pass. Needs `bwrap` and Node (which `scripts/test` installs,
+//! and the browser side requires).
 
 mod student;
 
@@ -209,6 +210,20 @@ fn endless_work_sleep_memory_and_huge_answers_are_stopped_with_a_message() {
         "function wheel_noise() { return new Array(1e6).fill(0); }",
         "returned more than 2000 values",
     );
+}
+
+/// Function phases go on in one process on V8, but never in one realm: what a file's top
+/// level leaves on a built-in in one phase is not there in the next (a phase loads the
+/// file at most twice: for its calls, then afresh for the calls again).
+#[test]
+fn each_function_phase_has_a_realm_of_its_own() {
+    let source = format!(
+        "Math.loads = (Math.loads || 0) + 1;\n\
+         if (Math.loads > 2) throw new Error('an earlier test left this behind');\n{}",
+        student::odometry::FILES.correct
+    );
+    let result = grade(Exercise::Odometry, &source);
+    assert_eq!(result.score, 1.0, "{:?}", result.tests);
 }
 
 #[test]

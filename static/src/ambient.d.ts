@@ -29,6 +29,8 @@ interface LoopTools {
   put<T>(target: object, key: string | number, value: T): T;
   push<T>(list: T[], value: T): void;
   copy<T>(value: T): T;
+  /** What the student's code returned, made the harness's own data (JSON's values). */
+  plain(value: unknown): unknown;
   field<T>(object: unknown, name: string, check: Check<T>): T;
   list(n: number): Check<unknown[]>;
   vector(n: number): Check<number[]>;
@@ -47,7 +49,12 @@ interface LoopTools {
 type Loop<Run, Kept> = (
   run: import('./types/RunPhase').RunPhase & Run,
   kept: Kept,
-  invoke: (name: string, args: unknown[], label?: string) => unknown,
+  invoke: <T = unknown>(
+    name: string,
+    args: unknown[],
+    label?: string,
+    take?: (answer: unknown) => T,
+  ) => T,
   at: { doing: string; step: string },
 ) => void;
 

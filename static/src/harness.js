@@ -93,10 +93,11 @@
   /// that no setter of the student's on Array.prototype or Object.prototype is met: as
   /// safe as `put` item by item, and many times faster on V8, where defining each index
   /// takes the slow path (a whole data set's run copies millions of values).
-  function filled(n, item) {
-    const out = setPrototypeOf([], null);
-    for (let i = 0; i < n; i++) out[i] = item(i);
-    return setPrototypeOf(out, ArrayPrototype);
+  function unguarded() {
+    return setPrototypeOf([], null);
+  }
+  function guarded(array) {
+    return setPrototypeOf(array, ArrayPrototype);
   }
 
   // Stack traces as call sites (Error.prepareStackTrace, in V8 and QuickJS) would hand
@@ -321,14 +322,15 @@
   function copy(value) {
     if (value === INFINITY) return Infinity;
     if (!isArray(value)) return value;
-    return filled(value.length, (i) => copy(value[i]));
+    const n = value.length;
+    const out = unguarded();
+    for (let i = 0; i < n; i++) out[i] = copy(value[i]);
+    return guarded(out);
   }
 
   /// What the student's code returned, as JSON data (see the top of the file).
   function plain(value) {
-    const budget = record();
-    put(budget, 'left', MAX_VALUES);
-    put(budget, 'text', MAX_TEXT);
+    const budget = { left: MAX_VALUES, text: MAX_TEXT };
     return walk(value, 0, budget);
   }
 
@@ -375,7 +377,10 @@
     if (isArray(value) || isView(value)) {
       // A DataView has no length, and gives an empty array.
       const items = /** @type {ArrayLike<unknown>} */ (value);
-      return filled(items.length || 0, (i) => walk(items[i], depth + 1, budget));
+      const n = items.length || 0;
+      const out = unguarded();
+      for (let i = 0; i < n; i++) out[i] = walk(items[i], depth + 1, budget);
+      return guarded(out);
     }
     const object = record();
     const names = keysOf(value);
@@ -469,11 +474,13 @@
         }
       }
       // Calls a student function by name, saying first (to the host too) where in the
-      // loop it is: at the step `at.step` names, or as `label` says.
-      const invoke = (name, args, label) => {
+      // loop it is: at the step `at.step` names, or as `label` says. `take` makes what it
+      // returned the harness's own: all of it (`plain`), or the parts a loop reads of an
+      // answer it reads little of.
+      const invoke = (name, args, label, take = plain) => {
         at.doing = label === undefined ? at.step + name : label;
         progress(job.name + ': ' + at.doing);
-        return plain(apply(functions[name], undefined, args));
+        return take(apply(functions[name], undefined, args));
       };
       // What the loop records (read as the exercise's record type in Rust).
       const kept = put(out, 'record', record());
@@ -590,7 +597,7 @@
   /// What the harness gives the exercises' loops: its checks, and its ways of recording
   /// that the student's code cannot tamper with.
   const TOOLS = freeze({
-    HarnessError, put, push, copy, field, list, vector, matrix, threshold, describe,
+    HarnessError, put, push, copy, plain, field, list, vector, matrix, threshold, describe,
     number: finiteNumber, flag,
   });
 

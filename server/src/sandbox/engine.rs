@@ -343,6 +343,13 @@ pub fn carry_out(
     let file = File {
         harness_source: stand_ins.as_deref().unwrap_or(source),
         foreign: native.map(|native| Foreign { native, source }),
+        functions_cpu_s: job
+            .functions
+            .iter()
+            .map(|phase| u64::from(phase.limit_ms))
+            .chain([u64::from(LOAD_LIMIT_MS)])
+            .sum::<u64>()
+            .div_ceil(1000),
     };
     let source = &file;
     let phases: Vec<Phase> = job.phases().collect();
@@ -371,7 +378,22 @@ struct File<'a> {
     /// of a file in another language.
     harness_source: &'a str,
     foreign: Option<Foreign<'a>>,
+    /// The CPU time of every function phase's limit together, the load check's with them,
+    /// in whole seconds: the most a V8 process kept for function phases may use.
+    functions_cpu_s: u64,
 }
+
+impl<'a> File<'a> {
+    /// The file, if it is JavaScript to run on V8.
+    fn on_v8(&self) -> Option<Foreign<'a>> {
+        self.foreign
+            .filter(|foreign| foreign.native.language == Language::JavaScript)
+    }
+}
+
+/// A worker thread's Node process for function phases (JavaScript on V8), kept from one
+/// phase to the next while they end well (see `on_v8`).
+type Kept = Option<Interpreter>;
 
 fn watched(
     source: &File,
@@ -380,7 +402,8 @@ fn watched(
     threads: usize,
     watchdog: &Watchdog,
 ) -> Result<Outputs, Failure> {
-    if let Some(stopped) = load_check(source, job, watchdog)? {
+    let (stopped, mut kept) = load_check(source, job, watchdog)?;
+    if let Some(stopped) = stopped {
         return Ok(Outputs::every_phase(
             job,
             |function| FunctionOutput::stopped(function, stopped.clone()),
@@ -393,6 +416,8 @@ fn watched(
         let workers: Vec<_> = (0..threads)
             .map(|slot| {
                 let (next, reports) = (&next, &reports);
+                // The load check's process goes on with the first worker's functions.
+                let mut kept = kept.take();
                 std::thread::Builder::new()
                     .stack_size(THREAD_STACK)
                     .spawn_scoped(scope, move || {
@@ -401,7 +426,9 @@ fn watched(
                             let Some(phase) = phases.get(i) else {
                                 return Ok(());
                             };
-                            let report = run_phase(source, *phase, watchdog, (slot, phase.name()))?;
+                            let watched_as = (slot, phase.name());
+                            let report =
+                                run_phase(source, *phase, watchdog, watched_as, &mut kept)?;
                             *reports[i].lock().expect("a report slot") = Some(report);
                         }
                     })
@@ -441,8 +468,12 @@ type Report = Result<String, Stopped>;
 pub const TOP_LEVEL: &str = "the top level of your file (evaluated once, before every test)";
 
 /// Evaluates the file once, calling nothing (a function phase without calls): what
-/// stopped it, if anything did.
-fn load_check(source: &File, job: &Job, watchdog: &Watchdog) -> Result<Option<Stopped>, Failure> {
+/// stopped it, if anything did, and the V8 process that did it, to go on with.
+fn load_check(
+    source: &File,
+    job: &Job,
+    watchdog: &Watchdog,
+) -> Result<(Option<Stopped>, Kept), Failure> {
     // Any function of the job will do: none is called.
     let function = job
         .functions
@@ -456,38 +487,47 @@ fn load_check(source: &File, job: &Job, watchdog: &Watchdog) -> Result<Option<St
         calls: Vec::new(),
         limit_ms: LOAD_LIMIT_MS,
     };
-    let stopped = std::thread::scope(|scope| {
-        std::thread::Builder::new()
-            .stack_size(THREAD_STACK)
-            .spawn_scoped(scope, || {
-                run_phase(source, Phase::Function(&nothing), watchdog, (0, TOP_LEVEL))
-            })
-            .map_err(Failure::Thread)?
-            .join()
-            .map_err(|_| Failure::Panicked)?
-    })?
-    .err();
-    Ok(stopped.map(|stopped| Stopped {
+    let check = || {
+        let mut kept = None;
+        let phase = Phase::Function(&nothing);
+        run_phase(source, phase, watchdog, (0, TOP_LEVEL), &mut kept).map(|report| (report, kept))
+    };
+    let (report, kept) = if source.on_v8().is_some() {
+        // Here, on the thread that outlives the workers: the kernel ends a jailed process
+        // with the thread that started it, and this one goes on with the first worker's
+        // functions.
+        check()?
+    } else {
+        // QuickJS, on a thread with room for its stack.
+        std::thread::scope(|scope| {
+            std::thread::Builder::new()
+                .stack_size(THREAD_STACK)
+                .spawn_scoped(scope, check)
+                .map_err(Failure::Thread)?
+                .join()
+                .map_err(|_| Failure::Panicked)?
+        })?
+    };
+    let stopped = report.err().map(|stopped| Stopped {
         during: TOP_LEVEL.to_owned(),
         limit_ms: Some(LOAD_LIMIT_MS),
         ..stopped
-    }))
+    });
+    Ok((stopped, kept))
 }
 
-/// One phase in an engine of its own, watched in `slot` under the name `watched_as`: the
-/// harness's report, or where it was stopped. Only a failure of the sandbox itself is an
-/// error.
+/// One phase in an engine of its own (on V8, a function phase may go on in the worker's
+/// `kept` process), watched in `slot` under the name `watched_as`: the harness's report,
+/// or where it was stopped. Only a failure of the sandbox itself is an error.
 fn run_phase(
     file: &File,
     phase: Phase,
     watchdog: &Watchdog,
     (slot, watched_as): (usize, &str),
+    kept: &mut Kept,
 ) -> Result<Report, Failure> {
-    if let Some(foreign) = file
-        .foreign
-        .filter(|foreign| foreign.native.language == Language::JavaScript)
-    {
-        return on_v8(foreign, phase);
+    if let Some(foreign) = file.on_v8() {
+        return on_v8(foreign, phase, file.functions_cpu_s, kept);
     }
     let pulse = Arc::new(Pulse::default());
     let run_loop = match phase {
@@ -510,36 +550,57 @@ fn run_phase(
 
 /// One phase on V8: Node in its jail with the harness and the student's file, the phase's
 /// time the process's CPU time from its request on (V8's compiler and collector
-/// included). Node's own start is no part of it; a start that fails is the sandbox's
-/// failure.
-fn on_v8(foreign: Foreign, phase: Phase) -> Result<Report, Failure> {
+/// included). A run has a process of its own, its main realm; function phases go on in
+/// the `kept` process of the worker, each in a fresh realm (`harness.node.js`), while
+/// they end with a report; a phase stopped ends its process. Node's own start is no part
+/// of a phase; a start that fails is the sandbox's failure.
+fn on_v8(
+    foreign: Foreign,
+    phase: Phase,
+    functions_cpu_s: u64,
+    kept: &mut Kept,
+) -> Result<Report, Failure> {
     let limit = Duration::from_millis(phase.limit_ms().into());
-    let invocation =
-        native::invocation(Language::JavaScript, limit.as_secs() + INTERPRETER_SPARE_S);
-    let mut node = Interpreter::start(
-        &foreign.native.tools,
-        &invocation,
-        (foreign.source, &foreign.native.file),
-        &[],
-    )
-    .map_err(|refused| Failure::Jail(refused.to_string()))?;
+    let reused = match phase.kind() {
+        PhaseKind::Function => kept.take(),
+        PhaseKind::Run => None,
+    };
+    let mut node = match reused {
+        Some(node) => node,
+        None => {
+            let cpu_s = match phase.kind() {
+                PhaseKind::Function => functions_cpu_s,
+                PhaseKind::Run => limit.as_secs(),
+            };
+            let invocation = native::invocation(Language::JavaScript, cpu_s + INTERPRETER_SPARE_S);
+            Interpreter::start(
+                &foreign.native.tools,
+                &invocation,
+                (foreign.source, &foreign.native.file),
+                &[],
+            )
+            .map_err(|refused| Failure::Jail(refused.to_string()))?
+        }
+    };
     let time = ProcessTime::new(node.clock());
     let over = || time.elapsed() > limit;
-    let mut at = String::new();
-    let outcome = node.phase(phase.kind(), &phase.to_json(), &over, &mut at);
+    let outcome = node.phase(phase.kind(), &phase.to_json(), &over);
     let stopped = |cause: Cause| Stopped {
         limit_ms: (cause == Cause::Time).then_some(phase.limit_ms()),
-        during: if at.is_empty() {
-            "your file".to_owned()
-        } else {
-            at.clone()
-        },
+        during: Some(node.doing())
+            .filter(|doing| !doing.is_empty())
+            .unwrap_or_else(|| "your file".to_owned()),
         cause,
     };
     Ok(match outcome {
         // However it ended, a phase past its time is over time (as on QuickJS).
         _ if over() => Err(stopped(Cause::Time)),
-        Ok(report) => Ok(report),
+        Ok(report) => {
+            if phase.kind() == PhaseKind::Function {
+                *kept = Some(node);
+            }
+            Ok(report)
+        }
         Err(silent) => Err(stopped(Cause::Other(
             node.stopped().unwrap_or_else(|| silent.to_string()),
         ))),

@@ -1,13 +1,16 @@
 // JavaScript on V8: a student's file and the harness every engine runs
-// (`static/src/harness.js`, with the exercises' loops) in Node, one phase a process,
-// inside the jail of `jail.rs`. This file is a function of the harness's text and the
-// loops' (name and text each), which the server calls with them (see `NODE_PROGRAM` in
-// `mod.rs`). It speaks one line of JSON at a time on stdin and stdout:
+// (`static/src/harness.js`, with the exercises' loops) in Node, inside the jail of
+// `jail.rs`: a run in a process of its own, function phases one after another, each in
+// a fresh realm. This file is a function of the harness's text, the loops' (name and
+// text each) and the progress descriptor's number, which the server calls with them (see
+// `NODE_PROGRAM` in `mod.rs`). It speaks one line of JSON at a time on stdin and stdout:
 //
-//   {"source": ..., "file": ...}            -> {"ready": "true"}, the harness loaded
-//   {"kind": "function"|"run", "phase": ...} -> {"at": label} before each call of the
-//                                              student's functions, then
-//                                              {"report": the harness's report}
+//   {"source": ..., "file": ...}            -> {"ready": "true"}
+//   {"kind": "function"|"run", "phase": ...} -> {"report": the harness's report}
+//
+// and before each call of the student's functions writes where it is (the harness's
+// label) over the start of the progress descriptor, ended by a zero byte: the server
+// reads it if it stops the phase.
 //
 // Before the harness loads, the global object is cut down to ECMAScript's built-ins, as
 // QuickJS's is: no `require`, `process`, `console`, timers or WebAssembly, so that a file
@@ -18,7 +21,7 @@
 // is the boundary: the server trusts nothing here beyond what the report says of the
 // student's own outputs, which the grader checks. Time and memory are the server's to
 // measure: the process's CPU time, all of its threads', and V8's heap limit.
-(function (harnessText, loops) {
+(function (harnessText, loops, progressFd) {
   'use strict';
   const fs = require('node:fs');
   const vm = require('node:vm');
@@ -47,6 +50,14 @@
     }
   }
 
+  const label = Buffer.alloc(4096);
+  /// Says where the harness is: `text` (cut to what the descriptor holds), then a zero.
+  function progress(text) {
+    const length = label.write(text, 0, label.length - 1, 'utf8');
+    label[length] = 0;
+    writeSync(progressFd, label, 0, length + 1, 0);
+  }
+
   /// Writes a line `{"NAME": text}`, `text` a string: made here rather than by
   /// stringifying an object, so that no `toJSON` of the student's on Object.prototype is
   /// called.
@@ -56,24 +67,26 @@
     while (written < bytes.length) written += writeSync(1, bytes, written);
   }
 
+  // ECMAScript's built-ins: what a fresh context has, but for the console and
+  // WebAssembly that V8 and Node add to it.
   const builtIns = new Set(
     Object.getOwnPropertyNames(vm.runInContext('globalThis', vm.createContext())),
   );
   builtIns.delete('console');
   builtIns.delete('WebAssembly');
-  for (const name of Object.getOwnPropertyNames(globalThis)) {
-    if (!builtIns.has(name)) delete globalThis[name];
+  /// A realm's global object cut down to ECMAScript's built-ins.
+  function cut(global) {
+    for (const name of Object.getOwnPropertyNames(global)) {
+      if (!builtIns.has(name)) delete global[name];
+    }
   }
 
-  runHere(harnessText, { filename: 'harness.js' });
-  for (const [name, text] of loops) runHere(text, { filename: name });
-  const harness = globalThis.estlabHarness;
   // V8's Function constructor says no line of a syntax error; compiling the same
   // arguments as a function of Node's does (its error's stack starts "student:LINE").
   const compileFunction = vm.compileFunction;
   const atLine = /^student:(\d+)\n/;
   const exec = RegExp.prototype.exec;
-  harness.defineSyntaxLocator((params) => {
+  function locate(params) {
     const names = [];
     for (let i = 0; i < params.length - 1; i++) names[i] = params[i];
     try {
@@ -83,17 +96,40 @@
       const found = Reflect.apply(exec, atLine, [String(error.stack)]);
       return found === null ? null : Number(found[1]);
     }
-  });
+  }
+
+  /// The harness and the loops loaded into a realm (`run(text, options)` evaluates in
+  /// it), before any student code runs there.
+  function harnessIn(run) {
+    run(harnessText, { filename: 'harness.js' });
+    for (const [name, text] of loops) run(text, { filename: name });
+    return run('estlabHarness', {});
+  }
+
+  /// A fresh realm of its own for a function's tests: nothing the student's code did in
+  /// an earlier one reaches it, as nothing reaches a phase in a process of its own.
+  function freshRealm() {
+    const context = vm.createContext();
+    cut(vm.runInContext('globalThis', context));
+    return harnessIn((text, options) => vm.runInContext(text, context, options));
+  }
+
+  cut(globalThis);
 
   const { source } = parse(line());
   say('ready', 'true');
 
-  const request = parse(line());
-  // Where the harness is, told before each call of the student's functions: the server
-  // names the last it heard when it stops the phase.
-  const progress = (label) => say('at', label);
-  const report = request.kind === 'run'
-    ? harness.run(source, request.phase, progress)
-    : harness.callFunction(source, request.phase, progress);
-  say('report', report);
+  for (;;) {
+    const request = parse(line());
+    if (request.kind === 'run') {
+      // A run, the process's only phase, in the main realm (see the top).
+      const harness = harnessIn(runHere);
+      harness.defineSyntaxLocator(locate);
+      say('report', harness.run(source, request.phase, progress));
+      return;
+    }
+    const harness = freshRealm();
+    harness.defineSyntaxLocator(locate);
+    say('report', harness.callFunction(source, request.phase, progress));
+  }
 })

@@ -8,7 +8,7 @@
 //! run out.
 
 use super::super::cpu::CpuClock;
-use super::jail::{Invocation, Jailed, Refused, Tools};
+use super::jail::{Invocation, Jailed, Progress, Refused, Tools};
 use labs::exercises::interface::Function;
 use labs::grading::PhaseKind;
 use serde::{Deserialize, Serialize};
@@ -67,12 +67,10 @@ enum Request<'a> {
     },
 }
 
-/// What the harness inside the jail says while it carries out a phase.
+/// What the harness inside the jail says when it has carried out a phase.
 #[derive(Deserialize)]
-#[serde(untagged)]
-enum Said {
-    At { at: String },
-    Report { report: String },
+struct Reported {
+    report: String,
 }
 
 /// One argument of a call, in an object of its own: a reader that makes one matrix of a
@@ -124,6 +122,8 @@ pub struct Interpreter {
     /// How long it has been found asleep while the engine waited for it, once started
     /// (None while it starts).
     asleep: Option<Duration>,
+    /// Where it says what it is doing, if it does (JavaScript on V8).
+    progress: Option<Progress>,
 }
 
 impl Interpreter {
@@ -143,6 +143,7 @@ impl Interpreter {
             stderr,
             pid,
             clock,
+            progress,
         } = tools.jail(invocation)?;
         let complaints = std::thread::Builder::new()
             .spawn(move || drain(stderr))
@@ -158,6 +159,7 @@ impl Interpreter {
             complaints: Some(complaints),
             silent: None,
             asleep: None,
+            progress,
         };
         let setup = serde_json::to_string(&Setup {
             source,
@@ -217,43 +219,47 @@ impl Interpreter {
     }
 
     /// Carries out a whole phase (`phase`, its job as JSON) with the harness inside the
-    /// jail (JavaScript on V8): the harness's report, or why none came. `at` follows
-    /// where the harness says it is.
+    /// jail (JavaScript on V8): the harness's report, or why none came (then
+    /// [`Interpreter::doing`] says where the harness was). The time found asleep is this
+    /// phase's alone (a process may carry out several, one after another).
     pub fn phase(
         &mut self,
         kind: PhaseKind,
         phase: &str,
         over: &dyn Fn() -> bool,
-        at: &mut String,
     ) -> Result<String, Silent> {
+        self.asleep = Some(Duration::ZERO);
+        if let Some(progress) = &self.progress {
+            progress.clear();
+        }
         let request =
             serde_json::to_string(&Request::Phase { kind, phase }).expect("requests serialise");
-        self.converse(&request, over, MAX_REPORT, |line| {
-            match serde_json::from_str::<Said>(&line) {
-                Ok(Said::At { at: label }) => {
-                    *at = label;
-                    None
-                }
-                Ok(Said::Report { report }) => Some(Ok(report)),
-                // Only the student's code, writing on the harness's descriptor.
-                Err(_) => Some(Err(Silent::OutOfTurn)),
-            }
-        })?
+        let line = self.converse(&request, over, MAX_REPORT)?;
+        serde_json::from_str::<Reported>(&line)
+            .map(|reported| reported.report)
+            // Only the student's code, writing on the harness's descriptor.
+            .map_err(|_| Silent::OutOfTurn)
+    }
+
+    /// What the harness in the jail last said it was doing (empty if nothing).
+    pub fn doing(&self) -> String {
+        self.progress
+            .as_ref()
+            .map(Progress::read)
+            .unwrap_or_default()
     }
 
     fn exchange(&mut self, line: &str, over: &dyn Fn() -> bool) -> Result<String, Silent> {
-        self.converse(line, over, MAX_REPLY, Some)
+        self.converse(line, over, MAX_REPLY)
     }
 
-    /// Sends `line`, then reads lines of at most `longest` bytes until `heard` makes an
-    /// answer of one.
-    fn converse<T>(
+    /// Sends `line`, then reads the answer's line, of at most `longest` bytes.
+    fn converse(
         &mut self,
         line: &str,
         over: &dyn Fn() -> bool,
         longest: usize,
-        mut heard: impl FnMut(String) -> Option<T>,
-    ) -> Result<T, Silent> {
+    ) -> Result<String, Silent> {
         if let Some(silent) = &self.silent {
             return Err(Silent::Ended("earlier".to_owned(), format!(": {silent}")));
         }
@@ -262,13 +268,8 @@ impl Interpreter {
             // line (Octave's `fgetl`) has one to look at without waiting for the next.
             let mut line = line.as_bytes().to_vec();
             line.extend(b"\n\n");
-            self.send(&line, over).and_then(|()| {
-                loop {
-                    if let Some(answer) = heard(self.reply(over, longest)?) {
-                        break Ok(answer);
-                    }
-                }
-            })
+            self.send(&line, over)
+                .and_then(|()| self.reply(over, longest))
         } else {
             // The harness answers each request with one line: more is the student's code
             // writing on the harness's descriptor.

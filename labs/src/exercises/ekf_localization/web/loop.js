@@ -5,7 +5,7 @@
 // sandbox alike.
 estlabHarness.defineLoop('filter', (tools) => {
   'use strict';
-  const { HarnessError, put, push, copy, field, list, vector, matrix, threshold, flag, describe } = tools;
+  const { HarnessError, put, push, copy, plain, field, list, vector, matrix, threshold, flag, describe } = tools;
 
   /// The filter loop over a data set, as the lab's.
   /** @type {Loop<import('estlab/types/FilterRun').FilterRun, import('estlab/types/FilterRecord').FilterRecord>} */
@@ -69,19 +69,27 @@ estlabHarness.defineLoop('filter', (tools) => {
         }
       } else {
         for (let i = 0; i < n; i++) {
+          // Of associate's answer for every landmark, the loop takes what it reads: c,
+          // outlier, and H, S and nu of landmark c (a whole data set's run would copy
+          // a hundred arrays a reading that nothing reads).
           const a = invoke('associate', [copy(muBar), copy(sigmaBar), [z[0][i], z[1][i]],
-            copy(M), lambda, copy(Q)]);
-          const c = index(field(a, 'c', (v) => v), 'c');
-          const isOutlier = flag(field(a, 'outlier', (v) => v), 'outlier');
+            copy(M), lambda, copy(Q)], undefined, (answer) => {
+            const c = index(field(answer, 'c', plain), 'c');
+            const isOutlier = flag(field(answer, 'outlier', plain), 'outlier');
+            /** @param {string} name */
+            const ofC = (name) => plain(field(answer, name, list(landmarks))[c]);
+            return isOutlier
+              ? { c, isOutlier }
+              : {
+                c, isOutlier, H: matrix(2, 3)(ofC('H'), 'H[' + c + ']'),
+                S: matrix(2, 2)(ofC('S'), 'S[' + c + ']'), nu: vector(2)(ofC('nu'), 'nu[' + c + ']'),
+              };
+          });
+          const { c, isOutlier } = a;
           push(kept.c, c);
           push(kept.outlier, isOutlier);
           if (!isOutlier) {
-            const H = field(a, 'H', list(landmarks))[c];
-            const S = field(a, 'S', list(landmarks))[c];
-            const nu = field(a, 'nu', list(landmarks))[c];
-            const post = invoke('update', [copy(muBar), copy(sigmaBar),
-              matrix(2, 3)(H, 'H[' + c + ']'), matrix(2, 2)(S, 'S[' + c + ']'),
-              vector(2)(nu, 'nu[' + c + ']')]);
+            const post = invoke('update', [copy(muBar), copy(sigmaBar), a.H, a.S, a.nu]);
             muBar = field(post, 'mu', vector(3));
             sigmaBar = field(post, 'sigma', matrix(3, 3));
           }
