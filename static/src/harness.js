@@ -89,10 +89,11 @@
   function record() {
     return createObject(null);
   }
-  /// An ordinary array of `n` items, `item(i)` each, filled while it has no prototype, so
-  /// that no setter of the student's on Array.prototype or Object.prototype is met: as
-  /// safe as `put` item by item, and many times faster on V8, where defining each index
-  /// takes the slow path (a whole data set's run copies millions of values).
+  /// An array to fill by assignment while it has no prototype, so that no setter of the
+  /// student's on Array.prototype or Object.prototype is met, then made ordinary
+  /// (`guarded`): as safe as `put` item by item, and many times faster on V8, where
+  /// defining each index takes the slow path (a whole data set's run copies millions of
+  /// values).
   function unguarded() {
     return setPrototypeOf([], null);
   }
@@ -328,6 +329,8 @@
     return guarded(out);
   }
 
+  const PROMISE = 'returned a Promise: return the result itself, not async';
+
   /// What the student's code returned, as JSON data (see the top of the file).
   function plain(value) {
     const budget = { left: MAX_VALUES, text: MAX_TEXT };
@@ -371,9 +374,7 @@
     }
     if (value === null) return null;
     if (depth >= MAX_DEPTH) throw new HarnessError('returned data nested too deep');
-    if (typeof value.then === 'function') {
-      throw new HarnessError('returned a Promise: return the result itself, not async');
-    }
+    if (typeof value.then === 'function') throw new HarnessError(PROMISE);
     if (isArray(value) || isView(value)) {
       // A DataView has no length, and gives an empty array.
       const items = /** @type {ArrayLike<unknown>} */ (value);
@@ -476,11 +477,16 @@
       // Calls a student function by name, saying first (to the host too) where in the
       // loop it is: at the step `at.step` names, or as `label` says. `take` makes what it
       // returned the harness's own: all of it (`plain`), or the parts a loop reads of an
-      // answer it reads little of.
+      // answer it reads little of (each part then goes through `plain`).
       const invoke = (name, args, label, take = plain) => {
         at.doing = label === undefined ? at.step + name : label;
         progress(job.name + ': ' + at.doing);
-        return take(apply(functions[name], undefined, args));
+        const answer = apply(functions[name], undefined, args);
+        if (take !== plain && answer !== null && typeof answer === 'object' &&
+          typeof answer.then === 'function') {
+          throw new HarnessError(PROMISE);
+        }
+        return take(answer);
       };
       // What the loop records (read as the exercise's record type in Rust).
       const kept = put(out, 'record', record());
@@ -582,7 +588,12 @@
   }
 
   function describe(value) {
-    if (isArray(value)) return 'an array of ' + value.length + ' elements';
+    if (isArray(value)) {
+      // Read again here (a loop may check a part of an answer it has not copied): only
+      // a number is said.
+      const length = value.length;
+      return typeof length === 'number' ? 'an array of ' + length + ' elements' : 'an array';
+    }
     if (value !== null && typeof value === 'object') {
       const names = keysOf(value);
       let fields = 'an object with the fields';

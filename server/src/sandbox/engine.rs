@@ -496,7 +496,8 @@ fn load_check(
         // Here, on the thread that outlives the workers: the kernel ends a jailed process
         // with the thread that started it, and this one goes on with the first worker's
         // functions.
-        check()?
+        std::panic::catch_unwind(std::panic::AssertUnwindSafe(check))
+            .map_err(|_| Failure::Panicked)??
     } else {
         // QuickJS, on a thread with room for its stack.
         std::thread::scope(|scope| {
@@ -596,7 +597,9 @@ fn on_v8(
         // However it ended, a phase past its time is over time (as on QuickJS).
         _ if over() => Err(stopped(Cause::Time)),
         Ok(report) => {
-            if phase.kind() == PhaseKind::Function {
+            // Kept only if it wrote nothing beyond its report: the student's code writing
+            // on the harness's descriptor would otherwise be heard in the next phase.
+            if phase.kind() == PhaseKind::Function && node.quiet() {
                 *kept = Some(node);
             }
             Ok(report)

@@ -12,15 +12,17 @@
 // label) over the start of the progress descriptor, ended by a zero byte: the server
 // reads it if it stops the phase.
 //
-// Before the harness loads, the global object is cut down to ECMAScript's built-ins, as
-// QuickJS's is: no `require`, `process`, `console`, timers or WebAssembly, so that a file
-// means the same on both engines. What this file needs of Node it has taken first, in
-// its own scope, out of the student's reach. (A `vm` context would keep Node's realm
-// apart, but every global the student's code reads, `Math` among them, would then go
-// through Node's interceptors: a whole data set's run took half as long again.) The jail
-// is the boundary: the server trusts nothing here beyond what the report says of the
-// student's own outputs, which the grader checks. Time and memory are the server's to
-// measure: the process's CPU time, all of its threads', and V8's heap limit.
+// Before the harness loads, a realm's global object is cut down to ECMAScript's
+// built-ins, as QuickJS's is: no `require`, `process`, `console`, timers or WebAssembly,
+// so that a file means the same on both engines. What this file needs of Node it has
+// taken first, in its own scope, out of the student's reach. A run, its process's only
+// phase, runs in Node's main realm: in a `vm` context every global the student's code
+// reads, `Math` among them, goes through Node's interceptors, and a whole data set's run
+// took half as long again. A function's tests are short, and each phase gets a fresh
+// context, so that phases may share a process. The jail is the boundary: the server
+// trusts nothing here beyond what the report says of the student's own outputs, which the
+// grader checks. Time and memory are the server's to measure: the process's CPU time,
+// all of its threads', and V8's heap limit.
 (function (harnessText, loops, progressFd) {
   'use strict';
   const fs = require('node:fs');
@@ -107,9 +109,13 @@
   }
 
   /// A fresh realm of its own for a function's tests: nothing the student's code did in
-  /// an earlier one reaches it, as nothing reaches a phase in a process of its own.
+  /// an earlier one reaches it, as nothing reaches a phase in a process of its own. The
+  /// object Node makes the context's global of has no prototype: an ordinary one's would
+  /// be this realm's Object.prototype, whose `constructor.constructor` (reached as
+  /// `globalThis.constructor.constructor`) is this realm's Function. Promise jobs the
+  /// student's code leaves are the context's own and go with it.
   function freshRealm() {
-    const context = vm.createContext();
+    const context = vm.createContext(Object.create(null), { microtaskMode: 'afterEvaluate' });
     cut(vm.runInContext('globalThis', context));
     return harnessIn((text, options) => vm.runInContext(text, context, options));
   }
@@ -117,6 +123,9 @@
   cut(globalThis);
 
   const { source } = parse(line());
+  // The progress descriptor is there before the harness says it is ready: a jail without
+  // it is the sandbox's failure, not a phase's.
+  fs.fstatSync(progressFd);
   say('ready', 'true');
 
   for (;;) {

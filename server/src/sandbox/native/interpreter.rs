@@ -241,6 +241,12 @@ impl Interpreter {
             .map_err(|_| Silent::OutOfTurn)
     }
 
+    /// Whether the interpreter has written nothing beyond its last answer (the harness
+    /// writes one line a request: more is the student's code, out of turn).
+    pub fn quiet(&self) -> bool {
+        self.pending.is_empty() && !ready(self.stdout.as_raw_fd(), libc::POLLIN, Duration::ZERO)
+    }
+
     /// What the harness in the jail last said it was doing (empty if nothing).
     pub fn doing(&self) -> String {
         self.progress

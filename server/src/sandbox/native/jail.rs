@@ -373,9 +373,19 @@ fn before_exec(
             Ok(())
         }
     };
+    // A limit is only ever lowered: one this process inherited stays where it is tighter
+    // (the worker's CPU time, which a kept V8 process's backstop may exceed), and raising
+    // a hard limit would take a privilege given up with root.
     let limit = |resource, soft: u64, hard: u64| {
+        let mut inherited = libc::rlimit {
+            rlim_cur: 0,
+            rlim_max: 0,
+        };
+        // SAFETY: getrlimit writes one valid rlimit.
+        check(unsafe { libc::getrlimit(resource, &mut inherited) })?;
+        let hard = hard.min(inherited.rlim_max);
         let limit = libc::rlimit {
-            rlim_cur: soft,
+            rlim_cur: soft.min(hard),
             rlim_max: hard,
         };
         // SAFETY: setrlimit reads one valid rlimit.
