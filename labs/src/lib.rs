@@ -18,8 +18,10 @@ pub mod exercises;
 pub mod fusion;
 pub mod grading;
 mod language;
+pub mod mrclam;
 pub mod odometry;
 pub mod rng;
+mod text;
 mod typescript;
 
 pub use error::Error;

@@ -9,8 +9,9 @@
 use super::{Encoders, Reading, SensorLog, Step};
 use crate::Error;
 use crate::ekf::{Landmark, Map};
+use crate::text::{Line, lines};
 use nalgebra::{Vector2, Vector3};
-use std::fmt::{self, Write};
+use std::fmt::Write;
 
 const MAP_COLUMNS: [&str; 3] = ["id", "x", "y"];
 const STEP_COLUMNS: [&str; 10] = [
@@ -116,54 +117,7 @@ pub fn write_sensor_log(log: &SensorLog) -> String {
     text
 }
 
-/// A line of a data file that holds something: its 1-based number and its values.
-struct Line<'a> {
-    file: &'a str,
-    number: usize,
-    tokens: Vec<&'a str>,
-}
-
-fn lines<'a>(text: &'a str, file: &'a str) -> impl Iterator<Item = Line<'a>> {
-    text.lines()
-        .enumerate()
-        .map(move |(i, line)| Line {
-            file,
-            number: i + 1,
-            tokens: line.split_ascii_whitespace().collect(),
-        })
-        .filter(|line| !line.tokens.is_empty())
-}
-
 impl Line<'_> {
-    fn error(&self, message: String) -> Error {
-        Error::parse(self.file, self.number, message)
-    }
-
-    /// The finite number at `index`, which the message calls `what`.
-    fn number(&self, index: usize, what: impl fmt::Display) -> Result<f64, Error> {
-        let token = self.tokens[index];
-        match token.parse::<f64>() {
-            Ok(value) if value.is_finite() => Ok(value),
-            _ => Err(self.error(format!(
-                "value {} ({what}) is '{token}', which is not a finite number",
-                index + 1
-            ))),
-        }
-    }
-
-    /// The non-negative whole number at `index` (`7` and `7.000000` both are).
-    fn whole(&self, index: usize, what: impl fmt::Display) -> Result<u32, Error> {
-        let value = self.number(index, &what)?;
-        if value < 0.0 || value.fract() != 0.0 || value > f64::from(u32::MAX) {
-            return Err(self.error(format!(
-                "value {} ({what}) is '{}', which is not a whole number >= 0",
-                index + 1,
-                self.tokens[index]
-            )));
-        }
-        Ok(value as u32)
-    }
-
     fn step(&self, map: &Map) -> Result<Step, Error> {
         let fixed = STEP_COLUMNS.len();
         if self.tokens.len() < fixed {
