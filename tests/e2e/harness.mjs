@@ -2,7 +2,7 @@
 // port, the estlab command line, and headless Chromium (Debian's) driven by Playwright.
 import assert from 'node:assert/strict';
 import { spawn, execFileSync } from 'node:child_process';
-import { existsSync, mkdtempSync, readFileSync, writeFileSync } from 'node:fs';
+import { existsSync, mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { dirname, join, resolve } from 'node:path';
 import { after, before } from 'node:test';
@@ -56,9 +56,17 @@ export function estlab(...args) {
   return execFileSync(estlabBinary, args, { encoding: 'utf8', maxBuffer: 1 << 28 });
 }
 
-/** A fresh temporary directory. */
+/** The temporary directories this test file made, removed when its process exits. */
+const made = new Set();
+process.on('exit', () => {
+  for (const dir of made) rmSync(dir, { recursive: true, force: true });
+});
+
+/** A fresh temporary directory, removed with the test file's process. */
 export function tempDir() {
-  return mkdtempSync(join(tmpdir(), 'estlab-e2e-'));
+  const dir = mkdtempSync(join(tmpdir(), 'estlab-e2e-'));
+  made.add(dir);
+  return dir;
 }
 
 /**
