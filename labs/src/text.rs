@@ -53,3 +53,23 @@ impl Line<'_> {
         Ok(value as u32)
     }
 }
+
+/// The times of a file's lines, which never go backwards (equal times may follow).
+#[derive(Default)]
+pub(crate) struct Times(Option<(usize, f64)>);
+
+impl Times {
+    /// Takes `t`, the time on `line`: an error naming both lines if it is earlier than the
+    /// time before it.
+    pub fn next(&mut self, line: &Line, t: f64) -> Result<(), Error> {
+        if let Some((previous_line, previous_t)) = self.0
+            && t < previous_t
+        {
+            return Err(line.error(format!(
+                "time goes backwards: t = {t} here, but t = {previous_t} on line {previous_line}"
+            )));
+        }
+        self.0 = Some((line.number, t));
+        Ok(())
+    }
+}

@@ -9,7 +9,7 @@
 use super::{Encoders, Reading, SensorLog, Step};
 use crate::Error;
 use crate::ekf::{Landmark, Map};
-use crate::text::{Line, lines};
+use crate::text::{Line, Times, lines};
 use nalgebra::{Vector2, Vector3};
 use std::fmt::Write;
 
@@ -57,18 +57,10 @@ pub fn parse_map(text: &str, file: &str) -> Result<Map, Error> {
 /// error messages.
 pub fn parse_sensor_log(text: &str, file: &str, map: &Map) -> Result<SensorLog, Error> {
     let mut steps: Vec<Step> = Vec::new();
-    let mut previous: Option<(usize, f64)> = None;
+    let mut times = Times::default();
     for line in lines(text, file) {
         let step = line.step(map)?;
-        if let Some((previous_line, previous_t)) = previous
-            && step.t < previous_t
-        {
-            return Err(line.error(format!(
-                "time goes backwards: t = {} here, but t = {previous_t} on line {previous_line}",
-                step.t
-            )));
-        }
-        previous = Some((line.number, step.t));
+        times.next(&line, step.t)?;
         steps.push(step);
     }
     if steps.is_empty() {

@@ -12,7 +12,7 @@
 
 use super::{Barcode, Measurement, Odometry, Pose, Post, Robot, World};
 use crate::Error;
-use crate::text::{Line, lines};
+use crate::text::{Line, Times, lines};
 
 /// Reads a robot's three files, each given as (text, the file's name for messages).
 pub fn parse_robot(
@@ -117,17 +117,9 @@ fn in_time<const N: usize, T>(
     make: impl Fn([f64; N], &Line) -> Result<T, Error>,
 ) -> Result<Vec<T>, Error> {
     let mut made = Vec::new();
-    let mut previous: Option<(usize, f64)> = None;
+    let mut times = Times::default();
     for (line, values) in records(text, file, columns)? {
-        let t = values[0];
-        if let Some((previous_line, previous_t)) = previous
-            && t < previous_t
-        {
-            return Err(line.error(format!(
-                "time goes backwards: t = {t} here, but t = {previous_t} on line {previous_line}"
-            )));
-        }
-        previous = Some((line.number, t));
+        times.next(&line, values[0])?;
         made.push(make(values, &line)?);
     }
     nonempty(made, file)
