@@ -8,13 +8,17 @@ import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { test } from 'node:test';
 import {
-  bounded, estlab, getJson, laptop, openIn, openPage, phone, root, setUpCourse, signIn, signedInContext, submit,
+  bounded, dataDirWithSecret, estlab, getJson, laptop, openIn, openPage, phone, root, setUpCourse, signIn, signedInContext, submit,
   waitFor, withServerAndBrowser,
 } from './harness.mjs';
 
 let server;
 let browser;
-withServerAndBrowser((s, b) => { server = s; browser = b; });
+// The held-out trial is drawn from the server's secret: with a fixed one it is one known
+// trial, on which the poor tuning below does worse than the defaults. (Over 150 random
+// classes it did worse on 148: on a trial where another robot confuses the sensor, even
+// the defaults can lose their way.)
+withServerAndBrowser((s, b) => { server = s; browser = b; }, { dataDir: dataDirWithSecret(Buffer.alloc(32, 7)) });
 
 const LAB = 'sensor-fusion';
 const COURSE = 'fusion-class';

@@ -401,14 +401,25 @@ export const phone = { width: 390, height: 844 };
 export const laptop = { width: 1400, height: 1000 };
 
 /**
- * A server and a browser for a whole test file: started before its first test and handed
- * to `use(server, browser)`, stopped after its last.
+ * A data directory holding `secret` (32 bytes) as the server's secret, so that what the
+ * server draws from it (hidden cases, a class's held-out trial) is the same at every run.
  */
-export function withServerAndBrowser(use) {
+export function dataDirWithSecret(secret) {
+  assert.equal(secret.length, 32, 'a secret of 32 bytes');
+  const dir = tempDir();
+  writeFileSync(join(dir, 'secret'), secret, { mode: 0o600 });
+  return dir;
+}
+
+/**
+ * A server and a browser for a whole test file: started before its first test and handed
+ * to `use(server, browser)`, stopped after its last; `serverOptions` as startServer takes.
+ */
+export function withServerAndBrowser(use, serverOptions = {}) {
   let server;
   let browser;
   before(async () => {
-    server = await startServer();
+    server = await startServer(serverOptions);
     browser = await launchBrowser();
     use(server, browser);
   }, bounded);
