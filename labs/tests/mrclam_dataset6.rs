@@ -1,14 +1,26 @@
 //! MRCLAM data set 6 as published (robots 1 to 3, read from the shared data): every record
 //! of every file is read, the first and last as the files hold them, and every reading
-//! names a barcode of the room.
+//! names a barcode of the room; on the 50 Hz grid, with the noise learned from each
+//! robot's own recording, the three filters localize each robot to about 20 cm where its
+//! commands alone drift metres away, and every one of them is overconfident.
 
+use labs::mrclam::belief::{Belief, Filter};
+use labs::mrclam::ekf::Ekf;
 use labs::mrclam::format::{parse_robot, parse_world};
-use labs::mrclam::{FIRST_POST, Measurement, Odometry, Pose, Post, Robot, World};
+use labs::mrclam::grid::Run;
+use labs::mrclam::motion::Noise;
+use labs::mrclam::particle::{ParticleFilter, Settings};
+use labs::mrclam::run::{self, CONSISTENT_INSIDE, Consistency};
+use labs::mrclam::ukf::Ukf;
+use labs::mrclam::{FIRST_POST, Measurement, Odometry, Pose, Post, Robot, World, learn};
+use labs::rng::Rng;
 
 testdata::data_tests!(
     the_room_has_fifteen_posts_and_twenty_barcodes,
     every_record_of_each_robot_is_read_in_order,
     every_reading_names_a_subject_of_the_room,
+    the_noise_learned_from_each_robot_is_of_the_camera_and_wheels_we_know,
+    the_filters_localize_each_robot_where_its_commands_drift_away,
 );
 
 const DIR: &str = "mrclam/MRCLAM_Dataset6";
@@ -159,4 +171,105 @@ fn every_reading_names_a_subject_of_the_room() {
         );
     }
     assert_eq!(unknown, [(1, 43), (3, 34), (3, 34)]);
+}
+
+/// Robot `n` on the grid, and the noise learned from its recording.
+fn learned(n: u32) -> (Run, Noise) {
+    let world = world();
+    let (robot, _) = robot(n);
+    let run = Run::new(&robot, &world).unwrap();
+    let noise = learn::noise(&robot, &world, &run);
+    (run, noise)
+}
+
+/// About 770 s for robot 1 and 900 s for the others, at 50 Hz; the readings of posts on
+/// the grid; alphas of tens of per cent (the truth's own jitter, differenced at 50 Hz,
+/// is in them), a range error of 10 to 20 cm and a bearing error of a degree or a few.
+fn the_noise_learned_from_each_robot_is_of_the_camera_and_wheels_we_know() {
+    for (n, steps, posts) in [(1, 38_594, 1_534), (2, 45_001, 3_239), (3, 45_001, 4_348)] {
+        let (run, noise) = learned(n);
+        assert_eq!(run.steps.len(), steps, "robot {n}");
+        let read: usize = run.steps.iter().map(|step| step.readings.len()).sum();
+        assert_eq!(read, posts, "robot {n}");
+        let [a1, a2, a3, a4] = noise.alphas;
+        assert!(
+            (0.3..0.5).contains(&a1) && (0.0..0.1).contains(&a2),
+            "robot {n}: {noise:?}"
+        );
+        assert!(
+            (1.4..1.9).contains(&a3) && (0.2..0.5).contains(&a4),
+            "robot {n}: {noise:?}"
+        );
+        let range = noise.measurement[(0, 0)].sqrt();
+        let bearing = noise.measurement[(1, 1)].sqrt();
+        assert!((0.1..0.2).contains(&range), "robot {n}: range sd {range}");
+        assert!(
+            (0.01..0.1).contains(&bearing),
+            "robot {n}: bearing sd {bearing}"
+        );
+    }
+}
+
+/// The figures the issue measured with NumPy (EKF, UKF, particle filter; robots 1 to 3):
+/// ours, with the choices of `labs::mrclam` (commands averaged over each step, R2 by
+/// maximum likelihood with zero mean, the UKF's alpha = kappa = 1), are within 10 % of
+/// them or better.
+const ISSUE_RMS: [[f64; 3]; 3] = [
+    [0.194, 0.226, 0.215],
+    [0.191, 0.223, 0.213],
+    [0.186, 0.222, 0.209],
+];
+
+fn the_filters_localize_each_robot_where_its_commands_drift_away() {
+    for n in 1..=3u32 {
+        let (run, noise) = learned(n);
+        let start = run::start(&run);
+        let drift = labs::fusion::Errors::of(
+            run::dead_reckoning(&run)
+                .iter()
+                .zip(run.truths())
+                .map(|(pose, truth)| ((*pose).into(), truth.into())),
+        )
+        .unwrap();
+        assert!(
+            (2.5..4.5).contains(&drift.rms),
+            "robot {n}: dead reckoning {drift:?}"
+        );
+        let filters: [(&str, Box<dyn Filter>); 3] = [
+            ("EKF", Box::new(Ekf::new(start, noise))),
+            ("UKF", Box::new(Ukf::new(start, noise))),
+            (
+                "particle filter",
+                Box::new(ParticleFilter::new(
+                    start,
+                    noise,
+                    Settings::default(),
+                    Rng::new(u64::from(n)),
+                )),
+            ),
+        ];
+        for (i, (name, mut filter)) in filters.into_iter().enumerate() {
+            let (beliefs, readings): (Vec<Belief>, _) = run::filter(&run, filter.as_mut());
+            let c = Consistency::of(&run, &beliefs);
+            let issue = ISSUE_RMS[i][n as usize - 1];
+            assert!(
+                c.errors.rms <= 1.1 * issue && c.errors.rms > 0.7 * issue,
+                "robot {n}, {name}: RMS {:.3} m against {issue} m",
+                c.errors.rms
+            );
+            assert!(c.errors.rms < drift.rms / 10.0, "robot {n}, {name}");
+            // Overconfident: the truth far less often inside the 3-sigma ellipse than a
+            // consistent filter's 98.9 %, the NEES far above its 3.
+            assert!(
+                c.inside_three_sigma < 0.7 * CONSISTENT_INSIDE,
+                "robot {n}, {name}: {c:?}"
+            );
+            assert!(c.nees > 10.0, "robot {n}, {name}: {c:?}");
+            // The gate turns away one reading in ten or fewer.
+            assert!(
+                readings.used > 8 * readings.rejected,
+                "robot {n}, {name}: {readings:?}"
+            );
+        }
+    }
 }

@@ -4,10 +4,14 @@
 //! `DIR/northstar/` holds the Northstar report's trials, each as its two files,
 //! `trialN_odometry_northstar.csv` (odometry and the sensor's pose) and
 //! `trialN_kalman_groundtruth.csv` (the report's Kalman estimate and ground truth), as
-//! `../shared/data/README.md` describes them.
+//! `../shared/data/README.md` describes them; `DIR/mrclam/MRCLAM_DatasetN/` the UTIAS
+//! MRCLAM data sets' files as published (`RobotR_Odometry.dat`, `RobotR_Measurement.dat`,
+//! `RobotR_Groundtruth.dat`, `Landmark_Groundtruth.dat`, `Barcodes.dat`).
 
 use crate::error::Error;
 use labs::fusion::Trial;
+use labs::mrclam::format::{parse_robot, parse_world};
+use labs::mrclam::{Robot, World};
 use serde::Serialize;
 use std::path::Path;
 use ts_rs::TS;
@@ -55,6 +59,35 @@ impl Datasets {
             .find(|t| t.name == name)
             .map(|t| &t.trial)
     }
+}
+
+/// Robot `robot` of MRCLAM data set `dataset` in the data sets folder `dir`, and its room.
+/// A missing file is an error naming it; so is a line that does not parse.
+pub fn mrclam(dir: &Path, dataset: u32, robot: u32) -> Result<(Robot, World), Error> {
+    let folder = dir.join("mrclam").join(format!("MRCLAM_Dataset{dataset}"));
+    if !folder.is_dir() {
+        return Err(Error::Invalid(format!(
+            "{}: no such folder (data set {dataset} of MRCLAM, as published)",
+            folder.display()
+        )));
+    }
+    let file = |name: String| -> Result<(String, String), Error> {
+        let path = folder.join(name);
+        Ok((read(&path)?, path.display().to_string()))
+    };
+    let [odometry, measurements, truth] = ["Odometry", "Measurement", "Groundtruth"]
+        .map(|kind| file(format!("Robot{robot}_{kind}.dat")));
+    let (odometry, measurements, truth) = (odometry?, measurements?, truth?);
+    let (posts, barcodes) = (
+        file("Landmark_Groundtruth.dat".to_owned())?,
+        file("Barcodes.dat".to_owned())?,
+    );
+    fn as_str((text, name): &(String, String)) -> (&str, &str) {
+        (text, name)
+    }
+    let robot = parse_robot(as_str(&odometry), as_str(&measurements), as_str(&truth))?;
+    let world = parse_world(as_str(&posts), as_str(&barcodes))?;
+    Ok((robot, world))
 }
 
 fn northstar_trials(dir: &Path) -> Result<Vec<NamedTrial>, Error> {

@@ -8,7 +8,16 @@
 //! names the barcode it saw, which [`World::subject_of`] turns into the subject (data set
 //! 6 has three readings of barcodes no subject wears: misreadings, for a filter to skip).
 
+pub mod belief;
+pub mod ekf;
 pub mod format;
+pub mod grid;
+pub mod learn;
+pub mod motion;
+pub mod particle;
+pub mod run;
+pub mod sensor;
+pub mod ukf;
 
 use serde::{Deserialize, Serialize};
 

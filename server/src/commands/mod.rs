@@ -8,6 +8,7 @@ pub mod course;
 pub mod fusion;
 pub mod grade;
 pub mod grade_class;
+pub mod mrclam;
 pub mod odometry;
 pub mod package;
 pub mod run;
@@ -48,6 +49,7 @@ enum Command {
     Car(car::Args),
     Odometry(odometry::Args),
     Fusion(fusion::Args),
+    Mrclam(mrclam::Args),
     Cases(cases::Args),
     Grade(grade::Args),
     GradeClass(grade_class::Args),
@@ -76,6 +78,7 @@ pub fn main() -> ExitCode {
         Command::Car(args) => car::run(&args),
         Command::Odometry(args) => odometry::run(&args),
         Command::Fusion(args) => fusion::run(&args),
+        Command::Mrclam(args) => mrclam::run(&args),
         Command::Cases(args) => cases::run(&args),
         Command::Grade(args) => grade::run(&args),
         Command::GradeClass(args) => grade_class::run(&args),
