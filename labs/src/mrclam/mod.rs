@@ -17,6 +17,7 @@ pub mod motion;
 pub mod particle;
 pub mod run;
 pub mod sensor;
+pub mod simulate;
 pub mod ukf;
 
 use serde::{Deserialize, Serialize};

@@ -1,6 +1,7 @@
 //! `estlab mrclam`: the EKF, the UKF and the particle filter on a robot of the UTIAS MRCLAM
-//! data sets (from `--datasets`), with the noise learned from the robot's own recording;
-//! how close each comes to the ground truth, how consistent it is, and how long it took.
+//! data sets (from `--datasets`) or of one generated from a seed, with the noise learned
+//! from the robot's own recording; how close each comes to the ground truth, how
+//! consistent it is, and how long it took.
 
 use super::print;
 use crate::datasets;
@@ -13,6 +14,7 @@ use labs::mrclam::learn;
 use labs::mrclam::motion::Noise;
 use labs::mrclam::particle::{self, ParticleFilter};
 use labs::mrclam::run::{self, CONSISTENT_INSIDE, Consistency};
+use labs::mrclam::simulate::{self, DatasetParams};
 use labs::mrclam::ukf::Ukf;
 use labs::rng::Rng;
 use serde::{Deserialize, Serialize};
@@ -27,20 +29,24 @@ enum Which {
     All,
 }
 
-/// Localize a robot of a UTIAS MRCLAM data set with the EKF, the UKF or the particle
-/// filter (known correspondences, a chi-square gate at 99.9 %, the noise learned from the
-/// robot's own recording, the data on a 50 Hz grid), and print each filter's RMS position
-/// error, NEES, the share of steps with the truth inside its 3-sigma ellipse, and its
-/// time, beside dead reckoning's error.
+/// Localize a robot of a UTIAS MRCLAM data set (or of one generated from a seed) with
+/// the EKF, the UKF or the particle filter (known correspondences, a chi-square gate at
+/// 99.9 %, the noise learned from the robot's own recording, the data on a 50 Hz grid),
+/// and print each filter's RMS position error, NEES, the share of steps with the truth
+/// inside its 3-sigma ellipse, and its time, beside dead reckoning's error.
 #[derive(clap::Args)]
 pub struct Args {
     /// The folder of real data sets: its mrclam/MRCLAM_DatasetN/ holds the files as
-    /// published.
+    /// published. Without it, a data set generated from --seed.
     #[arg(long, value_name = "DIR")]
-    datasets: PathBuf,
-    /// Which data set (the N of MRCLAM_DatasetN).
-    #[arg(long, default_value_t = 6)]
-    dataset: u32,
+    datasets: Option<PathBuf>,
+    /// Which data set (the N of MRCLAM_DatasetN; default 6, the one the shared data
+    /// holds).
+    #[arg(long, requires = "datasets")]
+    dataset: Option<u32>,
+    /// The seed of a generated data set (three robots, two minutes).
+    #[arg(long, conflicts_with_all = ["datasets", "dataset"])]
+    generate: Option<u64>,
     /// Which robot, 1 to 5.
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=5))]
     robot: u32,
@@ -78,7 +84,8 @@ pub struct FilterReport {
 /// What `--json` prints.
 #[derive(Debug, Serialize, Deserialize)]
 pub struct Report {
-    pub dataset: u32,
+    /// The data set: "MRCLAM data set 6", or "generated from seed 1".
+    pub dataset: String,
     pub robot: u32,
     pub steps: usize,
     pub seconds_of_data: f64,
@@ -98,11 +105,32 @@ pub fn run(args: &Args) -> Result<(), Error> {
             args.rho
         )));
     }
-    let (robot, world) = datasets::mrclam(&args.datasets, args.dataset, args.robot)?;
+    let (robot, world, dataset) = match &args.datasets {
+        Some(dir) => {
+            let dataset = args.dataset.unwrap_or(6);
+            let (robot, world) = datasets::mrclam(dir, dataset, args.robot)?;
+            (robot, world, format!("MRCLAM data set {dataset}"))
+        }
+        None => {
+            let params = DatasetParams {
+                seed: args.generate.unwrap_or(1),
+                ..DatasetParams::default()
+            };
+            let (mut robots, world) = simulate::generate(&params)?;
+            if args.robot > params.robots {
+                return Err(Error::Invalid(format!(
+                    "--robot {}: a generated data set has robots 1 to {}",
+                    args.robot, params.robots
+                )));
+            }
+            let robot = robots.swap_remove(args.robot as usize - 1);
+            (robot, world, format!("generated from seed {}", params.seed))
+        }
+    };
     let grid = Run::new(&robot, &world).ok_or_else(|| {
         Error::Invalid(format!(
-            "robot {} of data set {}: its ground truth holds fewer than two poses",
-            args.robot, args.dataset
+            "robot {} of {dataset}: its ground truth holds fewer than two poses",
+            args.robot
         ))
     })?;
     let learned = learn::noise(&robot, &world, &grid);
@@ -155,7 +183,7 @@ pub fn run(args: &Args) -> Result<(), Error> {
         })
         .collect();
     let report = Report {
-        dataset: args.dataset,
+        dataset,
         robot: args.robot,
         steps: grid.steps.len(),
         seconds_of_data: grid.steps.last().map_or(0.0, |step| step.t),
@@ -175,8 +203,8 @@ pub fn run(args: &Args) -> Result<(), Error> {
 fn text(report: &Report, learned: bool) -> String {
     let mut lines = vec![
         format!(
-            "MRCLAM data set {}, robot {}: {:.1} s of ground truth, {} steps at {RATE} Hz; \
-             no post in sight from {:.1} s to {:.1} s.",
+            "{}, robot {}: {:.1} s of ground truth, {} steps at {RATE} Hz; no post in sight \
+             from {:.1} s to {:.1} s.",
             report.dataset,
             report.robot,
             report.seconds_of_data,
