@@ -271,26 +271,17 @@ fn camera(
             .saturating_sub(1);
         path[i].1
     };
-    let subjects: Vec<(u32, Box<dyn Fn(f64) -> Vector2<f64> + '_>)> = world
+    // Every subject the camera may see, with its subject number.
+    let posts = world
         .posts
         .iter()
-        .map(|p| {
-            (
-                p.subject,
-                Box::new(move |_| Vector2::new(p.x, p.y)) as Box<dyn Fn(f64) -> _>,
-            )
-        })
-        .chain(
-            truths
-                .iter()
-                .enumerate()
-                .filter(|(other, _)| *other != r)
-                .map(|(other, path)| {
-                    let place = move |t| at(path, t).xy();
-                    (other as u32 + 1, Box::new(place) as Box<dyn Fn(f64) -> _>)
-                }),
-        )
-        .collect();
+        .map(|p| (p.subject, Seen::Post(Vector2::new(p.x, p.y))));
+    let robots = truths
+        .iter()
+        .enumerate()
+        .filter(|(other, _)| *other != r)
+        .map(|(other, path)| (other as u32 + 1, Seen::Robot(path)));
+    let subjects: Vec<(u32, Seen)> = posts.chain(robots).collect();
     let barcode = |subject: u32| {
         world
             .barcodes
@@ -304,7 +295,11 @@ fn camera(
     while t < params.duration {
         let pose = at(&truths[r], t);
         for (subject, place) in &subjects {
-            let seen = super::sensor::expected(&pose, &place(t));
+            let place = match place {
+                Seen::Post(place) => *place,
+                Seen::Robot(path) => at(path, t).xy(),
+            };
+            let seen = super::sensor::expected(&pose, &place);
             let in_view = seen.y.abs() < FIELD_OF_VIEW && (RANGE.0..RANGE.1).contains(&seen.x);
             if in_view && rng.chance(RECOGNISED) {
                 readings.push(Measurement {
@@ -318,6 +313,12 @@ fn camera(
         t += FRAME;
     }
     readings
+}
+
+/// What a camera may see: a post where it stands, a robot along its path.
+enum Seen<'a> {
+    Post(Vector2<f64>),
+    Robot(&'a [(f64, Vector3<f64>)]),
 }
 
 /// Motion capture of robot `r`'s path: about 60 poses a second (interpolated along the
