@@ -4,16 +4,11 @@
 //! robot's own recording, the three filters localize each robot to about 20 cm where its
 //! commands alone drift metres away, and every one of them is overconfident.
 
-use labs::mrclam::belief::{Belief, Filter};
-use labs::mrclam::ekf::Ekf;
 use labs::mrclam::format::{parse_robot, parse_world};
 use labs::mrclam::grid::Run;
 use labs::mrclam::motion::Noise;
-use labs::mrclam::particle::{ParticleFilter, Settings};
-use labs::mrclam::run::{self, CONSISTENT_INSIDE, Consistency};
-use labs::mrclam::ukf::Ukf;
+use labs::mrclam::run::{self, CONSISTENT_INSIDE, Consistency, Kind, Settings};
 use labs::mrclam::{FIRST_POST, Measurement, Odometry, Pose, Post, Robot, World, learn};
-use labs::rng::Rng;
 
 testdata::data_tests!(
     the_room_has_fifteen_posts_and_twenty_barcodes,
@@ -223,33 +218,19 @@ const ISSUE_RMS: [[f64; 3]; 3] = [
 fn the_filters_localize_each_robot_where_its_commands_drift_away() {
     for n in 1..=3u32 {
         let (run, noise) = learned(n);
-        let start = run::start(&run);
-        let drift = labs::fusion::Errors::of(
-            run::dead_reckoning(&run)
-                .iter()
-                .zip(run.truths())
-                .map(|(pose, truth)| ((*pose).into(), truth.into())),
-        )
-        .unwrap();
+        let drift = run::drift(&run);
         assert!(
             (2.5..4.5).contains(&drift.rms),
             "robot {n}: dead reckoning {drift:?}"
         );
-        let filters: [(&str, Box<dyn Filter>); 3] = [
-            ("EKF", Box::new(Ekf::new(start, noise))),
-            ("UKF", Box::new(Ukf::new(start, noise))),
-            (
-                "particle filter",
-                Box::new(ParticleFilter::new(
-                    start,
-                    noise,
-                    Settings::default(),
-                    Rng::new(u64::from(n)),
-                )),
-            ),
-        ];
-        for (i, (name, mut filter)) in filters.into_iter().enumerate() {
-            let (beliefs, readings): (Vec<Belief>, _) = run::filter(&run, filter.as_mut());
+        let settings = Settings {
+            seed: u64::from(n),
+            ..Settings::default()
+        };
+        for (i, kind) in Kind::ALL.into_iter().enumerate() {
+            let name = kind.name();
+            let mut filter = run::make(kind, &run, &noise, &settings);
+            let (beliefs, readings) = run::filter(&run, filter.as_mut());
             let c = Consistency::of(&run, &beliefs);
             let issue = ISSUE_RMS[i][n as usize - 1];
             assert!(

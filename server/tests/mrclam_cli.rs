@@ -111,7 +111,7 @@ fn a_missing_data_set_or_a_wrong_knob_is_named() {
     );
     let out = estlab(&["mrclam", "--datasets", data, "--rho", "0"]);
     assert!(
-        stderr(&out).contains("--rho 0: a positive number"),
+        stderr(&out).contains("rho: a positive number"),
         "{}",
         stderr(&out)
     );

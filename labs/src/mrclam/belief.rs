@@ -35,4 +35,9 @@ pub trait Filter {
     fn predict(&mut self, u: Control, dt: f64);
     fn update(&mut self, readings: &[Reading]) -> Readings;
     fn belief(&self) -> Belief;
+    /// The poses the filter carries besides its belief, to draw: the particle filter's
+    /// particles, the UKF's sigma points of its last prediction; none for the EKF.
+    fn samples(&self) -> Vec<Vector3<f64>> {
+        Vec::new()
+    }
 }

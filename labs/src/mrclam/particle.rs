@@ -253,6 +253,10 @@ impl<D: Draws> Filter for ParticleFilter<D> {
         let covariance = Matrix3::new(xx, xy, xt, xy, yy, yt, xt, yt, tt);
         Belief { mean, covariance }
     }
+
+    fn samples(&self) -> Vec<Vector3<f64>> {
+        self.particles.iter().map(|p| p.pose).collect()
+    }
 }
 
 #[cfg(test)]

@@ -2,10 +2,15 @@
 //! the ground truth.
 
 use super::belief::{Belief, Filter, Readings};
+use super::ekf::Ekf;
 use super::grid::Run;
-use super::motion;
+use super::motion::{self, Noise};
+use super::particle::{self, PARTICLES, ParticleFilter};
+use super::ukf::Ukf;
 use crate::angle;
+use crate::error::Error;
 use crate::fusion::Errors;
+use crate::rng::Rng;
 use nalgebra::{Matrix2, Matrix3, Vector2, Vector3};
 use serde::{Deserialize, Serialize};
 
@@ -21,16 +26,111 @@ pub fn start(run: &Run) -> Belief {
     }
 }
 
+/// Which filter.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, ts_rs::TS)]
+#[serde(rename_all = "kebab-case")]
+#[ts(rename = "MrclamFilter")]
+pub enum Kind {
+    Ekf,
+    Ukf,
+    Particle,
+}
+
+impl Kind {
+    pub const ALL: [Kind; 3] = [Kind::Ekf, Kind::Ukf, Kind::Particle];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Kind::Ekf => "EKF",
+            Kind::Ukf => "UKF",
+            Kind::Particle => "particle filter",
+        }
+    }
+}
+
+/// What the filters are run with besides the noise.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, ts_rs::TS)]
+#[serde(default)]
+#[ts(rename = "MrclamSettings")]
+pub struct Settings {
+    /// R2 is scaled by rho (`Noise::with_measurement_scale`).
+    pub rho: f64,
+    /// The particle filter's particles.
+    #[ts(type = "number")]
+    pub particles: usize,
+    /// The seed of its random numbers.
+    #[ts(type = "number")]
+    pub seed: u64,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings {
+            rho: 1.0,
+            particles: PARTICLES,
+            seed: 1,
+        }
+    }
+}
+
+/// The most particles a run may have.
+pub const MAX_PARTICLES: usize = 100_000;
+
+impl Settings {
+    pub fn validate(&self) -> Result<(), Error> {
+        if !(self.rho.is_finite() && self.rho > 0.0) {
+            return Err(Error::invalid("rho", "a positive number"));
+        }
+        if !(1..=MAX_PARTICLES).contains(&self.particles) {
+            return Err(Error::invalid("particles", format!("1 to {MAX_PARTICLES}")));
+        }
+        Ok(())
+    }
+}
+
+/// The filter `kind` at the run's start, with `noise` (R2 scaled by the settings' rho).
+pub fn make(kind: Kind, run: &Run, noise: &Noise, settings: &Settings) -> Box<dyn Filter> {
+    let start = start(run);
+    let noise = noise.with_measurement_scale(settings.rho);
+    match kind {
+        Kind::Ekf => Box::new(Ekf::new(start, noise)),
+        Kind::Ukf => Box::new(Ukf::new(start, noise)),
+        Kind::Particle => {
+            let particles = particle::Settings {
+                particles: settings.particles,
+                ..particle::Settings::default()
+            };
+            Box::new(ParticleFilter::new(
+                start,
+                noise,
+                particles,
+                Rng::new(settings.seed),
+            ))
+        }
+    }
+}
+
 /// A filter's beliefs after every step of the run (the first, its start), and what became
 /// of the readings.
 pub fn filter<F: Filter + ?Sized>(run: &Run, filter: &mut F) -> (Vec<Belief>, Readings) {
+    watch(run, filter, |_, _| {})
+}
+
+/// `filter`, with `each(k, filter)` called after every step k (0, the start, too).
+pub fn watch<F: Filter + ?Sized>(
+    run: &Run,
+    filter: &mut F,
+    mut each: impl FnMut(usize, &F),
+) -> (Vec<Belief>, Readings) {
     let mut beliefs = Vec::with_capacity(run.steps.len());
     let mut readings = Readings::default();
     beliefs.push(filter.belief());
-    for step in &run.steps[1..] {
+    each(0, filter);
+    for (k, step) in run.steps.iter().enumerate().skip(1) {
         filter.predict(step.control, run.dt);
         readings += filter.update(&step.readings);
         beliefs.push(filter.belief());
+        each(k, filter);
     }
     (beliefs, readings)
 }
@@ -44,6 +144,18 @@ pub fn dead_reckoning(run: &Run) -> Vec<Vector3<f64>> {
             pose
         }))
         .collect()
+}
+
+/// How far dead reckoning strays from the truth.
+pub fn drift(run: &Run) -> Errors {
+    let poses = dead_reckoning(run);
+    Errors::of(
+        poses
+            .iter()
+            .zip(run.truths())
+            .map(|(pose, truth)| ((*pose).into(), truth.into())),
+    )
+    .expect("a run has steps")
 }
 
 /// How a filter's beliefs along a run compare with the truth.
@@ -70,26 +182,47 @@ impl Consistency {
             Errors::of(pairs().map(|(b, t)| (b.mean.into(), t.into()))).expect("a run has steps");
         let (mut nees, mut nees_steps, mut inside) = (0.0, 0usize, 0usize);
         for (belief, truth) in pairs() {
-            let e = error(&belief.mean, &truth);
-            // Through Cholesky factors: a covariance not positive definite (a particle
-            // cloud collapsed onto a few poses) has no NEES at that step, and no ellipse
-            // the truth could be inside.
-            if let Some(factor) = belief.covariance.cholesky() {
-                nees += e.dot(&factor.solve(&e));
+            let step = StepConsistency::of(belief, &truth);
+            if let Some(n) = step.nees {
+                nees += n;
                 nees_steps += 1;
             }
-            let position: Matrix2<f64> = belief.covariance.fixed_view::<2, 2>(0, 0).into();
-            if let Some(factor) = position.cholesky() {
-                let p: Vector2<f64> = e.fixed_rows::<2>(0).into();
-                if p.dot(&factor.solve(&p)) <= 9.0 {
-                    inside += 1;
-                }
-            }
+            inside += usize::from(step.inside_three_sigma);
         }
         Consistency {
             errors,
             nees: nees / nees_steps.max(1) as f64,
             inside_three_sigma: inside as f64 / beliefs.len() as f64,
+        }
+    }
+}
+
+/// How one step's belief compares with the truth.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepConsistency {
+    /// e^T Sigma^-1 e; `None` where the covariance is not positive definite.
+    pub nees: Option<f64>,
+    pub inside_three_sigma: bool,
+}
+
+impl StepConsistency {
+    /// Through Cholesky factors: a covariance not positive definite (a particle cloud
+    /// collapsed onto a few poses) has no NEES at that step, and no ellipse the truth
+    /// could be inside.
+    pub fn of(belief: &Belief, truth: &Vector3<f64>) -> StepConsistency {
+        let e = error(&belief.mean, truth);
+        let nees = belief
+            .covariance
+            .cholesky()
+            .map(|factor| e.dot(&factor.solve(&e)));
+        let position: Matrix2<f64> = belief.covariance.fixed_view::<2, 2>(0, 0).into();
+        let p: Vector2<f64> = e.fixed_rows::<2>(0).into();
+        let inside_three_sigma = position
+            .cholesky()
+            .is_some_and(|factor| p.dot(&factor.solve(&p)) <= 9.0);
+        StepConsistency {
+            nees,
+            inside_three_sigma,
         }
     }
 }

@@ -433,13 +433,7 @@ mod tests {
         let grid = Run::new(&robots[0], &world).unwrap();
         let (beliefs, _) = run::filter(&grid, &mut Ekf::new(run::start(&grid), params.noise));
         let c = Consistency::of(&grid, &beliefs);
-        let drift = crate::fusion::Errors::of(
-            run::dead_reckoning(&grid)
-                .iter()
-                .zip(grid.truths())
-                .map(|(p, t)| ((*p).into(), t.into())),
-        )
-        .unwrap();
+        let drift = run::drift(&grid);
         assert!(
             c.errors.rms < 0.1 && c.errors.rms < drift.rms / 3.0,
             "{c:?} against {drift:?}"

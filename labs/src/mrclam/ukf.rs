@@ -193,11 +193,6 @@ impl Ukf {
             predicted: None,
         }
     }
-
-    /// The sigma points the last prediction carried through the arc.
-    pub fn sigma_points(&self) -> Option<&[Vector3<f64>; POINTS]> {
-        self.predicted.as_ref()
-    }
 }
 
 impl Filter for Ukf {
@@ -248,6 +243,12 @@ impl Filter for Ukf {
 
     fn belief(&self) -> Belief {
         self.belief
+    }
+
+    /// The sigma points the last prediction carried through the arc.
+    fn samples(&self) -> Vec<Vector3<f64>> {
+        self.predicted
+            .map_or_else(Vec::new, |points| points.to_vec())
     }
 }
 

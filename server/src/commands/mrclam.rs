@@ -7,16 +7,13 @@ use super::print;
 use crate::datasets;
 use crate::error::Error;
 use labs::fusion::Errors;
-use labs::mrclam::belief::{Filter, Readings};
-use labs::mrclam::ekf::Ekf;
+use labs::mrclam::belief::Readings;
 use labs::mrclam::grid::{RATE, Run};
 use labs::mrclam::learn;
 use labs::mrclam::motion::Noise;
-use labs::mrclam::particle::{self, ParticleFilter};
-use labs::mrclam::run::{self, CONSISTENT_INSIDE, Consistency};
+use labs::mrclam::particle;
+use labs::mrclam::run::{self, CONSISTENT_INSIDE, Consistency, Kind, Settings};
 use labs::mrclam::simulate::{self, DatasetParams};
-use labs::mrclam::ukf::Ukf;
-use labs::rng::Rng;
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -27,6 +24,17 @@ enum Which {
     Ukf,
     Particle,
     All,
+}
+
+impl Which {
+    fn takes(self, kind: Kind) -> bool {
+        match self {
+            Which::Ekf => kind == Kind::Ekf,
+            Which::Ukf => kind == Kind::Ukf,
+            Which::Particle => kind == Kind::Particle,
+            Which::All => true,
+        }
+    }
 }
 
 /// Localize a robot of a UTIAS MRCLAM data set (or of one generated from a seed) with
@@ -99,12 +107,12 @@ pub struct Report {
 }
 
 pub fn run(args: &Args) -> Result<(), Error> {
-    if !(args.rho.is_finite() && args.rho > 0.0) {
-        return Err(Error::Invalid(format!(
-            "--rho {}: a positive number",
-            args.rho
-        )));
-    }
+    let settings = Settings {
+        rho: args.rho,
+        particles: args.particles as usize,
+        seed: args.seed,
+    };
+    settings.validate()?;
     let (robot, world, dataset) = match &args.datasets {
         Some(dir) => {
             let dataset = args.dataset.unwrap_or(6);
@@ -134,48 +142,17 @@ pub fn run(args: &Args) -> Result<(), Error> {
         ))
     })?;
     let learned = learn::noise(&robot, &world, &grid);
-    let noise = learned.with_measurement_scale(args.rho);
-    let start = run::start(&grid);
-    let dead_reckoning = Errors::of(
-        run::dead_reckoning(&grid)
-            .iter()
-            .zip(grid.truths())
-            .map(|(pose, truth)| ((*pose).into(), truth.into())),
-    )
-    .expect("a grid has steps");
-    let settings = particle::Settings {
-        particles: args.particles as usize,
-        ..particle::Settings::default()
-    };
-    let chosen: Vec<(&'static str, Box<dyn Filter>)> = [
-        (Which::Ekf, "EKF"),
-        (Which::Ukf, "UKF"),
-        (Which::Particle, "particle filter"),
-    ]
-    .into_iter()
-    .filter(|(which, _)| args.filter == Which::All || args.filter == *which)
-    .map(|(which, name)| {
-        let filter: Box<dyn Filter> = match which {
-            Which::Ekf => Box::new(Ekf::new(start, noise)),
-            Which::Ukf => Box::new(Ukf::new(start, noise)),
-            _ => Box::new(ParticleFilter::new(
-                start,
-                noise,
-                settings,
-                Rng::new(args.seed),
-            )),
-        };
-        (name, filter)
-    })
-    .collect();
-    let filters = chosen
+    let dead_reckoning = run::drift(&grid);
+    let filters = Kind::ALL
         .into_iter()
-        .map(|(name, mut filter)| {
+        .filter(|kind| args.filter.takes(*kind))
+        .map(|kind| {
+            let mut filter = run::make(kind, &grid, &learned, &settings);
             let clock = Instant::now();
             let (beliefs, readings) = run::filter(&grid, filter.as_mut());
             let seconds = clock.elapsed().as_secs_f64();
             FilterReport {
-                filter: name.to_owned(),
+                filter: kind.name().to_owned(),
                 consistency: Consistency::of(&grid, &beliefs),
                 readings,
                 seconds,
