@@ -319,3 +319,44 @@ test('sensor fusion: generated trials, whole runs and tuning', bounded, async ()
     assert.deepEqual(wasm.tuned.settings, tuned.settings, `seed ${seed}: the tuned settings`);
   }
 });
+
+test('MRCLAM: a generated robot, its learned noise and the three filters', bounded, async () => {
+  const flags = ['--generate', '2', '--robot', '2', '--particles', '300', '--seed', '5', '--rho', '2'];
+  const native = JSON.parse(estlab('mrclam', '--json', ...flags));
+  const wasm = await page.evaluate(() => {
+    const defaults = JSON.parse(window.estlab.mrclamDefaults());
+    const robot = window.estlab.MrclamRobot.generate(JSON.stringify({ ...defaults.dataset, seed: 2 }), 2);
+    const settings = JSON.stringify({ rho: 2, particles: 300, seed: 5 });
+    const filters = ['ekf', 'ukf', 'particle'].map((kind) => {
+      const run = robot.run(kind, settings, 4);
+      const out = {
+        summary: JSON.parse(run.summary()), snapshots: [...run.snapshotSteps()],
+        samples: [0, 1, 2, 3].map((i) => run.samples(i).length), errors: run.positionError().length,
+      };
+      run.free();
+      return out;
+    });
+    const out = { steps: robot.steps(), noise: JSON.parse(robot.noise()), drift: JSON.parse(robot.drift()), filters };
+    robot.free();
+    return out;
+  });
+  assert.equal(wasm.steps, native.steps);
+  assert.deepEqual(wasm.noise, native.noise, 'the learned noise, bit for bit');
+  assert.deepEqual(wasm.drift, native.dead_reckoning, 'dead reckoning, bit for bit');
+  for (const [i, filter] of wasm.filters.entries()) {
+    const expected = native.filters[i];
+    assert.deepEqual(filter.summary.readings, expected.readings, expected.filter);
+    // The EKF and UKF bit for bit; the particle filter's normal draws take a logarithm
+    // or an exponential in their rare tails, which may round apart in the last bit.
+    const c = filter.summary.consistency;
+    const e = expected.consistency;
+    for (const [got, want] of [[c.errors.rms, e.errors.rms], [c.nees, e.nees], [c.inside_three_sigma, e.inside_three_sigma]]) {
+      assert.ok(Math.abs(got - want) <= 1e-9 * Math.max(1, Math.abs(want)), `${expected.filter}: wasm ${got}, native ${want}`);
+    }
+    if (i < 2) assert.deepEqual(c, e, `${expected.filter}: bit for bit`);
+    assert.deepEqual(filter.snapshots, [0, Math.round((wasm.steps - 1) / 3), Math.round((2 * (wasm.steps - 1)) / 3), wasm.steps - 1]);
+    assert.equal(filter.errors, wasm.steps);
+  }
+  assert.deepEqual(wasm.filters.map((f) => f.samples), [[0, 0, 0, 0], [0, 14, 14, 14], [600, 600, 600, 600]],
+    'no samples for the EKF; seven sigma points after a prediction; the particles');
+});

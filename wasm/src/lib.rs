@@ -8,6 +8,7 @@ mod cases;
 mod ekf;
 mod fusion;
 mod grading;
+mod mrclam;
 mod odometry;
 
 /// Each exercise's views of its runs, from its folder (`build.rs`).
@@ -20,6 +21,7 @@ pub use cases::{check_case, generate_cases};
 pub use ekf::{Dataset, EkfRun, lambda_m};
 pub use fusion::{FusionRun, FusionTrial, fusion_defaults, fusion_gate_threshold};
 pub use grading::{Grader, student_seed};
+pub use mrclam::{MrclamFilterRun, MrclamRobot, mrclam_defaults};
 pub use odometry::{
     OdometryMonteCarlo, OdometryPropagation, OdometrySystematic, OdometryUmbmark,
     odometry_defaults, odometry_monte_carlo, odometry_systematic, odometry_umbmark,

@@ -5,9 +5,10 @@
 use super::grid::{Control, Run, truth_at};
 use super::motion::Noise;
 use super::sensor;
-use super::{Robot, World};
+use super::{Post, Robot, World};
 use crate::angle;
 use nalgebra::{Matrix2, Vector2};
+use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
 /// The motion the ground truth implies over each step of the run, beside the commanded
@@ -126,5 +127,26 @@ pub fn noise(robot: &Robot, world: &World, run: &Run) -> Noise {
     Noise {
         alphas: alphas(&implied_controls(run)),
         measurement: measurement(&residuals(robot, world)),
+    }
+}
+
+/// A robot's recording as the filters and the page take it: on the grid, with the noise
+/// learned from it and the room's posts.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Learned {
+    pub run: Run,
+    pub noise: Noise,
+    pub posts: Vec<Post>,
+}
+
+impl Learned {
+    /// `None` when the robot's ground truth holds fewer than two poses.
+    pub fn new(robot: &Robot, world: &World) -> Option<Learned> {
+        let run = Run::new(robot, world)?;
+        Some(Learned {
+            noise: noise(robot, world, &run),
+            posts: world.posts.clone(),
+            run,
+        })
     }
 }

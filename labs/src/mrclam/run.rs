@@ -27,8 +27,11 @@ pub fn start(run: &Run) -> Belief {
 }
 
 /// Which filter.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, ts_rs::TS)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, strum::EnumString, ts_rs::TS,
+)]
 #[serde(rename_all = "kebab-case")]
+#[strum(serialize_all = "kebab-case")]
 #[ts(rename = "MrclamFilter")]
 pub enum Kind {
     Ekf,
@@ -200,6 +203,8 @@ impl Consistency {
 /// How one step's belief compares with the truth.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StepConsistency {
+    /// The distance of the mean from the true position, metres.
+    pub position_error: f64,
     /// e^T Sigma^-1 e; `None` where the covariance is not positive definite.
     pub nees: Option<f64>,
     pub inside_three_sigma: bool,
@@ -221,6 +226,7 @@ impl StepConsistency {
             .cholesky()
             .is_some_and(|factor| p.dot(&factor.solve(&p)) <= 9.0);
         StepConsistency {
+            position_error: libm::hypot(e.x, e.y),
             nees,
             inside_three_sigma,
         }
