@@ -9,8 +9,10 @@
 //! `RobotR_Groundtruth.dat`, `Landmark_Groundtruth.dat`, `Barcodes.dat`).
 
 use crate::error::Error;
+use axum::body::Bytes;
 use labs::fusion::Trial;
 use labs::mrclam::format::{parse_robot, parse_world};
+use labs::mrclam::learn::Learned;
 use labs::mrclam::{Robot, World};
 use serde::Serialize;
 use std::path::Path;
@@ -29,11 +31,34 @@ pub struct NamedTrial {
     pub trial: Trial,
 }
 
+/// The folder of the MRCLAM data sets within the data sets folder.
+pub const MRCLAM: &str = "mrclam";
+
+/// A robot of an MRCLAM data set: on the grid the filters take, with the noise learned
+/// from its recording and the room's posts (`labs`' `Learned`), as the page reads it:
+/// JSON, made once at the start (some megabytes a robot).
+#[derive(Clone, Debug)]
+pub struct MrclamRobot {
+    pub entry: MrclamEntry,
+    pub json: Bytes,
+}
+
+/// What the page lists of a robot of an MRCLAM data set.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, TS)]
+pub struct MrclamEntry {
+    pub dataset: u32,
+    pub robot: u32,
+    /// How many steps of the 50 Hz grid its ground truth spans.
+    pub steps: usize,
+}
+
 /// Everything found in the data sets folder.
-#[derive(Clone, Debug, Default, Serialize, TS)]
+#[derive(Clone, Debug, Default)]
 pub struct Datasets {
     /// The Northstar report's trials, by name.
     pub northstar: Vec<NamedTrial>,
+    /// The MRCLAM data sets' robots, by data set and robot.
+    pub mrclam: Vec<MrclamRobot>,
 }
 
 impl Datasets {
@@ -49,7 +74,15 @@ impl Datasets {
         }
         Ok(Datasets {
             northstar: northstar_trials(&dir.join(NORTHSTAR))?,
+            mrclam: mrclam_robots(dir)?,
         })
+    }
+
+    /// Robot `robot` of MRCLAM data set `dataset`.
+    pub fn mrclam_robot(&self, dataset: u32, robot: u32) -> Option<&MrclamRobot> {
+        self.mrclam
+            .iter()
+            .find(|r| r.entry.dataset == dataset && r.entry.robot == robot)
     }
 
     /// The Northstar trial of that name.
@@ -88,6 +121,53 @@ pub fn mrclam(dir: &Path, dataset: u32, robot: u32) -> Result<(Robot, World), Er
     let robot = parse_robot(as_str(&odometry), as_str(&measurements), as_str(&truth))?;
     let world = parse_world(as_str(&posts), as_str(&barcodes))?;
     Ok((robot, world))
+}
+
+/// Every robot of every data set in `dir/mrclam/` (a folder `MRCLAM_DatasetN` each, a
+/// robot for each `RobotR_Odometry.dat` in it).
+fn mrclam_robots(dir: &Path) -> Result<Vec<MrclamRobot>, Error> {
+    let folder = dir.join(MRCLAM);
+    if !folder.is_dir() {
+        return Ok(Vec::new());
+    }
+    let numbered = |dir: &Path, prefix: &str, suffix: &str| -> Result<Vec<u32>, Error> {
+        let mut numbers: Vec<u32> = std::fs::read_dir(dir)
+            .map_err(Error::io(dir))?
+            .filter_map(|entry| entry.ok()?.file_name().into_string().ok())
+            .filter_map(|name| {
+                name.strip_prefix(prefix)?
+                    .strip_suffix(suffix)?
+                    .parse()
+                    .ok()
+            })
+            .collect();
+        numbers.sort_unstable();
+        Ok(numbers)
+    };
+    let mut robots = Vec::new();
+    for dataset in numbered(&folder, "MRCLAM_Dataset", "")? {
+        let set = folder.join(format!("MRCLAM_Dataset{dataset}"));
+        for robot in numbered(&set, "Robot", "_Odometry.dat")? {
+            let (recording, world) = mrclam(dir, dataset, robot)?;
+            let learned = Learned::new(&recording, &world).ok_or_else(|| {
+                Error::Invalid(format!(
+                    "{}: robot {robot}'s ground truth holds fewer than two poses",
+                    set.display()
+                ))
+            })?;
+            robots.push(MrclamRobot {
+                entry: MrclamEntry {
+                    dataset,
+                    robot,
+                    steps: learned.run.steps.len(),
+                },
+                json: serde_json::to_vec(&learned)
+                    .expect("a recording serialises")
+                    .into(),
+            });
+        }
+    }
+    Ok(robots)
 }
 
 fn northstar_trials(dir: &Path) -> Result<Vec<NamedTrial>, Error> {

@@ -66,6 +66,10 @@ const MATRIX: &[(&str, &str, [u16; 9])] = &[
     ("GET",  "/fusion",                        [200, 200, 200, 200, 200, 200, 200, 401, 401]),
     // The real trials of --datasets are shown on a public page: anyone may read them.
     ("GET",  "/api/datasets/northstar",        [200, 200, 200, 200, 200, 200, 200, 200, 200]),
+    ("GET",  "/mrclam",                        [200, 200, 200, 200, 200, 200, 200, 401, 401]),
+    ("GET",  "/api/datasets/mrclam",           [200, 200, 200, 200, 200, 200, 200, 200, 200]),
+    // This server has no data sets: no robot of them, for anyone.
+    ("GET",  "/api/datasets/mrclam/robot?dataset=6&robot=1", [404, 404, 404, 404, 404, 404, 404, 404, 404]),
     ("GET",  "/ekf",                           [200, 200, 200, 200, 200, 200, 200, 401, 401]),
     ("GET",  "/ekf/code",                      [200, 200, 200, 200, 200, 200, 200, 401, 401]),
     ("GET",  "/ekf/starter.js",                [200, 200, 200, 200, 200, 200, 200, 200, 200]),

@@ -432,15 +432,15 @@ test('the home page and the navigation lead to every exercise, its workbench bes
   const home = await openPage(browser, `${server.url}/`);
   const links = (selector) => home.locator(selector).evaluateAll((found) => found.map((a) => a.getAttribute('href')));
   // A card per page on its own or per exercise, the workbench's under its experiments'.
-  assert.deepEqual(await links('.exercises > li > h2 a'), ['/car', '/ekf', '/odometry', '/fusion']);
+  assert.deepEqual(await links('.exercises > li > h2 a'), ['/car', '/ekf', '/odometry', '/fusion', '/mrclam']);
   assert.deepEqual(await links('.exercises > li > h3 a'), ['/ekf/code', '/odometry/code', '/fusion/code']);
   assert.deepEqual(await home.locator('.exercises > li').evaluateAll((cards) => cards.map((card) =>
     [...card.querySelectorAll('a')].map((a) => a.getAttribute('href')))),
-  [['/car'], ['/ekf', '/ekf/code'], ['/odometry', '/odometry/code'], ['/fusion', '/fusion/code']]);
+  [['/car'], ['/ekf', '/ekf/code'], ['/odometry', '/odometry/code'], ['/fusion', '/fusion/code'], ['/mrclam']]);
   // The navigation groups them alike.
   assert.deepEqual(await home.locator('header.site nav .group').evaluateAll((groups) => groups.map((group) =>
     [...group.querySelectorAll('a')].map((a) => a.getAttribute('href')))),
-  [['/car'], ['/ekf', '/ekf/code'], ['/odometry', '/odometry/code'], ['/fusion', '/fusion/code']]);
+  [['/car'], ['/ekf', '/ekf/code'], ['/odometry', '/odometry/code'], ['/fusion', '/fusion/code'], ['/mrclam']]);
   await home.close();
   const page = await openPage(browser, `${server.url}/ekf`);
   assert.equal(await page.locator('figure[data-name="map"] .save button').first().getAttribute('aria-label'),
@@ -471,7 +471,7 @@ test('on a phone the navigation is one row that scrolls sideways, its last link 
   const reached = await last.boundingBox();
   assert.ok(reached.x >= 0 && reached.x + reached.width <= 360, 'the last link scrolls into view');
   await last.click();
-  await page.waitForURL(/\/fusion\/code$/);
+  await page.waitForURL(/\/mrclam$/);
   await page.close();
 });
 
@@ -485,7 +485,7 @@ test('on a wide screen the workbench uses the room it has', bounded, async () =>
 });
 
 test('a page that plots asks for its wasm module and its chunks at once, and the module is fetched once', bounded, async () => {
-  for (const path of ['/car', '/ekf', '/odometry', '/fusion']) {
+  for (const path of ['/car', '/ekf', '/odometry', '/fusion', '/mrclam']) {
     const context = await browser.newContext();
     const page = await context.newPage();
     const wasmRequests = [];

@@ -4,11 +4,12 @@
 //! step has no value. Components of a pose are 0 x, 1 y, 2 theta.
 
 use super::{from_json, to_js};
+use labs::ekf::covariance_ellipse;
 use labs::mrclam::belief::Belief;
 use labs::mrclam::learn::Learned;
 use labs::mrclam::run::{self, CONSISTENT_INSIDE, Consistency, Kind, Settings, StepConsistency};
 use labs::mrclam::simulate::{self, DatasetParams};
-use nalgebra::Vector3;
+use nalgebra::{Matrix2, Vector3};
 use serde::Serialize;
 use wasm_bindgen::prelude::*;
 
@@ -226,6 +227,17 @@ impl MrclamFilterRun {
     /// The summary as JSON: `{consistency, readings}`.
     pub fn summary(&self) -> String {
         serde_json::to_string(&self.summary).expect("a summary serialises")
+    }
+    /// The `k`-sigma ellipse of the position covariance at `step`, as closed x, y pairs.
+    pub fn ellipse(&self, step: usize, k: f64, segments: usize) -> Vec<f64> {
+        let Some(belief) = self.beliefs.get(step) else {
+            return Vec::new();
+        };
+        let sigma: Matrix2<f64> = belief.covariance.fixed_view::<2, 2>(0, 0).into();
+        covariance_ellipse(&belief.mean.xy(), &sigma, k, segments)
+            .iter()
+            .flat_map(|p| [p.x, p.y])
+            .collect()
     }
     /// The steps whose samples were kept.
     #[wasm_bindgen(js_name = snapshotSteps)]

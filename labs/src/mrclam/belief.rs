@@ -14,11 +14,14 @@ pub struct Belief {
 }
 
 /// What became of a step's readings.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, ts_rs::TS)]
+#[ts(rename = "MrclamReadings")]
 pub struct Readings {
     /// Readings that corrected the belief.
+    #[ts(type = "number")]
     pub used: usize,
     /// Readings the gate turned away.
+    #[ts(type = "number")]
     pub rejected: usize,
 }
 

@@ -144,12 +144,15 @@ pub fn jacobian_control(pose: &Vector3<f64>, u: Control, dt: f64) -> Matrix3x2<f
 }
 
 /// The noise of the robot's motion and of its camera, as the filters assume it.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, ts_rs::TS)]
+#[ts(rename = "MrclamNoise")]
 pub struct Noise {
     /// alpha1..alpha4: the standard deviation of the actual v is alpha1 |v| + alpha2 |omega|,
     /// of the actual omega alpha3 |v| + alpha4 |omega|.
     pub alphas: [f64; 4],
-    /// R2: the covariance of a reading's (range, bearing) error.
+    /// R2: the covariance of a reading's (range, bearing) error (in JSON its elements
+    /// column by column).
+    #[ts(type = "[number, number, number, number]")]
     pub measurement: Matrix2<f64>,
 }
 

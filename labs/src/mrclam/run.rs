@@ -162,7 +162,8 @@ pub fn drift(run: &Run) -> Errors {
 }
 
 /// How a filter's beliefs along a run compare with the truth.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, ts_rs::TS)]
+#[ts(rename = "MrclamConsistency")]
 pub struct Consistency {
     /// Position errors [m].
     pub errors: Errors,

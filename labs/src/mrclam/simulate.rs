@@ -14,8 +14,10 @@ use nalgebra::{Matrix2, Vector2, Vector3};
 use serde::{Deserialize, Serialize};
 
 /// What a generated data set is made of.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, ts_rs::TS)]
+#[ts(rename = "MrclamDatasetParams")]
 pub struct DatasetParams {
+    #[ts(type = "number")]
     pub seed: u64,
     /// How many robots drive in the room, 1 to 5.
     pub robots: u32,

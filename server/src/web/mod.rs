@@ -87,6 +87,7 @@ fn page_route(page: &Page) -> MethodRouter<Arc<AppState>> {
         "ekf" => get(pages::ekf),
         "odometry" => get(pages::odometry),
         "fusion" => get(pages::fusion),
+        "mrclam" => get(pages::mrclam),
         "signin" => {
             get(signin::page).post(signin::sign_in.layer(DefaultBodyLimit::max(MAX_SIGN_IN)))
         }
@@ -160,6 +161,8 @@ pub fn router(state: Arc<AppState>) -> Router {
         )
         .route("/api/courses/{course}/audit", get(staff::audit))
         .route("/api/datasets/northstar", get(pages::northstar_trials))
+        .route("/api/datasets/mrclam", get(pages::mrclam_robots))
+        .route("/api/datasets/mrclam/robot", get(pages::mrclam_robot))
         .route("/healthz", get(|| async { "ok" }))
         .route("/favicon.svg", get(pages::icon))
         .route("/favicon.ico", get(pages::icon))

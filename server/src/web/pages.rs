@@ -1,10 +1,11 @@
 //! The pages, each an askama template over the base layout.
 
 use super::assets::PageAssets;
+use super::extract::Query;
 use super::registry::{self, Group};
 use super::viewer::Viewer;
 use super::{AppState, Error, blocking};
-use crate::datasets::NamedTrial;
+use crate::datasets::{MrclamEntry, NamedTrial};
 use askama::Template;
 use axum::Json;
 use axum::extract::State;
@@ -48,6 +49,16 @@ struct Fusion<'a> {
     real_trials: usize,
     /// The languages `tuning()` can be copied in: (name, title).
     languages: Vec<(&'static str, &'static str)>,
+}
+
+#[derive(Template)]
+#[template(path = "mrclam.html")]
+struct Mrclam<'a> {
+    page: &'a str,
+    assets: PageAssets<'a>,
+    nav: Nav,
+    /// How many robots of the MRCLAM data sets the server was given (`--datasets`).
+    real_robots: usize,
 }
 
 #[derive(Template)]
@@ -183,6 +194,45 @@ pub async fn fusion(State(state): State<Arc<AppState>>, viewer: Viewer) -> Resul
 /// `--datasets`). Anyone may read them: the pages that show them are public.
 pub async fn northstar_trials(State(state): State<Arc<AppState>>) -> Json<Vec<NamedTrial>> {
     Json(state.datasets.northstar.clone())
+}
+
+pub async fn mrclam(State(state): State<Arc<AppState>>, viewer: Viewer) -> Result<Response, Error> {
+    html(&Mrclam {
+        page: "mrclam",
+        assets: state.assets.page("mrclam"),
+        nav: Nav::of(&state, &viewer).await?,
+        real_robots: state.datasets.mrclam.len(),
+    })
+}
+
+/// The robots of the MRCLAM data sets the server was given (none without `--datasets`).
+/// Public, as the page that shows them is.
+pub async fn mrclam_robots(State(state): State<Arc<AppState>>) -> Json<Vec<MrclamEntry>> {
+    Json(state.datasets.mrclam.iter().map(|r| r.entry).collect())
+}
+
+/// Which robot of which MRCLAM data set: `?dataset=6&robot=1`.
+#[derive(serde::Deserialize)]
+pub struct MrclamQuery {
+    dataset: u32,
+    robot: u32,
+}
+
+/// One robot's recording on the grid, with the noise learned from it and the room's
+/// posts; 404 for a robot the server was not given.
+pub async fn mrclam_robot(
+    State(state): State<Arc<AppState>>,
+    Query(MrclamQuery { dataset, robot }): Query<MrclamQuery>,
+) -> Result<Response, Error> {
+    let found = state
+        .datasets
+        .mrclam_robot(dataset, robot)
+        .ok_or_else(|| Error::NotFound(format!("robot {robot} of MRCLAM data set {dataset}")))?;
+    Ok((
+        [(header::CONTENT_TYPE, "application/json")],
+        found.json.clone(),
+    )
+        .into_response())
 }
 
 pub async fn ekf(State(state): State<Arc<AppState>>, viewer: Viewer) -> Result<Response, Error> {

@@ -45,6 +45,13 @@ pub fn export(dir: &Path) -> Result<(), ExportError> {
     d.visit::<labs::fusion::TrialParams>();
     d.visit::<labs::fusion::Summary>();
     d.visit::<labs::fusion::ReportFigures>();
+    // The MRCLAM page: the real robots the server offers, and what the wasm build gives.
+    d.visit::<crate::datasets::MrclamEntry>();
+    d.visit::<labs::mrclam::simulate::DatasetParams>();
+    d.visit::<labs::mrclam::run::Settings>();
+    d.visit::<labs::mrclam::run::Kind>();
+    d.visit::<labs::mrclam::run::Consistency>();
+    d.visit::<labs::mrclam::belief::Readings>();
     // The staff's views and changes.
     d.visit::<setup::CourseView>();
     d.visit::<setup::StaffAdded>();
