@@ -28,7 +28,24 @@ fn generated(args: &[&str]) -> Report {
 /// about consistent on it, unlike on the real one.
 #[test]
 fn a_generated_data_set_needs_no_files() {
-    let report = generated(&["--generate", "3", "--robot", "2", "--particles", "500"]);
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("recording.json");
+    let report = generated(&[
+        "--generate",
+        "3",
+        "--robot",
+        "2",
+        "--particles",
+        "500",
+        "--write-recording",
+        file.to_str().unwrap(),
+    ]);
+    // The recording as the filters took it, which the page and the NumPy benchmark read.
+    let recording: labs::mrclam::learn::Learned =
+        serde_json::from_slice(&std::fs::read(&file).unwrap()).unwrap();
+    assert_eq!(recording.run.steps.len(), report.steps);
+    assert_eq!(recording.noise, report.noise);
+    assert_eq!(recording.posts.len(), 15);
     assert_eq!(report.dataset, "generated from seed 3");
     assert!(
         (5990..=6001).contains(&report.steps),

@@ -8,8 +8,8 @@ use crate::datasets;
 use crate::error::Error;
 use labs::fusion::Errors;
 use labs::mrclam::belief::Readings;
-use labs::mrclam::grid::{RATE, Run};
-use labs::mrclam::learn;
+use labs::mrclam::grid::RATE;
+use labs::mrclam::learn::Learned;
 use labs::mrclam::motion::Noise;
 use labs::mrclam::particle;
 use labs::mrclam::run::{self, CONSISTENT_INSIDE, Consistency, Kind, Settings};
@@ -74,6 +74,10 @@ pub struct Args {
     /// Print the learned noise (the alphas and R2) too.
     #[arg(long)]
     learn_noise: bool,
+    /// Write the robot's recording as the filters take it (the 50 Hz grid, the learned
+    /// noise and the posts, JSON of labs' `Learned`) to this file too.
+    #[arg(long, value_name = "FILE")]
+    write_recording: Option<PathBuf>,
     /// Print the report as JSON.
     #[arg(long)]
     json: bool,
@@ -135,25 +139,29 @@ pub fn run(args: &Args) -> Result<(), Error> {
             (robot, world, format!("generated from seed {}", params.seed))
         }
     };
-    let grid = Run::new(&robot, &world).ok_or_else(|| {
+    let recording = Learned::new(&robot, &world).ok_or_else(|| {
         Error::Invalid(format!(
             "robot {} of {dataset}: its ground truth holds fewer than two poses",
             args.robot
         ))
     })?;
-    let learned = learn::noise(&robot, &world, &grid);
-    let dead_reckoning = run::drift(&grid);
+    if let Some(path) = &args.write_recording {
+        let json = serde_json::to_vec(&recording).expect("a recording serialises");
+        std::fs::write(path, json).map_err(Error::io(path))?;
+    }
+    let (grid, learned) = (&recording.run, recording.noise);
+    let dead_reckoning = run::drift(grid);
     let filters = Kind::ALL
         .into_iter()
         .filter(|kind| args.filter.takes(*kind))
         .map(|kind| {
-            let mut filter = run::make(kind, &grid, &learned, &settings);
+            let mut filter = run::make(kind, grid, &learned, &settings);
             let clock = Instant::now();
-            let (beliefs, readings) = run::filter(&grid, filter.as_mut());
+            let (beliefs, readings) = run::filter(grid, filter.as_mut());
             let seconds = clock.elapsed().as_secs_f64();
             FilterReport {
                 filter: kind.name().to_owned(),
-                consistency: Consistency::of(&grid, &beliefs),
+                consistency: Consistency::of(grid, &beliefs),
                 readings,
                 seconds,
             }
