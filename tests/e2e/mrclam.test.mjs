@@ -104,6 +104,13 @@ test('a generated robot: three filters, their numbers as the command line\'s, th
   // Another robot, another seed; a seed that is no number is said beside its field.
   await page.locator('#robot').selectOption('3');
   await page.waitForFunction(() => document.querySelector('#command').textContent.includes('--robot 3'));
+  // The address follows, and opens the same run.
+  assert.equal(new URL(page.url()).search, '?data=generated&seed=1&robot=3&rho=10&particles=100');
+  const again = await browser.newPage({ viewport: laptop });
+  await again.goto(page.url());
+  await again.waitForFunction(() => document.body.dataset.ready === 'true', null, { timeout: 120_000 });
+  assert.equal(await again.locator('#command').textContent(), 'estlab mrclam --generate 1 --robot 3 --rho 10 --particles 100');
+  await again.close();
   await page.locator('#seed').fill('1.5');
   await page.locator('#seed').dispatchEvent('change');
   await page.waitForFunction(() => document.querySelector('#seed-problem')?.textContent.startsWith('seed: must be a whole number'));

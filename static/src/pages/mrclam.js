@@ -164,10 +164,41 @@ function settings() {
   return { rho: Number(fmt(ui.rho.value, 3)), particles: particles(), seed: defaults.settings.seed };
 }
 
+/**
+ * The address follows the robot and the settings, so that a link opens the same run:
+ * /mrclam?data=generated&seed=7&robot=2&rho=10&particles=2000 (data=real:6:1 for a real
+ * robot).
+ */
+function showAddress(s) {
+  const address = new URLSearchParams({ data: ui.data.value });
+  if (ui.data.value === 'generated') {
+    address.set('seed', ui.seed.value);
+    address.set('robot', ui.robot.value);
+  }
+  address.set('rho', String(s.rho));
+  address.set('particles', String(s.particles));
+  const url = `${location.pathname}?${address}`;
+  if (url !== location.pathname + location.search) history.replaceState(null, '', url);
+}
+
+/** The controls as the address says (what it does not say, or says wrongly, stays as it is). */
+function fromAddress() {
+  const address = new URLSearchParams(location.search);
+  const data = address.get('data');
+  if (data && [...ui.data.options].some((o) => o.value === data)) ui.data.value = data;
+  if (/^\d{1,15}$/.test(address.get('seed') ?? '')) ui.seed.value = address.get('seed');
+  if ([...ui.robot.options].some((o) => o.value === address.get('robot'))) ui.robot.value = address.get('robot');
+  const rho = Number(address.get('rho'));
+  if (address.has('rho') && rho >= 0.1 && rho <= 100) ui.rho.value = rho;
+  const count = Number(address.get('particles'));
+  if (PARTICLES.includes(count)) setParticles(count);
+}
+
 /** Runs the three filters on the robot with the sliders' settings, and redraws. */
 function update() {
   if (!robot) return;
   const s = settings();
+  showAddress(s);
   for (const v of views) v.free();
   views = FILTERS.map(([kind, name]) => {
     const start = performance.now();
@@ -220,5 +251,6 @@ byId('reference-settings').addEventListener('click', () => {
   update();
 });
 await offerRealRobots();
+fromAddress();
 await loadRobot();
 document.body.dataset.ready = 'true';
