@@ -45,7 +45,7 @@ fn mrclam(c: &mut Criterion) {
         return;
     };
     let grid = Run::new(&robot, &world).unwrap();
-    let noise = learn::noise(&robot, &world, &grid);
+    let noise = learn::noise(&robot, &world, &grid).unwrap();
     let start = run::start(&grid);
     let mut group = c.benchmark_group("mrclam robot 1");
     group.sample_size(10);

@@ -173,7 +173,7 @@ fn learned(n: u32) -> (Run, Noise) {
     let world = world();
     let (robot, _) = robot(n);
     let run = Run::new(&robot, &world).unwrap();
-    let noise = learn::noise(&robot, &world, &run);
+    let noise = learn::noise(&robot, &world, &run).unwrap();
     (run, noise)
 }
 

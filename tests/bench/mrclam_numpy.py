@@ -45,8 +45,9 @@ def main():
     p = start + 0.01 * rng.standard_normal((n, 3))
     p[:, 2] = wrap(p[:, 2])
     w = np.full(n, 1.0 / n)
-    squared = []
     clock = time.perf_counter()
+    mean, _ = belief(p, w)
+    squared = [(mean[0] - start[0]) ** 2 + (mean[1] - start[1]) ** 2]  # the start counts too
     for step in steps[1:]:
         v, omega = step["control"]["v"], step["control"]["omega"]
         if v != 0.0 or omega != 0.0:

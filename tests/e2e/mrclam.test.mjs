@@ -140,6 +140,15 @@ test('the real data set: its robots offered, robot 1 as the command line runs it
   const listed = await (await fetch(`${real.url}/api/datasets/mrclam`)).json();
   assert.deepEqual(listed.map((r) => [r.dataset, r.robot, r.steps]), [[6, 1, 38_594], [6, 2, 45_001], [6, 3, 45_001]]);
   assert.equal((await fetch(`${real.url}/api/datasets/mrclam/robot?dataset=6&robot=4`)).status, 404);
+  // Gzipped once at the start, for a browser that takes it so; plain for one that does not.
+  const address = `${real.url}/api/datasets/mrclam/robot?dataset=6&robot=1`;
+  const zipped = await fetch(address, { headers: { 'accept-encoding': 'gzip' } });
+  assert.equal(zipped.headers.get('content-encoding'), 'gzip');
+  const plainAnswer = await fetch(address, { headers: { 'accept-encoding': 'identity' } });
+  assert.equal(plainAnswer.headers.get('content-encoding'), null);
+  const [a, b] = [await zipped.json(), await plainAnswer.json()];
+  assert.equal(a.run.steps.length, 38_594);
+  assert.deepEqual(a.noise, b.noise);
   const bad = await fetch(`${real.url}/api/datasets/mrclam/robot?dataset=six&robot=1`);
   assert.equal(bad.status, 400);
   assert.match((await bad.json()).error, /dataset/);

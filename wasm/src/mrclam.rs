@@ -13,6 +13,9 @@ use nalgebra::{Matrix2, Vector3};
 use serde::Serialize;
 use wasm_bindgen::prelude::*;
 
+/// The most steps a run keeps the samples of (each as many as the particles).
+const MAX_SNAPSHOTS: usize = 1000;
+
 /// The defaults the page starts from, as JSON: `{dataset, settings, consistent_inside}`.
 #[wasm_bindgen(js_name = mrclamDefaults)]
 pub fn mrclam_defaults() -> String {
@@ -60,8 +63,7 @@ impl MrclamRobot {
                     robots.len()
                 ))
             })?;
-        let inner = Learned::new(recording, &world)
-            .ok_or_else(|| JsError::new("the robot's ground truth holds fewer than two poses"))?;
+        let inner = Learned::new(recording, &world).map_err(to_js)?;
         Ok(MrclamRobot { inner })
     }
 
@@ -132,6 +134,9 @@ impl MrclamRobot {
         let run = &self.inner.run;
         let mut filter = run::make(kind, run, &self.inner.noise, &settings);
         let last = run.steps.len() - 1;
+        if snapshots > MAX_SNAPSHOTS {
+            return Err(JsError::new(&format!("snapshots: at most {MAX_SNAPSHOTS}")));
+        }
         let wanted: Vec<usize> = match snapshots.min(run.steps.len()) {
             0 => Vec::new(),
             1 => vec![0],

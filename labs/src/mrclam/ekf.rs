@@ -50,7 +50,9 @@ impl Filter for Ekf {
                 counts.rejected += 1;
                 continue;
             };
-            if sensor::mahalanobis(&nu, &inverse) > GATE {
+            // (A distance that is no number, from a mean standing on the post, fails too.)
+            let distance = sensor::mahalanobis(&nu, &inverse);
+            if distance.is_nan() || distance > GATE {
                 counts.rejected += 1;
                 continue;
             }

@@ -7,6 +7,7 @@ use super::motion::Noise;
 use super::sensor;
 use super::{Post, Robot, World};
 use crate::angle;
+use crate::error::Error;
 use nalgebra::{Matrix2, Vector2};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
@@ -112,22 +113,25 @@ pub fn residuals(robot: &Robot, world: &World) -> Vec<Vector2<f64>> {
         .collect()
 }
 
-/// R2 by maximum likelihood for zero-mean normal residuals: their mean outer product.
-pub fn measurement(residuals: &[Vector2<f64>]) -> Matrix2<f64> {
-    let n = residuals.len().max(1) as f64;
-    residuals
+/// R2 by maximum likelihood for zero-mean normal residuals: their mean outer product;
+/// `None` without residuals, or when they do not make it positive definite (all alike).
+pub fn measurement(residuals: &[Vector2<f64>]) -> Option<Matrix2<f64>> {
+    let n = residuals.len() as f64;
+    let r2 = residuals
         .iter()
         .map(|r| r * r.transpose())
         .sum::<Matrix2<f64>>()
-        / n
+        / n;
+    (!residuals.is_empty() && r2.cholesky().is_some()).then_some(r2)
 }
 
-/// Everything learned from one robot's recording.
-pub fn noise(robot: &Robot, world: &World, run: &Run) -> Noise {
-    Noise {
+/// Everything learned from one robot's recording; `None` when its readings of posts
+/// cannot teach R2 (none within the ground truth's span, or too few).
+pub fn noise(robot: &Robot, world: &World, run: &Run) -> Option<Noise> {
+    Some(Noise {
         alphas: alphas(&implied_controls(run)),
-        measurement: measurement(&residuals(robot, world)),
-    }
+        measurement: measurement(&residuals(robot, world))?,
+    })
 }
 
 /// A robot's recording as the filters and the page take it: on the grid, with the noise
@@ -140,11 +144,21 @@ pub struct Learned {
 }
 
 impl Learned {
-    /// `None` when the robot's ground truth holds fewer than two poses.
-    pub fn new(robot: &Robot, world: &World) -> Option<Learned> {
-        let run = Run::new(robot, world)?;
-        Some(Learned {
-            noise: noise(robot, world, &run),
+    /// The recording on the grid with what it teaches; an error (naming the field
+    /// `recording`) when its ground truth holds fewer than two poses, or its readings of
+    /// posts cannot teach the camera's noise.
+    pub fn new(robot: &Robot, world: &World) -> Result<Learned, Error> {
+        let run = Run::new(robot, world).ok_or_else(|| {
+            Error::invalid("recording", "its ground truth holds fewer than two poses")
+        })?;
+        let noise = noise(robot, world, &run).ok_or_else(|| {
+            Error::invalid(
+                "recording",
+                "too few readings of posts within its ground truth to learn the camera's noise",
+            )
+        })?;
+        Ok(Learned {
+            noise,
             posts: world.posts.clone(),
             run,
         })

@@ -230,7 +230,7 @@ mod tests {
         #[test]
         fn the_arc_and_its_jacobians(
             x in -5.0..5.0f64, y in -5.0..5.0f64, theta in -3.1..3.1f64,
-            v in -0.5..0.5f64, omega in prop_oneof![-2.0..2.0f64, Just(0.0), -1e-5..1e-5f64],
+            v in -0.5..0.5f64, omega in prop_oneof![-2.0..2.0f64, Just(0.0), -1e-5..1e-5f64, 5.0..12.0f64, -12.0..-5.0f64],
         ) {
             let dt = 0.02;
             let pose = Vector3::new(x, y, theta);
@@ -263,6 +263,17 @@ mod tests {
             assert!((1.0 - delta * c - cos).abs() <= f64::EPSILON);
             assert!((ds - (delta * cos - sin) / (delta * delta)).abs() < 1e-10);
             assert!((dc - (delta * sin - (1.0 - cos)) / (delta * delta)).abs() < 1e-10);
+        }
+        // Continuous across the hand-over: just below (series) and just above (closed).
+        let (below, above) = (SMALL_TURN * (1.0 - 1e-9), SMALL_TURN * (1.0 + 1e-9));
+        let [b, a] = [below, above].map(|d| (arc_ratios(d), arc_ratio_slopes(d)));
+        for (x, y) in [
+            (b.0.0, a.0.0),
+            (b.0.1, a.0.1),
+            (b.1.0, a.1.0),
+            (b.1.1, a.1.1),
+        ] {
+            assert!((x - y).abs() < 1e-9, "{x} below, {y} above");
         }
     }
 }

@@ -62,16 +62,19 @@ const TOP_SPEED: (f64, f64) = (0.09, 0.4);
 const MARGIN: f64 = 0.6;
 /// The most a robot's wheels are off: its speed by a share, its turn by rad/s.
 const SYSTEMATIC: (f64, f64) = (0.05, 0.01);
+/// How many random places a post or a robot's start is tried at before the room is
+/// found too crowded.
+const PLACES_TRIED: usize = 10_000;
 /// Motion capture's jitter: position [m] and heading [rad].
 const CAPTURE_SD: (f64, f64) = (0.001, 0.005);
 
 /// A data set made from `params`: each robot's recording, and the room.
 pub fn generate(params: &DatasetParams) -> Result<(Vec<Robot>, World), Error> {
     validate(params)?;
-    let world = room(params);
+    let world = room(params)?;
     let mut paths: Vec<Path> = (0..params.robots)
         .map(|r| drive(params, r, &world))
-        .collect();
+        .collect::<Result<_, _>>()?;
     let truths: Vec<Vec<(f64, Vector3<f64>)>> = paths.iter().map(|p| p.poses.clone()).collect();
     for (r, path) in paths.iter_mut().enumerate() {
         path.measurements = camera(params, r, &truths, &world);
@@ -123,11 +126,14 @@ fn validate(params: &DatasetParams) -> Result<(), Error> {
 
 /// The posts, at random in the room (no two within half a metre), and the barcodes: the
 /// robots wear 1 to 5, the posts 6 on, each a different two-digit barcode.
-fn room(params: &DatasetParams) -> World {
+fn room(params: &DatasetParams) -> Result<World, Error> {
     let mut rng = Rng::substream(params.seed, 1);
     let [width, length] = params.room;
     let mut posts: Vec<Post> = Vec::new();
-    while posts.len() < params.posts as usize {
+    for _ in 0..PLACES_TRIED {
+        if posts.len() == params.posts as usize {
+            break;
+        }
         let (x, y) = (
             rng.uniform_in(0.2, width - 0.2),
             rng.uniform_in(0.2, length - 0.2),
@@ -142,6 +148,12 @@ fn room(params: &DatasetParams) -> World {
             });
         }
     }
+    if posts.len() < params.posts as usize {
+        return Err(Error::invalid(
+            "posts",
+            "too many for the room: no place left half a metre from the others",
+        ));
+    }
     let subjects = (1..=params.robots).chain(posts.iter().map(|p| p.subject));
     let mut codes: Vec<u32> = (10..100).collect();
     let barcodes = subjects
@@ -153,7 +165,7 @@ fn room(params: &DatasetParams) -> World {
             }
         })
         .collect();
-    World { posts, barcodes }
+    Ok(World { posts, barcodes })
 }
 
 /// A robot's drive: its commands and its true poses, each with its time.
@@ -169,13 +181,13 @@ struct Path {
 /// come at irregular times about 70 times a second; the robot's true motion over each is
 /// the command, as its wheels really carry it out (a few per cent off in speed, a little
 /// off in turn: what makes dead reckoning drift), plus a draw of the control noise.
-fn drive(params: &DatasetParams, r: u32, world: &World) -> Path {
+fn drive(params: &DatasetParams, r: u32, world: &World) -> Result<Path, Error> {
     let mut rng = Rng::substream(params.seed, 10 + u64::from(r));
     let speed_scale = rng.uniform_in(1.0 - SYSTEMATIC.0, 1.0 + SYSTEMATIC.0);
     let turn_offset = rng.uniform_in(-SYSTEMATIC.1, SYSTEMATIC.1);
     let [width, length] = params.room;
     let centre = Vector2::new(width / 2.0, length / 2.0);
-    let mut pose = start(&mut rng, params, world);
+    let mut pose = start(&mut rng, params, world)?;
     let (mut t, mut until) = (0.0, 0.0);
     let mut command = Control::default();
     let mut odometry = Vec::new();
@@ -221,17 +233,17 @@ fn drive(params: &DatasetParams, r: u32, world: &World) -> Path {
         t += dt;
         poses.push((t, pose));
     }
-    Path {
+    Ok(Path {
         odometry,
         poses,
         measurements: Vec::new(),
-    }
+    })
 }
 
 /// A start in the room, clear of the walls and the posts, facing anywhere.
-fn start(rng: &mut Rng, params: &DatasetParams, world: &World) -> Vector3<f64> {
+fn start(rng: &mut Rng, params: &DatasetParams, world: &World) -> Result<Vector3<f64>, Error> {
     let [width, length] = params.room;
-    loop {
+    for _ in 0..PLACES_TRIED {
         let x = rng.uniform_in(MARGIN, width - MARGIN);
         let y = rng.uniform_in(MARGIN, length - MARGIN);
         if world
@@ -239,13 +251,17 @@ fn start(rng: &mut Rng, params: &DatasetParams, world: &World) -> Vector3<f64> {
             .iter()
             .all(|p| libm::hypot(p.x - x, p.y - y) > 0.5)
         {
-            return Vector3::new(
+            return Ok(Vector3::new(
                 x,
                 y,
                 rng.uniform_in(-std::f64::consts::PI, std::f64::consts::PI),
-            );
+            ));
         }
     }
+    Err(Error::invalid(
+        "room",
+        "no place for a robot to start clear of the walls and half a metre from every post",
+    ))
 }
 
 /// `value` to `digits` decimals, as the published files hold it.
@@ -381,6 +397,29 @@ mod tests {
         assert_ne!(generate(&params).unwrap().0, generate(&other).unwrap().0);
     }
 
+    /// The most crowded room the parameters allow ends, on every seed: a data set, or
+    /// an error naming what did not fit (never a search without end).
+    #[test]
+    fn the_most_crowded_room_ends() {
+        for seed in 1..=20 {
+            let crowded = DatasetParams {
+                seed,
+                room: [3.0, 3.0],
+                posts: 15,
+                robots: 5,
+                duration: 1.0,
+                ..DatasetParams::default()
+            };
+            if let Err(refused) = generate(&crowded) {
+                let refused = refused.to_string();
+                assert!(
+                    refused.starts_with("posts: too many") || refused.starts_with("room: no place"),
+                    "{refused}"
+                );
+            }
+        }
+    }
+
     /// Robots stay in the room, record at about the published rates, read posts only in
     /// their camera's view, and the noise learned from a recording is near the true one.
     #[test]
@@ -420,7 +459,7 @@ mod tests {
                 assert!(world.subject_of(m.barcode).is_some());
             }
             let grid = Run::new(robot, &world).unwrap();
-            let learned = learn::noise(robot, &world, &grid);
+            let learned = learn::noise(robot, &world, &grid).unwrap();
             let range_sd = learned.measurement[(0, 0)].sqrt();
             assert!((0.06..0.10).contains(&range_sd), "range sd {range_sd}");
         }

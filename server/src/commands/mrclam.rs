@@ -62,7 +62,7 @@ pub struct Args {
     #[arg(long, value_enum, default_value_t = Which::All)]
     filter: Which,
     /// The particle filter's particles.
-    #[arg(long, default_value_t = particle::PARTICLES as u64, value_parser = clap::value_parser!(u64).range(1..=1_000_000))]
+    #[arg(long, default_value_t = particle::PARTICLES as u64, value_parser = clap::value_parser!(u64).range(1..=run::MAX_PARTICLES as u64))]
     particles: u64,
     /// The seed of the particle filter's random numbers.
     #[arg(long, default_value_t = 1)]
@@ -139,12 +139,8 @@ pub fn run(args: &Args) -> Result<(), Error> {
             (robot, world, format!("generated from seed {}", params.seed))
         }
     };
-    let recording = Learned::new(&robot, &world).ok_or_else(|| {
-        Error::Invalid(format!(
-            "robot {} of {dataset}: its ground truth holds fewer than two poses",
-            args.robot
-        ))
-    })?;
+    let recording = Learned::new(&robot, &world)
+        .map_err(|e| Error::Invalid(format!("robot {} of {dataset}: {e}", args.robot)))?;
     if let Some(path) = &args.write_recording {
         let json = serde_json::to_vec(&recording).expect("a recording serialises");
         std::fs::write(path, json).map_err(Error::io(path))?;

@@ -9,7 +9,7 @@ use crate::datasets::{MrclamEntry, NamedTrial};
 use askama::Template;
 use axum::Json;
 use axum::extract::State;
-use axum::http::{StatusCode, Uri, header};
+use axum::http::{HeaderMap, StatusCode, Uri, header};
 use axum::response::{Html, IntoResponse, Response};
 use labs::exercises::{Declaration, ekf_localization};
 use labs::{Exercise, Language};
@@ -219,20 +219,35 @@ pub struct MrclamQuery {
 }
 
 /// One robot's recording on the grid, with the noise learned from it and the room's
-/// posts; 404 for a robot the server was not given.
+/// posts, gzipped when the browser takes it so; 404 for a robot the server was not
+/// given.
 pub async fn mrclam_robot(
     State(state): State<Arc<AppState>>,
     Query(MrclamQuery { dataset, robot }): Query<MrclamQuery>,
+    headers: HeaderMap,
 ) -> Result<Response, Error> {
     let found = state
         .datasets
         .mrclam_robot(dataset, robot)
         .ok_or_else(|| Error::NotFound(format!("robot {robot} of MRCLAM data set {dataset}")))?;
-    Ok((
-        [(header::CONTENT_TYPE, "application/json")],
-        found.json.clone(),
-    )
-        .into_response())
+    let gzip = headers
+        .get_all(header::ACCEPT_ENCODING)
+        .iter()
+        .filter_map(|value| value.to_str().ok())
+        .flat_map(|value| value.split(','))
+        .any(|coding| {
+            // gzip, unless refused by a weight of 0 ("gzip;q=0").
+            let mut parts = coding.split(';').map(str::trim);
+            parts.next() == Some("gzip") && !parts.any(|p| p.replace(' ', "") == "q=0")
+        });
+    let vary = (header::VARY, "accept-encoding");
+    let json = (header::CONTENT_TYPE, "application/json");
+    Ok(if gzip {
+        let encoding = (header::CONTENT_ENCODING, "gzip");
+        ([json, encoding, vary], found.gzip.clone()).into_response()
+    } else {
+        ([json, vary], found.json.clone()).into_response()
+    })
 }
 
 pub async fn ekf(State(state): State<Arc<AppState>>, viewer: Viewer) -> Result<Response, Error> {

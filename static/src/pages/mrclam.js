@@ -135,6 +135,7 @@ async function loadRobot() {
     return;
   }
   robot?.handle.free();
+  if (!next) forgetRuns();
   robot = next && {
     ...next,
     view: robotView(next.handle, next.subject),
@@ -194,13 +195,22 @@ function fromAddress() {
   if (PARTICLES.includes(count)) setParticles(count);
 }
 
+/** Frees the runs the page shows and empties their tables (the plots stay, dimmed). */
+function forgetRuns() {
+  for (const v of views) v.free();
+  views = [];
+  for (const id of ['filters-table', 'noise-table']) byId(id, HTMLTableElement).tBodies[0].replaceChildren();
+  setText(ui.command, '');
+  setText(ui.timing, '');
+}
+
 /** Runs the three filters on the robot with the sliders' settings, and redraws. */
 function update() {
   if (!robot) return;
   const s = settings();
   showAddress(s);
-  for (const v of views) v.free();
-  views = FILTERS.map(([kind, name]) => {
+  forgetRuns();
+  const runs = FILTERS.map(([kind, name]) => {
     const start = performance.now();
     const run = robot.handle.run(kind, JSON.stringify(s), SNAPSHOTS);
     const ms = performance.now() - start;
@@ -215,6 +225,8 @@ function update() {
       free: () => run.free(),
     };
   });
+  views = runs;
+  ui.when.max = String(views[0].snapshots.length - 1);
   setText(ui.timing, `The three runs took ${views.map((v) => `${fmt(v.ms, 3)} ms (${v.name})`).join(', ')} in this browser.`);
   setText(ui.command, ['estlab', 'mrclam', ...robot.flags, '--rho', String(s.rho), '--particles', String(s.particles)].join(' '));
   showFilters(byId('filters-table', HTMLTableElement), views, robot.drift);
@@ -239,7 +251,6 @@ ui.rho.value = defaults.settings.rho;
 ui.particles.max = String(PARTICLES.length - 1);
 setParticles(PAGE_PARTICLES);
 ui.particles.addEventListener('input', showParticles);
-ui.when.max = String(SNAPSHOTS - 1);
 ui.data.addEventListener('change', loadRobot);
 ui.robot.addEventListener('change', loadRobot);
 ui.seed.addEventListener('change', loadRobot);
