@@ -321,9 +321,11 @@ test('on a phone the /ekf map uses the screen\'s height, not a thin strip', boun
       // The phone turned on its side: the map is wider than tall again, and not turned.
       await page.setViewportSize({ width: phone.height, height: phone.width });
       await page.locator('#map-turned').waitFor({ state: 'hidden' });
+      // A plot out of view draws only once it is seen again: where the new width leaves
+      // the map, look at it (as the reader would), then wait for the drawing, not a time.
+      await page.locator('figure[data-name="map"]').scrollIntoViewIfNeeded();
       const xAxisName = () => document.querySelector('figure[data-name="map"] .chart').plot.chart.getOption().xAxis[0].name;
-      // The note hides before the chart is drawn again: wait for the drawing, not a time.
-      await page.waitForFunction(`(${xAxisName})() === 'x (m)'`).catch(() => {});
+      await page.waitForFunction(`(${xAxisName})() === 'x (m)'`);
       assert.equal(await page.evaluate(xAxisName), 'x (m)');
     } else {
       assert.equal(await page.locator('#map-turned').isVisible(), false);
