@@ -205,11 +205,6 @@ impl MrclamFilterRun {
         let i = component.min(2);
         self.series(|b| b.covariance[(i, i)].sqrt())
     }
-    /// The covariance of x and y, step by step.
-    #[wasm_bindgen(js_name = covarianceXy)]
-    pub fn covariance_xy(&self) -> Vec<f64> {
-        self.series(|b| b.covariance[(0, 1)])
-    }
     /// The distance from the truth, metres.
     #[wasm_bindgen(js_name = positionError)]
     pub fn position_error(&self) -> Vec<f64> {

@@ -13,7 +13,7 @@ import { band, colours, dashes, line, markers, overTime, plane, stats, styled, t
  * summary and time.
  *
  * @typedef {{
- *   kind: MrclamFilter, name: string, x: Float64Array, y: Float64Array, sx: Float64Array, sy: Float64Array, cxy: Float64Array,
+ *   kind: MrclamFilter, name: string, x: Float64Array, y: Float64Array, sx: Float64Array, inside: Uint8Array,
  *   errorX: Float64Array, nees: Float64Array, snapshots: Float64Array,
  *   samples: (i: number) => Float64Array, ellipse: (k: number) => Float64Array,
  *   summary: { consistency: import('../types/MrclamConsistency').MrclamConsistency,
@@ -130,16 +130,8 @@ export function drawCloseUp(plot, robot, views, i) {
   const particle = views.find((v) => v.kind === 'particle');
   plot.describe(`Round the truth at t = ${fmt(robot.t[k], 4)} s, ${f(2 * half)} m across: ` +
     views.map((v) => `${v.name} ${f(Math.hypot(v.x[k] - cx, v.y[k] - cy))} m off, its 3σ ellipse ` +
-      `${inEllipse(v, k, cx, cy) ? 'round' : 'not round'} the truth`).join('; ') +
+      `${v.inside[k] ? 'round' : 'not round'} the truth`).join('; ') +
     (particle ? `; ${particle.samples(i).length / 2} particles` : '') + '.');
-}
-
-/** Whether the truth (x, y) lies inside run `v`'s 3σ ellipse at step `k`. */
-function inEllipse(v, k, x, y) {
-  const [a, c, d] = [v.sx[k] ** 2, v.cxy[k], v.sy[k] ** 2];
-  const [dx, dy] = [x - v.x[k], y - v.y[k]];
-  const det = a * d - c * c;
-  return det > 0 && (d * dx * dx - 2 * c * dx * dy + a * dy * dy) / det <= 9;
 }
 
 /** The shading of the longest stretch without a post in sight. */

@@ -216,7 +216,7 @@ function update() {
     const ms = performance.now() - start;
     return {
       kind, name, ms,
-      x: run.estimate(0), y: run.estimate(1), sx: run.std(0), sy: run.std(1), cxy: run.covarianceXy(),
+      x: run.estimate(0), y: run.estimate(1), sx: run.std(0), inside: run.inside(),
       errorX: Float64Array.from(run.estimate(0), (x, k) => x - robot.view.truth[0][k]),
       nees: run.nees(), snapshots: run.snapshotSteps(),
       samples: (i) => run.samples(i),
