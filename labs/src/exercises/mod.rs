@@ -24,6 +24,7 @@ use std::str::FromStr;
 pub mod ekf_localization;
 pub mod odometry;
 pub mod sensor_fusion;
+pub mod ukf_particle;
 
 /// The registry: every graded exercise (a module above) as its variant of [`Exercise`]
 /// and the type that declares it ([`Graded`]). The first is the default of the command
@@ -67,6 +68,10 @@ registry! {
     /// Fusing wheel odometry with an indoor positioning sensor (Northstar): the pose from
     /// two platforms, its noise, the field of view, prediction, gate and update.
     SensorFusion => sensor_fusion::SensorFusion,
+    /// The unscented Kalman filter and the particle filter on MRCLAM-like data: the arc,
+    /// sigma points, unscented prediction and update, the particles' motion, weights,
+    /// low-variance resampling and estimate, and the camera's noise learned.
+    UkfParticle => ukf_particle::UkfParticle,
 }
 
 impl Default for Exercise {
@@ -229,10 +234,10 @@ mod tests {
                 serde_json::json!(exercise.name())
             );
         }
-        let unknown = "particle-filter".parse::<Exercise>().unwrap_err();
+        let unknown = "kidnapped-robot".parse::<Exercise>().unwrap_err();
         assert_eq!(
             unknown.to_string(),
-            "unknown exercise \"particle-filter\"; the exercises graded here: ekf-localization, odometry, sensor-fusion"
+            "unknown exercise \"kidnapped-robot\"; the exercises graded here: ekf-localization, odometry, sensor-fusion, ukf-particle"
         );
     }
 

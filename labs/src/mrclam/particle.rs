@@ -13,7 +13,7 @@ use super::motion::{self, Noise};
 use super::sensor::{self, GATE};
 use crate::angle;
 use crate::rng::Rng;
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::{Matrix2, Matrix3, Vector2, Vector3};
 
 /// Where a particle filter's random numbers come from.
 pub trait Draws {
@@ -40,17 +40,21 @@ pub struct Settings {
     /// The cloud is resampled when its effective sample size 1 / sum w^2 falls below this
     /// share of `particles`.
     pub resample_below: f64,
+    /// The gate on a reading's squared Mahalanobis distance from the cloud's mean and
+    /// covariance (infinite: no gate).
+    pub gate: f64,
 }
 
 /// The particles of the reference's runs on the real data.
 pub const PARTICLES: usize = 2000;
 
 impl Default for Settings {
-    /// `PARTICLES`, resampled below half.
+    /// `PARTICLES`, resampled below half, the gate at 99.9 %.
     fn default() -> Self {
         Settings {
             particles: PARTICLES,
             resample_below: 0.5,
+            gate: GATE,
         }
     }
 }
@@ -63,7 +67,7 @@ pub struct Particle {
 }
 
 impl Particle {
-    fn new(pose: Vector3<f64>) -> Particle {
+    pub fn new(pose: Vector3<f64>) -> Particle {
         let (sin, cos) = libm::sincos(pose.z);
         Particle {
             pose,
@@ -121,8 +125,107 @@ impl<D: Draws> ParticleFilter<D> {
 
     /// 1 / sum w^2: how many equally weighted particles the cloud is worth.
     pub fn effective_size(&self) -> f64 {
-        1.0 / self.weights.iter().map(|w| w * w).sum::<f64>()
+        effective_size(&self.weights)
     }
+
+    /// Where its random numbers come from.
+    pub fn draws_mut(&mut self) -> &mut D {
+        &mut self.draws
+    }
+}
+
+/// 1 / sum w^2 of normalised weights: how many equally weighted particles they are worth.
+pub fn effective_size(weights: &[f64]) -> f64 {
+    1.0 / weights.iter().map(|w| w * w).sum::<f64>()
+}
+
+/// Whether a cloud of these normalised weights is to be resampled: its effective size
+/// below the share `below` of its count.
+pub fn needs_resampling(weights: &[f64], below: f64) -> bool {
+    effective_size(weights) < below * weights.len() as f64
+}
+
+/// `particle` moved for `dt` under the control `u` plus noise: (v + sd_v n_v,
+/// omega + sd_omega n_omega), with the noise's standard deviations `sd` and the standard
+/// normal draws `normals`.
+#[inline]
+pub fn moved(
+    particle: &Particle,
+    u: Control,
+    [sd_v, sd_omega]: [f64; 2],
+    [n_v, n_omega]: [f64; 2],
+    dt: f64,
+) -> Particle {
+    let drawn = Control {
+        v: u.v + sd_v * n_v,
+        omega: u.omega + sd_omega * n_omega,
+    };
+    let (pose, heading) = motion::advance(&particle.pose, particle.heading, drawn, dt);
+    Particle { pose, heading }
+}
+
+/// The weights after the reading `z` of the post at `landmark`: each multiplied by the
+/// likelihood exp(-nu^T R2^-1 nu / 2) of the reading seen from its particle (the bearing's
+/// residual wrapped), then normalised; all alike when every one has vanished.
+pub fn weigh(
+    particles: &[Particle],
+    weights: &mut [f64],
+    (z, landmark): (&Vector2<f64>, &Vector2<f64>),
+    r_inverse: &Matrix2<f64>,
+) {
+    let distances: Vec<f64> = particles
+        .iter()
+        .map(|particle| {
+            let nu = sensor::innovation(z, &sensor::expected(&particle.pose, landmark));
+            sensor::mahalanobis(&nu, r_inverse)
+        })
+        .collect();
+    // Scaled by the likeliest particle's likelihood, which normalising cancels, so that no
+    // weight underflows to zero all at once.
+    let closest = distances.iter().copied().fold(f64::INFINITY, f64::min);
+    for (weight, d) in weights.iter_mut().zip(&distances) {
+        *weight *= libm::exp(-0.5 * (d - closest));
+    }
+    let total: f64 = weights.iter().sum();
+    if !(total > 0.0 && total.is_finite()) {
+        weights.fill(1.0 / particles.len() as f64);
+    } else {
+        weights.iter_mut().for_each(|w| *w /= total);
+    }
+}
+
+/// The weighted mean of a cloud (the heading as an angle, atan2 of the weighted sines and
+/// cosines) and the weighted covariance about it, headings' deviations wrapped.
+pub fn estimate(particles: &[Particle], weights: &[f64]) -> Belief {
+    let (mut x, mut y, mut sin, mut cos) = (0.0, 0.0, 0.0, 0.0);
+    for (particle, w) in particles.iter().zip(weights) {
+        let [c, s] = particle.heading;
+        x += w * particle.pose.x;
+        y += w * particle.pose.y;
+        sin += w * s;
+        cos += w * c;
+    }
+    let mean = Vector3::new(x, y, libm::atan2(sin, cos));
+    // The six distinct sums of w d d^T, accumulated apart.
+    let mut sums = [0.0; 6];
+    for (particle, w) in particles.iter().zip(weights) {
+        let pose = &particle.pose;
+        let d = [
+            pose.x - mean.x,
+            pose.y - mean.y,
+            angle::difference(pose.z, mean.z),
+        ];
+        let wd = d.map(|d| w * d);
+        sums[0] += wd[0] * d[0];
+        sums[1] += wd[0] * d[1];
+        sums[2] += wd[0] * d[2];
+        sums[3] += wd[1] * d[1];
+        sums[4] += wd[1] * d[2];
+        sums[5] += wd[2] * d[2];
+    }
+    let [xx, xy, xt, yy, yt, tt] = sums;
+    let covariance = Matrix3::new(xx, xy, xt, xy, yy, yt, xt, yt, tt);
+    Belief { mean, covariance }
 }
 
 /// Low-variance resampling: one offset r drawn in [0, 1/N), then the particles whose
@@ -150,14 +253,10 @@ impl<D: Draws> Filter for ParticleFilter<D> {
         if u.v == 0.0 && u.omega == 0.0 {
             return;
         }
-        let [sd_v, sd_omega] = self.noise.control_sd(u);
+        let sd = self.noise.control_sd(u);
         for particle in &mut self.particles {
-            let drawn = Control {
-                v: u.v + sd_v * self.draws.normal(),
-                omega: u.omega + sd_omega * self.draws.normal(),
-            };
-            let (pose, heading) = motion::advance(&particle.pose, particle.heading, drawn, dt);
-            *particle = Particle { pose, heading };
+            let normals = [self.draws.normal(), self.draws.normal()];
+            *particle = moved(particle, u, sd, normals, dt);
         }
     }
 
@@ -178,40 +277,21 @@ impl<D: Draws> Filter for ParticleFilter<D> {
             let z = sensor::observed(reading);
             let nu = sensor::innovation(&z, &sensor::expected(&belief.mean, &reading.landmark));
             match s.try_inverse() {
-                Some(inverse) if sensor::mahalanobis(&nu, &inverse) <= GATE => {}
+                Some(inverse) if sensor::mahalanobis(&nu, &inverse) <= self.settings.gate => {}
                 _ => {
                     counts.rejected += 1;
                     continue;
                 }
             }
-            let distances: Vec<f64> = self
-                .particles
-                .iter()
-                .map(|particle| {
-                    let nu = sensor::innovation(
-                        &z,
-                        &sensor::expected(&particle.pose, &reading.landmark),
-                    );
-                    sensor::mahalanobis(&nu, &r_inverse)
-                })
-                .collect();
-            // Scaled by the likeliest particle's likelihood, which normalising cancels, so
-            // that no weight underflows to zero all at once.
-            let closest = distances.iter().copied().fold(f64::INFINITY, f64::min);
-            for (weight, d) in self.weights.iter_mut().zip(&distances) {
-                *weight *= libm::exp(-0.5 * (d - closest));
-            }
-            let total: f64 = self.weights.iter().sum();
-            if !(total > 0.0 && total.is_finite()) {
-                self.weights.fill(1.0 / self.particles.len() as f64);
-            } else {
-                self.weights.iter_mut().for_each(|w| *w /= total);
-            }
+            weigh(
+                &self.particles,
+                &mut self.weights,
+                (&z, &reading.landmark),
+                &r_inverse,
+            );
             counts.used += 1;
         }
-        if counts.used > 0
-            && self.effective_size() < self.settings.resample_below * self.particles.len() as f64
-        {
+        if counts.used > 0 && needs_resampling(&self.weights, self.settings.resample_below) {
             let kept = low_variance(&self.weights, self.draws.uniform());
             self.particles = kept.iter().map(|&i| self.particles[i]).collect();
             self.weights.fill(1.0 / self.particles.len() as f64);
@@ -223,35 +303,7 @@ impl<D: Draws> Filter for ParticleFilter<D> {
     /// The weighted mean (the heading as an angle, atan2 of the weighted sines and
     /// cosines) and the weighted covariance about it, headings' deviations wrapped.
     fn belief(&self) -> Belief {
-        let (mut x, mut y, mut sin, mut cos) = (0.0, 0.0, 0.0, 0.0);
-        for (particle, w) in self.particles.iter().zip(&self.weights) {
-            let [c, s] = particle.heading;
-            x += w * particle.pose.x;
-            y += w * particle.pose.y;
-            sin += w * s;
-            cos += w * c;
-        }
-        let mean = Vector3::new(x, y, libm::atan2(sin, cos));
-        // The six distinct sums of w d d^T, accumulated apart.
-        let mut sums = [0.0; 6];
-        for (particle, w) in self.particles.iter().zip(&self.weights) {
-            let pose = &particle.pose;
-            let d = [
-                pose.x - mean.x,
-                pose.y - mean.y,
-                angle::difference(pose.z, mean.z),
-            ];
-            let wd = d.map(|d| w * d);
-            sums[0] += wd[0] * d[0];
-            sums[1] += wd[0] * d[1];
-            sums[2] += wd[0] * d[2];
-            sums[3] += wd[1] * d[1];
-            sums[4] += wd[1] * d[2];
-            sums[5] += wd[2] * d[2];
-        }
-        let [xx, xy, xt, yy, yt, tt] = sums;
-        let covariance = Matrix3::new(xx, xy, xt, xy, yy, yt, xt, yt, tt);
-        Belief { mean, covariance }
+        estimate(&self.particles, &self.weights)
     }
 
     fn samples(&self) -> Vec<Vector3<f64>> {
@@ -264,7 +316,7 @@ mod tests {
     use super::*;
     use crate::mrclam::ekf::Ekf;
     use crate::rng::Rng;
-    use nalgebra::{Matrix2, Vector2};
+
     use proptest::prelude::*;
 
     proptest! {
@@ -321,7 +373,7 @@ mod tests {
         let particles = 4000;
         let settings = Settings {
             particles,
-            resample_below: 0.5,
+            ..Settings::default()
         };
         let mut pf = ParticleFilter::new(start, noise, settings, Rng::new(6));
         for k in 0..300 {

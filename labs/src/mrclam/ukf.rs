@@ -117,8 +117,8 @@ pub fn cross_covariance<const A: usize, const B: usize>(
 }
 
 /// The heading's place in the state, the bearing's in a reading.
-const HEADING: Option<usize> = Some(2);
-const BEARING: Option<usize> = Some(1);
+pub const HEADING: Option<usize> = Some(2);
+pub const BEARING: Option<usize> = Some(1);
 
 /// The unscented prediction: the sigma points of `belief` through `f`, their mean and
 /// covariance plus `process`; the state's component `angle` (if any) as an angle. With

@@ -1,0 +1,134 @@
+//! Grading the exercise: the tests of the functions (as every exercise's are graded), and
+//! a test per run, which earns its points when the student's functions, strung together by
+//! the harness's loop into a UKF or a particle filter, give the reference filter's belief
+//! at the start and after every step.
+
+use super::job::{FilterRecord, RunFilter};
+use super::plan::{FilterSpec, PARTICLE_FUNCTIONS, PARTICLES, Plan, RUN_LIMIT_MS, UKF_FUNCTIONS};
+use crate::Exercise;
+use crate::grading::{
+    self, BeliefTolerance, Beliefs, FunctionVerdicts, GradeResult, Mismatch, Outputs, RunOutput,
+    Subject, Test, Tolerance, follows, function_tests,
+};
+
+/// How close the beliefs along a run must be: x and y in metres, the heading in radians
+/// (modulo 2 pi). The student's arithmetic may round otherwise than the reference's; the
+/// filters forget such differences rather than growing them.
+pub const POSE_TOLERANCE: Tolerance = Tolerance {
+    absolute: 1e-6,
+    relative: 0.0,
+};
+/// How close the covariances must be, as a share of the largest element of the
+/// reference's covariance at that step.
+pub const COVARIANCE_TOLERANCE: f64 = 1e-6;
+
+/// Grades what the harness reported. Tests whose outputs are missing fail as not run.
+pub fn grade(plan: &Plan, outputs: &Outputs) -> GradeResult {
+    let (mut tests, functions) = function_tests(&plan.cases, &outputs.functions);
+    for spec in &plan.runs {
+        let output = outputs.runs.iter().find(|run| run.name == spec.name);
+        tests.push(run_test(spec, output, &functions));
+    }
+    GradeResult::graded(
+        Exercise::UkfParticle,
+        plan.seed,
+        plan.hidden.is_some(),
+        tests,
+    )
+}
+
+/// The test of a run: passed when the run follows the reference at every step.
+fn run_test(spec: &FilterSpec, output: Option<&RunOutput>, functions: &FunctionVerdicts) -> Test {
+    let steps = spec.steps();
+    let outcome = output.map_or_else(|| Err("not run".to_owned()), |run| departure(spec, run));
+    let passed = outcome.is_ok();
+    let filter = match spec.run.filter {
+        RunFilter::Ukf => "the reference UKF's",
+        RunFilter::Particle => "the reference particle filter's",
+    };
+    let mut verdict = if passed {
+        format!(
+            "Passed: the belief follows {filter} at the start and each of the {} steps.",
+            steps - 1
+        )
+    } else {
+        format!("Failed: the belief must follow {filter} at every step.")
+    };
+    if !passed {
+        verdict += &functions.explain();
+    }
+    let what = match spec.run.filter {
+        RunFilter::Ukf => format!(
+            "The run: a UKF over {} steps of {} s of a generated robot, {} readings of \
+             posts, the gate at {:.4} (chi2inv(0.999, 2)), Q learned from {} residuals.",
+            steps - 1,
+            spec.run.dt,
+            readings(spec),
+            spec.run.gate,
+            spec.run.residuals.len()
+        ),
+        RunFilter::Particle => format!(
+            "The run: a particle filter of {PARTICLES} particles over {} steps of {} s of a \
+             generated robot, {} readings of posts, every random number given, Q learned \
+             from {} residuals.",
+            steps - 1,
+            spec.run.dt,
+            readings(spec),
+            spec.run.residuals.len()
+        ),
+    };
+    let mut lines = vec![
+        verdict,
+        format!(
+            "{what} Poses must match within {:e} (x and y in metres, the heading in radians, \
+             modulo 2 pi), covariances within {:e} of their largest element.",
+            POSE_TOLERANCE.absolute, COVARIANCE_TOLERANCE,
+        ),
+    ];
+    if let Err(departure) = outcome {
+        lines.push(format!("{}: {departure}", spec.name));
+    }
+    let functions = match spec.run.filter {
+        RunFilter::Ukf => UKF_FUNCTIONS.as_slice(),
+        RunFilter::Particle => PARTICLE_FUNCTIONS.as_slice(),
+    };
+    Test::all_or_nothing(
+        Subject::Run(spec.name.clone()),
+        format!("{} run: {}", spec.name, functions.join(", ")),
+        passed,
+        lines.join("\n"),
+    )
+}
+
+fn readings(spec: &FilterSpec) -> usize {
+    spec.run.steps.iter().map(|s| s.readings.len()).sum()
+}
+
+/// Where the student's run first departs from the reference (or what stopped it), or
+/// nothing when it follows it throughout.
+fn departure(spec: &FilterSpec, output: &RunOutput) -> Result<(), String> {
+    let record: FilterRecord = output.completed(RUN_LIMIT_MS)?;
+    follows(NAMES, beliefs(&record), beliefs(&spec.reference), TOLERANCE)
+}
+
+/// The first step (counted from 1, the start) at which the beliefs `record` holds leave
+/// the reference's, with the first element that differs there; none while they follow it
+/// as far as they go.
+pub fn first_departure(spec: &FilterSpec, record: &FilterRecord) -> Option<(usize, Mismatch)> {
+    grading::first_departure(NAMES, beliefs(record), beliefs(&spec.reference), TOLERANCE)
+}
+
+/// What the belief's parts are called in messages.
+const NAMES: [&str; 2] = ["mu", "sigma"];
+
+const TOLERANCE: BeliefTolerance = BeliefTolerance {
+    pose: POSE_TOLERANCE,
+    covariance_share: COVARIANCE_TOLERANCE,
+};
+
+fn beliefs(record: &FilterRecord) -> Beliefs<'_> {
+    Beliefs {
+        poses: &record.poses,
+        covariances: &record.covariances,
+    }
+}
