@@ -7,7 +7,8 @@
 //! - the starter scores 0, and every test says what is not implemented;
 //! - every classic mistake of the exercise's catalogue (its `mistakes.json`: the correct
 //!   file with one function broken) fails the test of the function it breaks, every
-//!   failing case of it with the mistake's hint and no other, passes the other functions'
+//!   failing case of it with the mistake's hint and no other, fails the tests of the
+//!   functions that call it in the correct file (its `also`), passes the other functions'
 //!   tests, and fails the runs it breaks while passing the others (save those it breaks
 //!   only by chance, as the drawn run happens to show it).
 //!
@@ -73,6 +74,10 @@ pub struct Mistake {
     pub breaks: String,
     /// The hint it must get.
     pub hint: String,
+    /// The functions that call the one it breaks in the correct file (as `ukf_predict`
+    /// calls `sigma_points`), whose tests fail too, with whatever hint their cases give.
+    #[serde(default)]
+    also: Vec<String>,
     /// The runs it breaks (all when absent): a run does not reach every case a mistake
     /// shows in, and along a run a function that keeps state may give what it should.
     #[serde(default)]
@@ -195,9 +200,11 @@ impl Files {
         for run in self.runs {
             let test = run_test(&result, run);
             assert_eq!(test.status, Status::Failed);
-            // The loop stops at its first call, whichever function it is.
+            // The loop stops at its first call, whichever function it is: at its first
+            // step, or before (as a loop that learns a noise first).
             assert!(
-                test.message.contains(&format!("{run}: at step "))
+                (test.message.contains(&format!("{run}: at step "))
+                    || test.message.contains(&format!("{run}: at the start, ")))
                     && self.functions.iter().any(|f| {
                         test.message
                             .contains(&format!(", {f}: threw {thrown}: {f}: not implemented"))
@@ -272,6 +279,15 @@ impl Files {
             .unwrap_or_else(|e| panic!("{}: no hint {:?}: {e}", mistake.name, mistake.hint));
         for function in self.functions {
             let test = function_test(&result, function);
+            if mistake.also.iter().any(|f| f == function) {
+                if test.status != Status::Failed {
+                    problems.push(format!(
+                        "{name}: passes {}, which calls {}",
+                        test.name, mistake.breaks
+                    ));
+                }
+                continue;
+            }
             if *function != mistake.breaks {
                 if test.status != Status::Passed {
                     problems.push(format!("{name}: fails {}: {}", test.name, test.message));
@@ -323,10 +339,17 @@ impl Files {
                     test.message
                 ));
             }
+            // The functions failing, in the contract's order.
+            let failing: Vec<&str> = self
+                .functions
+                .iter()
+                .copied()
+                .filter(|f| *f == mistake.breaks || mistake.also.iter().any(|a| a == f))
+                .collect();
             if failed
                 && !test.message.contains(&format!(
                     "These functions fail their own tests: {}.",
-                    mistake.breaks
+                    failing.join(", ")
                 ))
             {
                 problems.push(format!(

@@ -1,7 +1,8 @@
 //! The student files the tests grade: the correct files, the starter, and the classic
 //! mistakes of `tests/student/mistakes.json`, each made in correct.js; the odometry
-//! exercise's in [`odometry`], the sensor-fusion exercise's in [`sensor_fusion`], and what
-//! those two are held to, graded as the server grades them, in [`catalogue`].
+//! exercise's in [`odometry`], the sensor-fusion exercise's in [`sensor_fusion`], those of
+//! the exercise on the UKF and the particle filter in [`ukf_particle`], and what those
+//! three are held to, graded as the server grades them, in [`catalogue`].
 
 #![allow(dead_code)]
 
@@ -9,6 +10,7 @@ pub mod catalogue;
 mod native;
 pub mod odometry;
 pub mod sensor_fusion;
+pub mod ukf_particle;
 
 #[allow(unused_imports)]
 pub use native::{matlab, python};

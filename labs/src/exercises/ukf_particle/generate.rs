@@ -168,7 +168,7 @@ const SCENARIOS: [(&str, &[Scenario]); 11] = [
 enum Drive {
     Arc,
     Straight,
-    /// Heading within 0.3 rad of +-pi, turning towards it.
+    /// Turning across +-pi, to end just past it.
     AcrossPi,
     Spin,
     Backwards,
@@ -197,14 +197,11 @@ fn drive(rng: &mut Rng, drive: Drive) -> (Vec3, Vec2, f64) {
         Drive::Spin => (any_pose(rng), [0.0, omega], dt),
         Drive::Backwards => (any_pose(rng), [-v, omega], dt),
         Drive::AcrossPi => {
-            // Close below +pi turning left, or above -pi turning right: across it either way.
-            let off = rng.uniform_in(0.02, 0.3);
-            let heading = if omega > 0.0 { PI - off } else { -PI + off };
-            (
-                pose(rng, heading),
-                [v, omega],
-                dt.max(2.0 * off / omega.abs()),
-            )
+            // Ending just past +pi turning left (or -pi turning right), from just before
+            // it: the step crosses it, and a belief's points about the end straddle it.
+            let past = rng.uniform_in(0.003, 0.025) * omega.signum();
+            let heading = crate::angle::wrap(omega.signum() * PI + past - omega * dt);
+            (pose(rng, heading), [v, omega], dt)
         }
     }
 }

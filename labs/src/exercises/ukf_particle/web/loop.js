@@ -118,8 +118,8 @@ estlabHarness.defineLoop('mrclam', (tools) => {
   function mrclamLoop(run, kept, invoke, at) {
     put(kept, 'poses', []);
     put(kept, 'covariances', []);
-    const Q = copy(matrix(2, 2)(invoke('measurement_noise', [copy(run.residuals)],
-      'learning the camera\'s noise, measurement_noise'), 'Q'));
+    at.step = 'at the start, ';
+    const Q = copy(matrix(2, 2)(invoke('measurement_noise', [copy(run.residuals)]), 'Q'));
     put(kept, 'Q', Q);
     if (run.filter === 'ukf') ukf(run, kept, invoke, at, Q);
     else particleFilter(run, kept, invoke, at, Q);
