@@ -15,20 +15,20 @@ use labs::grading::{GradeResult, Hidden, Status, Subject};
 use labs::{Exercise, Language};
 use std::path::PathBuf;
 use student::catalogue::{Seeds, failing_alone};
-use student::matlab::{EKF_LOCALIZATION, ODOMETRY, SENSOR_FUSION};
+use student::matlab::{EKF_LOCALIZATION, ODOMETRY, SENSOR_FUSION, UKF_PARTICLE};
 
 const SEEDS: [Seeds; 2] = [(1, 0x5eed_0001), (2320, 9_876_543_210)];
 
 #[test]
 fn the_correct_files_score_1_with_hidden_cases() {
-    for files in [EKF_LOCALIZATION, ODOMETRY, SENSOR_FUSION] {
+    for files in [EKF_LOCALIZATION, ODOMETRY, SENSOR_FUSION, UKF_PARTICLE] {
         files.check_the_correct_file(&SEEDS[..1]);
     }
 }
 
 #[test]
 fn the_starters_score_0_and_say_what_is_not_implemented() {
-    for files in [ODOMETRY, SENSOR_FUSION] {
+    for files in [ODOMETRY, SENSOR_FUSION, UKF_PARTICLE] {
         files.check_the_starter(SEEDS[0]);
     }
     let starter = Exercise::EkfLocalization
@@ -47,7 +47,7 @@ fn the_starters_score_0_and_say_what_is_not_implemented() {
 
 #[test]
 fn a_sample_of_mistakes_each_fails_its_function_with_its_hint() {
-    for files in [EKF_LOCALIZATION, ODOMETRY, SENSOR_FUSION] {
+    for files in [EKF_LOCALIZATION, ODOMETRY, SENSOR_FUSION, UKF_PARTICLE] {
         files.check_a_sample_of_mistakes(&SEEDS[..1]);
     }
 }

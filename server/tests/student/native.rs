@@ -4,7 +4,7 @@
 //! outputs, not code, so the catalogue carries over whole; the sample shows it does,
 //! mistake and hint alike, through each language's interpreter.
 
-/// The files of one language, in `tests/student/$folder/`, as a module of three
+/// The files of one language, in `tests/student/$folder/`, as a module of four
 /// [`Files`](super::catalogue::Files).
 macro_rules! files_in {
     ($module:ident, $language:expr, $folder:literal, $extension:literal) => {
@@ -73,6 +73,27 @@ macro_rules! files_in {
                         "../../../tests/student/",
                         $folder,
                         "/mistakes/sensor_fusion.json"
+                    )),
+                ),
+            };
+
+            pub const UKF_PARTICLE: Files = Files {
+                exercise: Exercise::UkfParticle,
+                language: LANGUAGE,
+                functions: labs::exercises::ukf_particle::FUNCTIONS,
+                runs: &["ukf", "particle-filter"],
+                correct: include_str!(concat!(
+                    "../../../tests/student/",
+                    $folder,
+                    "/ukf_particle.",
+                    $extension
+                )),
+                catalogue: (
+                    concat!("tests/student/", $folder, "/mistakes/ukf_particle.json"),
+                    include_str!(concat!(
+                        "../../../tests/student/",
+                        $folder,
+                        "/mistakes/ukf_particle.json"
                     )),
                 ),
             };
