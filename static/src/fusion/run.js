@@ -1,14 +1,12 @@
 // A whole run of the fusion filter over a trial, taken out of wasm at once: the series
 // the plots draw and the summary the tables show.
+import { wrap } from '../angles.js';
 import { ellipseSpacing, outlines } from '../plots.js';
 
 /** @typedef {import('../types/FusionSummary').FusionSummary} FusionSummary */
 
 /** What became of a step's reading (`FusionRun.readingUse`). */
 export const readingUse = { none: 0, outsideView: 1, gated: 2, used: 3 };
-
-/** The angle wrapped to [-pi, pi), as the library wraps it. */
-export const wrap = (angle) => angle - 2 * Math.PI * Math.floor((angle + Math.PI) / (2 * Math.PI));
 
 /**
  * A run of the filter, as the page's views draw it.

@@ -2,15 +2,13 @@
 // path, beside many robots whose wheels really slip. The path plot with the 3σ ellipses
 // and the robots (path.js), the standard deviations over the steps, propagated and
 // sampled, and the table of the last step, the propagated covariance beside the robots'.
+import { wrap } from '../angles.js';
 import { byId, setText } from '../controls.js';
 import { fmt } from '../format.js';
 import { colours, dashes, ellipseAxes, ellipseSpacing, line, outlineXY, outlines, styled } from '../plots.js';
 import { PathView, drawingRoom, pathSeries } from './path.js';
 import { degrees } from './settings.js';
 import { View, describeShape, f, overSteps, row, show } from './view.js';
-
-/** The angle wrapped to [-pi, pi). */
-const wrap = (angle) => angle - 2 * Math.PI * Math.floor((angle + Math.PI) / (2 * Math.PI));
 
 /**
  * The sample standard deviations of poses (positions `xy`: x, y, x, y, ...; headings

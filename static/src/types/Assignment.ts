@@ -5,7 +5,7 @@ import type { Language } from "./Language";
 /**
  * An exercise opened for a course.
  */
-export type Assignment = { course: string, lab: "ekf-localization" | "odometry" | "sensor-fusion", 
+export type Assignment = { course: string, lab: "ekf-localization" | "odometry" | "sensor-fusion" | "ukf-particle", 
 /**
  * Whether its students see their rank in the class challenge (an exercise with
  * one); on unless staff switch it off.

@@ -10,7 +10,7 @@ import type { TestShare } from "./TestShare";
 /**
  * `GET /api/courses/{course}/labs/{lab}/class`.
  */
-export type ClassAnswer = { course: string, lab: "ekf-localization" | "odometry" | "sensor-fusion", policy: Policy, 
+export type ClassAnswer = { course: string, lab: "ekf-localization" | "odometry" | "sensor-fusion" | "ukf-particle", policy: Policy, 
 /**
  * Whether students see their rank in the class challenge.
  */

@@ -3,4 +3,4 @@
 /**
  * New dates for one student's assignment, and who granted them.
  */
-export type Extension = { lab: "ekf-localization" | "odometry" | "sensor-fusion", student: string, due: string, cutoff: string, granted_by: string, granted_at: string, };
+export type Extension = { lab: "ekf-localization" | "odometry" | "sensor-fusion" | "ukf-particle", student: string, due: string, cutoff: string, granted_by: string, granted_at: string, };

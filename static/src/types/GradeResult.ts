@@ -6,7 +6,7 @@ export type GradeResult = {
 /**
  * The exercise graded (`lab` on the wire, as results have always named it).
  */
-lab: "ekf-localization" | "odometry" | "sensor-fusion", seed: number, 
+lab: "ekf-localization" | "odometry" | "sensor-fusion" | "ukf-particle", seed: number, 
 /**
  * False when the sandbox itself failed (not the student's code): the submission is
  * then neither passed nor failed, and `reason` says what happened.

@@ -4,4 +4,4 @@ import type { Rejudged } from "./Rejudged";
 /**
  * An extension granted, with the scores of the submissions already made it changed.
  */
-export type Granted = { changed: Array<Rejudged>, lab: "ekf-localization" | "odometry" | "sensor-fusion", student: string, due: string, cutoff: string, granted_by: string, granted_at: string, };
+export type Granted = { changed: Array<Rejudged>, lab: "ekf-localization" | "odometry" | "sensor-fusion" | "ukf-particle", student: string, due: string, cutoff: string, granted_by: string, granted_at: string, };

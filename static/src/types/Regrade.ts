@@ -4,7 +4,7 @@ import type { Change } from "./Change";
 /**
  * A regrade job and how far it has come.
  */
-export type Regrade = { id: number, course: string, lab: "ekf-localization" | "odometry" | "sensor-fusion", scope: string, requested_by: string, 
+export type Regrade = { id: number, course: string, lab: "ekf-localization" | "odometry" | "sensor-fusion" | "ukf-particle", scope: string, requested_by: string, 
 /**
  * The grader that regrades.
  */

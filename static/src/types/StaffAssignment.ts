@@ -14,7 +14,7 @@ students: number,
 /**
  * Of them, those who have submitted at least once.
  */
-submitted: number, submissions: number, course: string, lab: "ekf-localization" | "odometry" | "sensor-fusion", 
+submitted: number, submissions: number, course: string, lab: "ekf-localization" | "odometry" | "sensor-fusion" | "ukf-particle", 
 /**
  * Whether its students see their rank in the class challenge (an exercise with
  * one); on unless staff switch it off.

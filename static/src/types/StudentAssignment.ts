@@ -37,7 +37,7 @@ challenge: StudentChallenge | null,
 /**
  * Their latest submission with its full result.
  */
-latest: Submission | null, course: string, lab: "ekf-localization" | "odometry" | "sensor-fusion", 
+latest: Submission | null, course: string, lab: "ekf-localization" | "odometry" | "sensor-fusion" | "ukf-particle", 
 /**
  * Whether its students see their rank in the class challenge (an exercise with
  * one); on unless staff switch it off.

@@ -16,7 +16,7 @@ grader: string | null,
 /**
  * Results regrades replaced, oldest first (filled by whoever reads them).
  */
-earlier: Array<EarlierResult>, result: GradeResult | null, source: string | null, id: number, course: string, student: string, lab: "ekf-localization" | "odometry" | "sensor-fusion", 
+earlier: Array<EarlierResult>, result: GradeResult | null, source: string | null, id: number, course: string, student: string, lab: "ekf-localization" | "odometry" | "sensor-fusion" | "ukf-particle", 
 /**
  * The language of the file.
  */

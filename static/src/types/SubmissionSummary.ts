@@ -6,7 +6,7 @@ import type { Waiver } from "./Waiver";
 /**
  * A submission in a list: when, how late, how it did; no source, no result.
  */
-export type SubmissionSummary = { id: number, course: string, student: string, lab: "ekf-localization" | "odometry" | "sensor-fusion", 
+export type SubmissionSummary = { id: number, course: string, student: string, lab: "ekf-localization" | "odometry" | "sensor-fusion" | "ukf-particle", 
 /**
  * The language of the file.
  */

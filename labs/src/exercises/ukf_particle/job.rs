@@ -9,6 +9,7 @@ use ts_rs::TS;
 /// Which filter a run strings the student's functions into.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, TS)]
 #[serde(rename_all = "kebab-case")]
+#[ts(rename = "UkfParticleFilter")]
 pub enum RunFilter {
     Ukf,
     Particle,
@@ -16,6 +17,7 @@ pub enum RunFilter {
 
 /// A reading of a post: `z` = [range, bearing], and where the post stands.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, TS)]
+#[ts(rename = "UkfParticleReading")]
 pub struct PostReading {
     pub z: [f64; 2],
     pub landmark: [f64; 2],
@@ -23,6 +25,7 @@ pub struct PostReading {
 
 /// One step of a run as the loop gets it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, TS)]
+#[ts(rename = "UkfParticleStep")]
 pub struct FilterStepData {
     /// The command over the step, [v, omega].
     pub u: [f64; 2],
@@ -51,6 +54,7 @@ pub struct FilterStepData {
 ///
 /// recording mu and sigma at the start and after every step.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, TS)]
+#[ts(rename = "UkfParticleRun")]
 pub struct FilterRun {
     pub filter: RunFilter,
     /// The length of a step, seconds.
@@ -70,6 +74,7 @@ pub struct FilterRun {
 /// What the loop records of a run: the noise it learned, and the belief at the start and
 /// after every step.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, TS)]
+#[ts(rename = "UkfParticleRecord")]
 pub struct FilterRecord {
     #[serde(default)]
     #[serde(rename = "Q")]

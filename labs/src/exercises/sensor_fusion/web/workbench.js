@@ -3,16 +3,20 @@
 // filtered path and 3σ ellipses drawn over the reference filter's, with the truth, the
 // readings and the field of view (all from the wasm build of the plan); how far the
 // student's belief is from the reference's at every step; a summary in words and a
-// table of the step where the run departs (or its last); and a link to the fusion page.
+// table of the step where the run departs (or its last: `estlab/workbench/beliefs.js`);
+// and a link to the fusion page.
 import { byId, setText } from 'estlab/controls.js';
 import { fmt } from 'estlab/format.js';
 import { circle, positions } from 'estlab/fusion/map.js';
-import { readingUse, wrap } from 'estlab/fusion/run.js';
+import { wrap } from 'estlab/angles.js';
+import { readingUse } from 'estlab/fusion/run.js';
 import {
   colours, dashes, ellipseSpacing, line, markers, outlineSeries, outlineXY, outlines, overTime, plane, plotsIn, styled,
-  timeLine,
 } from 'estlab/plots.js';
-import { fillHeadedRows, link } from 'estlab/results/render.js';
+import { link } from 'estlab/results/render.js';
+import {
+  describeDifferences, differenceSeries, differences, f, fillBeliefTable, poseAt,
+} from 'estlab/workbench/beliefs.js';
 
 /** @typedef {import('estlab-wasm/estlab_wasm.js').Grader} Grader */
 /** @typedef {import('estlab-wasm/estlab_wasm.js').FusionRun} FusionRun */
@@ -21,12 +25,6 @@ import { fillHeadedRows, link } from 'estlab/results/render.js';
 /** @typedef {import('estlab/types/FusionSummary').FusionSummary} FusionSummary */
 
 const degrees = Math.PI / 180;
-/** The grader's tolerance on a pose (POSE_TOLERANCE in grade.rs), drawn on the plot of the differences. */
-const POSE_TOLERANCE = 1e-6;
-/** Where the plot of the differences (a log scale) draws differences smaller than this, exact agreement included. */
-const FLOOR = 1e-16;
-/** A number with `digits` significant digits, and 0 for what is zero but for rounding. */
-const f = (v, digits = 3) => fmt(Math.abs(v) < 1e-12 ? 0 : v, digits);
 
 /**
  * A filter's belief along a trial: the pose and its standard deviations at every step,
@@ -46,23 +44,6 @@ function beliefOf(run, every) {
     summary,
     steps: pose[0].length,
   };
-}
-
-/**
- * How far the student's belief is from the reference's at each step the run reported:
- * the position's distance (m), the heading's (rad), and the largest relative
- * difference of the standard deviations.
- */
-function differences(student, reference) {
-  const [s, r] = [student.pose, reference.pose];
-  const steps = student.steps;
-  const out = { position: new Float64Array(steps), heading: new Float64Array(steps), std: new Float64Array(steps) };
-  for (let k = 0; k < steps; k++) {
-    out.position[k] = Math.hypot(s[0][k] - r[0][k], s[1][k] - r[1][k]);
-    out.heading[k] = Math.abs(wrap(s[2][k] - r[2][k]));
-    out.std[k] = Math.max(...[0, 1, 2].map((i) => Math.abs(student.std[i][k] / reference.std[i][k] - 1)));
-  }
-  return out;
 }
 
 /**
@@ -116,9 +97,6 @@ function collectRun(grader, phase, output) {
 
 /** @typedef {ReturnType<typeof collectRun>} Shown */
 
-/** The pose at step `k` (from 0) of a belief: [x, y, theta]. */
-const poseAt = (belief, k) => belief.pose.map((component) => component[k]);
-
 /** What became of the reading at step `k` (from 0) in the reference's run, in words. */
 function readingWords(reference, k) {
   const d2 = `d² = ${f(reference.distance[k])}`;
@@ -164,40 +142,6 @@ function describeTrial(v) {
     `After step ${k + 1}, the reference is at (${f(rx)}, ${f(ry)}) m and yours ${f(Math.hypot(sx - rx, sy - ry))} m from it.`;
 }
 
-/** The difference plot's summary line: the largest differences, and the grader's tolerance. */
-function describeDifferences(v) {
-  const largest = (values, unit) => {
-    let at = 0;
-    for (let k = 1; k < values.length; k++) if (values[k] > values[at]) at = k;
-    return `${fmt(values[at], 3)}${unit} (at step ${at + 1})`;
-  };
-  const { position, heading, std } = v.difference;
-  return `How far your belief is from the reference filter's at each of the ${v.student.steps} steps your run reported, on a log scale ` +
-    `(differences under ${fmt(FLOOR)} drawn at it): at most ${largest(position, ' m')} between the positions, ` +
-    `${largest(heading, ' rad')} between the headings, and ${largest(std, '')} of the reference's standard deviations between ` +
-    `the standard deviations. Grading allows ${fmt(POSE_TOLERANCE)} on the pose.`;
-}
-
-/** The step where the run departs (or else the last it reported), the student's belief beside the reference's. */
-function fillTable(table, v) {
-  const { t, reference: r, student: s, departure } = v;
-  const step = departure ?? s.steps;
-  const k = step - 1;
-  setText(table.caption, departure !== null
-    ? `At step ${step} of ${r.steps} (t = ${f(t[k], 4)} s), where your run first departs from the reference's`
-    : `After step ${step} of ${r.steps}, the last your run reported`);
-  const [sp, rp] = [poseAt(s, k), poseAt(r, k)];
-  const rows = [
-    ['x (m)', f(sp[0], 8), f(rp[0], 8)],
-    ['y (m)', f(sp[1], 8), f(rp[1], 8)],
-    ['θ (°)', f(sp[2] / degrees, 8), f(rp[2] / degrees, 8)],
-    ['σx (m)', fmt(s.std[0][k], 6), fmt(r.std[0][k], 6)],
-    ['σy (m)', fmt(s.std[1][k], 6), fmt(r.std[1][k], 6)],
-    ['σθ (°)', fmt(s.std[2][k] / degrees, 6), fmt(r.std[2][k] / degrees, 6)],
-  ];
-  fillHeadedRows(table, rows);
-}
-
 /** What the grader runs over the trial, and a link to the fusion page, where such trials run with the reference filter. */
 function trialNote({ phase, settings: s }) {
   return [
@@ -229,20 +173,6 @@ function trialSeries(v, fov) {
   ];
 }
 
-/** The series of the difference plot, floored for its log scale, and the grader's tolerance. */
-function differenceSeries(v) {
-  const { t, difference } = v;
-  const steps = v.student.steps;
-  const shown = (values) => values.map((d) => Math.max(d, FLOOR));
-  const times = t.subarray(0, steps);
-  return [
-    styled(timeLine('position (m)', times, shown(difference.position), colours.estimate), dashes.truth),
-    styled(timeLine('heading (rad)', times, shown(difference.heading), colours.second), dashes.estimate),
-    styled(timeLine('standard deviations (relative)', times, shown(difference.std), colours.third), dashes.odometry),
-    styled(timeLine('the pose\'s tolerance', [times[0], times[steps - 1]], [POSE_TOLERANCE, POSE_TOLERANCE], colours.measurement), 'dashed', 1),
-  ];
-}
-
 /** The runs section (the markup of `web/run_view.html` in `root`) showing one trial run at a time. */
 class TrialRunView {
   /** @param {HTMLElement} root */
@@ -267,7 +197,7 @@ class TrialRunView {
     this.difference.describe(describeDifferences(v));
     this.difference.setMarker(v.departure === null ? null : v.t[v.departure - 1], 'where your run departs');
     setText(byId('trial-summary'), summaryText(v));
-    fillTable(byId('trial-table', HTMLTableElement), v);
+    fillBeliefTable(byId('trial-table', HTMLTableElement), v);
     byId('prefix').replaceChildren(...trialNote(v));
   }
 

@@ -114,7 +114,7 @@ estlabHarness.defineLoop('mrclam', (tools) => {
 
   /// The loop over a run: the camera's noise learned from the residuals, then the run's
   /// filter.
-  /** @type {Loop<import('estlab/types/FilterRun').FilterRun, import('estlab/types/FilterRecord').FilterRecord>} */
+  /** @type {Loop<import('estlab/types/UkfParticleRun').UkfParticleRun, import('estlab/types/UkfParticleRecord').UkfParticleRecord>} */
   function mrclamLoop(run, kept, invoke, at) {
     put(kept, 'poses', []);
     put(kept, 'covariances', []);
