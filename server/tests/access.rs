@@ -83,6 +83,10 @@ const MATRIX: &[(&str, &str, [u16; 9])] = &[
     ("GET",  "/fusion/starter.js",             [200, 200, 200, 200, 200, 200, 200, 200, 200]),
     ("GET",  "/fusion/starter.py",             [200, 200, 200, 200, 200, 200, 200, 200, 200]),
     ("GET",  "/fusion/starter.m",              [200, 200, 200, 200, 200, 200, 200, 200, 200]),
+    ("GET",  "/mrclam/code",                   [200, 200, 200, 200, 200, 200, 200, 401, 401]),
+    ("GET",  "/mrclam/starter.js",             [200, 200, 200, 200, 200, 200, 200, 200, 200]),
+    ("GET",  "/mrclam/starter.py",             [200, 200, 200, 200, 200, 200, 200, 200, 200]),
+    ("GET",  "/mrclam/starter.m",              [200, 200, 200, 200, 200, 200, 200, 200, 200]),
     ("GET",  "/signin",                        [200, 200, 200, 200, 200, 200, 200, 401, 401]),
     // Only a signed-in person has a page of their own; the rest are sent to sign in.
     ("GET",  "/me",                            [303, 200, 200, 200, 200, 200, 303, 401, 401]),

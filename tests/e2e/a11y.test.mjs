@@ -60,7 +60,7 @@ for (const [name, size] of [['phone', phone], ['laptop', laptop]]) {
 
     const pages = [
       ['/', null], ['/car', null], ['/ekf', null], ['/odometry', null], ['/fusion', null], ['/mrclam', null], ['/signin', null],
-      ['/ekf/code', student], ['/odometry/code', student], ['/fusion/code', student], ['/me', student],
+      ['/ekf/code', student], ['/odometry/code', student], ['/fusion/code', student], ['/mrclam/code', student], ['/me', student],
       ['/me', teacher], [`/courses/${course}`, teacher], [`/courses/${course}/${LAB}`, teacher],
       [`/courses/${course}/${LAB}/students/${students[0].id}`, teacher],
     ];

@@ -31,7 +31,7 @@ const decode = { br: brotliDecompressSync, gzip: gunzipSync, identity: (bytes) =
 const manifest = JSON.parse(readFileSync(join(staticDir, 'manifest.json'), 'utf8'));
 
 test('every page is HTML that links its script and the style, and is revalidated', bounded, async () => {
-  for (const [path, page] of [['/', 'home'], ['/car', 'car'], ['/ekf', 'ekf'], ['/ekf/code', 'code'], ['/odometry/code', 'code'], ['/fusion', 'fusion'], ['/fusion/code', 'code']]) {
+  for (const [path, page] of [['/', 'home'], ['/car', 'car'], ['/ekf', 'ekf'], ['/ekf/code', 'code'], ['/odometry/code', 'code'], ['/fusion', 'fusion'], ['/fusion/code', 'code'], ['/mrclam', 'mrclam'], ['/mrclam/code', 'code']]) {
     const response = await fetch(server.url + path);
     assert.equal(response.status, 200, path);
     assert.equal(response.headers.get('content-type'), 'text/html; charset=utf-8');

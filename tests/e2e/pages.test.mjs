@@ -433,14 +433,14 @@ test('the home page and the navigation lead to every exercise, its workbench bes
   const links = (selector) => home.locator(selector).evaluateAll((found) => found.map((a) => a.getAttribute('href')));
   // A card per page on its own or per exercise, the workbench's under its experiments'.
   assert.deepEqual(await links('.exercises > li > h2 a'), ['/car', '/ekf', '/odometry', '/fusion', '/mrclam']);
-  assert.deepEqual(await links('.exercises > li > h3 a'), ['/ekf/code', '/odometry/code', '/fusion/code']);
+  assert.deepEqual(await links('.exercises > li > h3 a'), ['/ekf/code', '/odometry/code', '/fusion/code', '/mrclam/code']);
   assert.deepEqual(await home.locator('.exercises > li').evaluateAll((cards) => cards.map((card) =>
     [...card.querySelectorAll('a')].map((a) => a.getAttribute('href')))),
-  [['/car'], ['/ekf', '/ekf/code'], ['/odometry', '/odometry/code'], ['/fusion', '/fusion/code'], ['/mrclam']]);
+  [['/car'], ['/ekf', '/ekf/code'], ['/odometry', '/odometry/code'], ['/fusion', '/fusion/code'], ['/mrclam', '/mrclam/code']]);
   // The navigation groups them alike.
   assert.deepEqual(await home.locator('header.site nav .group').evaluateAll((groups) => groups.map((group) =>
     [...group.querySelectorAll('a')].map((a) => a.getAttribute('href')))),
-  [['/car'], ['/ekf', '/ekf/code'], ['/odometry', '/odometry/code'], ['/fusion', '/fusion/code'], ['/mrclam']]);
+  [['/car'], ['/ekf', '/ekf/code'], ['/odometry', '/odometry/code'], ['/fusion', '/fusion/code'], ['/mrclam', '/mrclam/code']]);
   await home.close();
   const page = await openPage(browser, `${server.url}/ekf`);
   assert.equal(await page.locator('figure[data-name="map"] .save button').first().getAttribute('aria-label'),
