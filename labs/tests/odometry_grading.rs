@@ -7,8 +7,9 @@
 
 use labs::Exercise;
 use labs::exercises::odometry::{
-    COVARIANCE_TOLERANCE, Call, Case, FUNCTIONS, PATH_FUNCTIONS, PathRecord, Plan, generate,
+    Call, Case, FUNCTIONS, PATH_FUNCTIONS, PathRecord, Plan, generate,
 };
+use labs::grading::STEP_BY_STEP;
 use labs::grading::{
     self, CallResult, Cause, Contract, ExercisePlan, FunctionOutput, Outputs, RunOutput, Status,
     Stopped, Test,
@@ -336,7 +337,7 @@ fn a_path_that_departs_fails_at_the_step_and_the_element_where_it_does() {
             .iter()
             .flatten()
             .fold(0.0_f64, |m, v| m.max(v.abs()));
-        path.covariances[16][0][2] += 10.0 * COVARIANCE_TOLERANCE * largest;
+        path.covariances[16][0][2] += 10.0 * STEP_BY_STEP.covariance_share * largest;
     });
     assert_eq!((off.status, off.points), (Status::Failed, 0.0));
     assert!(
@@ -351,7 +352,7 @@ fn a_path_that_departs_fails_at_the_step_and_the_element_where_it_does() {
             .iter()
             .flatten()
             .fold(0.0_f64, |m, v| m.max(v.abs()));
-        path.covariances[16][0][2] += 0.1 * COVARIANCE_TOLERANCE * largest;
+        path.covariances[16][0][2] += 0.1 * STEP_BY_STEP.covariance_share * largest;
         path.poses[40][0] += 1e-8;
     });
     assert_eq!(close.status, Status::Passed, "{}", close.message);

@@ -62,9 +62,11 @@ async fn the_exercises_are_graded_side_by_side_each_with_its_own_tests() {
     app.store()
         .assign("el2320", Exercise::Odometry, &open_policy(app.now()))
         .unwrap();
-    app.store()
-        .assign("el2320", Exercise::SensorFusion, &open_policy(app.now()))
-        .unwrap();
+    for lab in [Exercise::SensorFusion, Exercise::UkfParticle] {
+        app.store()
+            .assign("el2320", lab, &open_policy(app.now()))
+            .unwrap();
+    }
     let ada = app.enrol("el2320", "ada");
     let who = app.signed_in(&ada).await;
     let teacher = app.staff("el2320", "teacher@example.org", Role::Instructor);
@@ -76,6 +78,7 @@ async fn the_exercises_are_graded_side_by_side_each_with_its_own_tests() {
         (Exercise::EkfLocalization, student::CORRECT),
         (Exercise::Odometry, student::odometry::CORRECT),
         (Exercise::SensorFusion, student::sensor_fusion::CORRECT),
+        (Exercise::UkfParticle, student::ukf_particle::CORRECT),
     ] {
         let answer = app
             .send(
@@ -104,6 +107,7 @@ async fn the_exercises_are_graded_side_by_side_each_with_its_own_tests() {
             Exercise::EkfLocalization => "calculate_odometry",
             Exercise::Odometry => "odometry_step",
             Exercise::SensorFusion => "combine_platforms",
+            Exercise::UkfParticle => "motion",
         };
         assert!(first.starts_with(expected), "{lab}: {first}");
 

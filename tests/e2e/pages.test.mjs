@@ -471,7 +471,7 @@ test('on a phone the navigation is one row that scrolls sideways, its last link 
   const reached = await last.boundingBox();
   assert.ok(reached.x >= 0 && reached.x + reached.width <= 360, 'the last link scrolls into view');
   await last.click();
-  await page.waitForURL(/\/mrclam$/);
+  await page.waitForURL(/\/mrclam\/code$/);
   await page.close();
 });
 

@@ -28,7 +28,7 @@ mod suite;
 #[cfg(test)]
 pub(crate) mod testing;
 
-pub use beliefs::{BeliefTolerance, Beliefs, first_departure, follows};
+pub use beliefs::{BeliefTolerance, Beliefs, STEP_BY_STEP, first_departure, follows};
 pub use compare::{
     HEADING_TURNS, Kind, Mismatch, Problem, Shape, Tolerance, compare, heading_within_turns,
     matrix, numbers, pose, range_bearing, repeat,

@@ -9,7 +9,7 @@ import { colours, dashes, styled, timeLine } from '../plots.js';
 import { fillHeadedRows } from '../results/render.js';
 
 const degrees = Math.PI / 180;
-/** The grader's tolerance on a pose (POSE_TOLERANCE in the exercises' grade.rs), drawn on the plot of the differences. */
+/** The grader's tolerance on a pose (`grading::STEP_BY_STEP` in labs), drawn on the plot of the differences. */
 export const POSE_TOLERANCE = 1e-6;
 /** Where the plot of the differences (a log scale) draws differences smaller than this, exact agreement included. */
 const FLOOR = 1e-16;

@@ -7,21 +7,11 @@ use super::contract::FUNCTIONS;
 use super::job::PathRecord;
 use super::plan::{PathSpec, Plan, RUN_LIMIT_MS};
 use crate::Exercise;
+use crate::grading::STEP_BY_STEP;
 use crate::grading::{
-    BeliefTolerance, Beliefs, FunctionVerdicts, GradeResult, Outputs, RunOutput, Subject, Test,
-    Tolerance, follows, function_tests,
+    Beliefs, FunctionVerdicts, GradeResult, Outputs, RunOutput, Subject, Test, follows,
+    function_tests,
 };
-
-/// How close the poses along a path must be: x and y in metres, the heading in radians
-/// (modulo 2 pi). The student's arithmetic may round otherwise than the reference's;
-/// over a few hundred steps that stays below 1e-12.
-pub const POSE_TOLERANCE: Tolerance = Tolerance {
-    absolute: 1e-6,
-    relative: 0.0,
-};
-/// How close the covariances along a path must be, as a share of the largest element of
-/// the reference's covariance at that step (whose elements span orders of magnitude).
-pub const COVARIANCE_TOLERANCE: f64 = 1e-6;
 
 /// Grades what the harness reported. Tests whose outputs are missing fail as not run.
 pub fn grade(plan: &Plan, outputs: &Outputs) -> GradeResult {
@@ -62,8 +52,8 @@ fn path_test(spec: &PathSpec, output: Option<&RunOutput>, functions: &FunctionVe
             params.k_r,
             params.k_l,
             spec.reference.path.start,
-            POSE_TOLERANCE.absolute,
-            COVARIANCE_TOLERANCE,
+            STEP_BY_STEP.pose.absolute,
+            STEP_BY_STEP.covariance_share,
         ),
     ];
     if let Err(departure) = outcome {
@@ -93,9 +83,6 @@ fn departure(spec: &PathSpec, output: &RunOutput) -> Result<(), String> {
             poses: &reference.poses[1..],
             covariances: &reference.covariances[1..],
         },
-        BeliefTolerance {
-            pose: POSE_TOLERANCE,
-            covariance_share: COVARIANCE_TOLERANCE,
-        },
+        STEP_BY_STEP,
     )
 }

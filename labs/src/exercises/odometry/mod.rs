@@ -14,7 +14,7 @@ mod plan;
 
 pub use contract::{Call, FUNCTIONS, Mat2, Mat3, Mat3x2, Vec3};
 pub use generate::generate;
-pub use grade::{COVARIANCE_TOLERANCE, POSE_TOLERANCE, grade};
+pub use grade::grade;
 pub use hints::HintKind;
 pub use job::{PathRecord, PathRun};
 pub use plan::{PATH_FUNCTIONS, PathSpec, Plan, RUN_LIMIT_MS};

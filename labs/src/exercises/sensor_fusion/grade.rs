@@ -9,21 +9,11 @@ use super::job::{FilterSettings, TrialRecord};
 use super::plan::{HELD_OUT, HeldOut, Plan, RUN_LIMIT_MS, TrialSpec};
 use crate::Exercise;
 use crate::fusion::{Errors, REPORT_FIGURES, Settings, inside_three_sigma};
+use crate::grading::STEP_BY_STEP;
 use crate::grading::{
-    self, BeliefTolerance, Beliefs, Cause, Challenge, FunctionVerdicts, GradeResult, Mismatch,
-    Outputs, RunOutput, Subject, Test, Tolerance, follows, function_tests,
+    self, Beliefs, Cause, Challenge, FunctionVerdicts, GradeResult, Mismatch, Outputs, RunOutput,
+    Subject, Test, follows, function_tests,
 };
-
-/// How close the beliefs along a trial must be: x and y in metres, the heading in radians
-/// (modulo 2 pi). The student's arithmetic may round otherwise than the reference's; the
-/// filter forgets such differences rather than growing them.
-pub const POSE_TOLERANCE: Tolerance = Tolerance {
-    absolute: 1e-6,
-    relative: 0.0,
-};
-/// How close the covariances must be, as a share of the largest element of the
-/// reference's covariance at that step.
-pub const COVARIANCE_TOLERANCE: f64 = 1e-6;
 
 /// Grades what the harness reported. Tests whose outputs are missing fail as not run.
 pub fn grade(plan: &Plan, outputs: &Outputs) -> GradeResult {
@@ -205,8 +195,8 @@ fn trial_test(spec: &TrialSpec, output: Option<&RunOutput>, functions: &Function
             s.field_of_view,
             s.gate_threshold(),
             s.start_sigma,
-            POSE_TOLERANCE.absolute,
-            COVARIANCE_TOLERANCE,
+            STEP_BY_STEP.pose.absolute,
+            STEP_BY_STEP.covariance_share,
         ),
     ];
     if let Err(departure) = outcome {
@@ -225,7 +215,7 @@ fn trial_test(spec: &TrialSpec, output: Option<&RunOutput>, functions: &Function
 fn departure(spec: &TrialSpec, output: &RunOutput) -> Result<(), String> {
     let record: TrialRecord = output.completed(RUN_LIMIT_MS)?;
     let reference = spec.reference_record();
-    follows(NAMES, beliefs(&record), beliefs(&reference), TOLERANCE)
+    follows(NAMES, beliefs(&record), beliefs(&reference), STEP_BY_STEP)
 }
 
 /// The first step (counted from 1) at which the beliefs `record` holds leave the
@@ -233,16 +223,11 @@ fn departure(spec: &TrialSpec, output: &RunOutput) -> Result<(), String> {
 /// far as they go.
 pub fn first_departure(spec: &TrialSpec, record: &TrialRecord) -> Option<(usize, Mismatch)> {
     let reference = spec.reference_record();
-    grading::first_departure(NAMES, beliefs(record), beliefs(&reference), TOLERANCE)
+    grading::first_departure(NAMES, beliefs(record), beliefs(&reference), STEP_BY_STEP)
 }
 
 /// What the belief's parts are called in messages.
 const NAMES: [&str; 2] = ["mu", "sigma"];
-
-const TOLERANCE: BeliefTolerance = BeliefTolerance {
-    pose: POSE_TOLERANCE,
-    covariance_share: COVARIANCE_TOLERANCE,
-};
 
 fn beliefs(record: &TrialRecord) -> Beliefs<'_> {
     Beliefs {

@@ -16,7 +16,7 @@ mod plan;
 
 pub use contract::{Call, FUNCTIONS};
 pub use generate::generate;
-pub use grade::{COVARIANCE_TOLERANCE, POSE_TOLERANCE, first_departure, grade};
+pub use grade::{first_departure, grade};
 pub use hints::HintKind;
 pub use job::TrialRecord;
 pub use plan::{LOOP_FUNCTIONS, Plan, RUN_LIMIT_MS, TrialSpec};

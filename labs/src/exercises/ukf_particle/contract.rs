@@ -292,6 +292,11 @@ pub fn cloud(poses: &[Vec3]) -> Vec<Particle> {
         .collect()
 }
 
+/// The spread of the sigma points of a call.
+pub fn spread(alpha: f64, beta: f64, kappa: f64) -> Spread {
+    Spread { alpha, beta, kappa }
+}
+
 fn not_positive_definite(field: &str) -> Error {
     Error::invalid(field, "not positive definite")
 }
@@ -314,11 +319,7 @@ pub fn reference(call: &Call) -> Result<Answer, Error> {
             beta,
             kappa,
         } => {
-            let spread = Spread {
-                alpha: *alpha,
-                beta: *beta,
-                kappa: *kappa,
-            };
+            let spread = spread(*alpha, *beta, *kappa);
             let points = spread
                 .points(&belief(mu, sigma))
                 .ok_or_else(|| not_positive_definite("sigma"))?;

@@ -6,21 +6,11 @@
 use super::job::{FilterRecord, RunFilter};
 use super::plan::{FilterSpec, PARTICLE_FUNCTIONS, PARTICLES, Plan, RUN_LIMIT_MS, UKF_FUNCTIONS};
 use crate::Exercise;
+use crate::grading::STEP_BY_STEP;
 use crate::grading::{
-    self, BeliefTolerance, Beliefs, FunctionVerdicts, GradeResult, Mismatch, Outputs, RunOutput,
-    Subject, Test, Tolerance, follows, function_tests,
+    self, Beliefs, FunctionVerdicts, GradeResult, Mismatch, Outputs, RunOutput, Subject, Test,
+    follows, function_tests,
 };
-
-/// How close the beliefs along a run must be: x and y in metres, the heading in radians
-/// (modulo 2 pi). The student's arithmetic may round otherwise than the reference's; the
-/// filters forget such differences rather than growing them.
-pub const POSE_TOLERANCE: Tolerance = Tolerance {
-    absolute: 1e-6,
-    relative: 0.0,
-};
-/// How close the covariances must be, as a share of the largest element of the
-/// reference's covariance at that step.
-pub const COVARIANCE_TOLERANCE: f64 = 1e-6;
 
 /// Grades what the harness reported. Tests whose outputs are missing fail as not run.
 pub fn grade(plan: &Plan, outputs: &Outputs) -> GradeResult {
@@ -82,7 +72,7 @@ fn run_test(spec: &FilterSpec, output: Option<&RunOutput>, functions: &FunctionV
         format!(
             "{what} Poses must match within {:e} (x and y in metres, the heading in radians, \
              modulo 2 pi), covariances within {:e} of their largest element.",
-            POSE_TOLERANCE.absolute, COVARIANCE_TOLERANCE,
+            STEP_BY_STEP.pose.absolute, STEP_BY_STEP.covariance_share,
         ),
     ];
     if let Err(departure) = outcome {
@@ -108,23 +98,28 @@ fn readings(spec: &FilterSpec) -> usize {
 /// nothing when it follows it throughout.
 fn departure(spec: &FilterSpec, output: &RunOutput) -> Result<(), String> {
     let record: FilterRecord = output.completed(RUN_LIMIT_MS)?;
-    follows(NAMES, beliefs(&record), beliefs(&spec.reference), TOLERANCE)
+    follows(
+        NAMES,
+        beliefs(&record),
+        beliefs(&spec.reference),
+        STEP_BY_STEP,
+    )
 }
 
 /// The first step (counted from 1, the start) at which the beliefs `record` holds leave
 /// the reference's, with the first element that differs there; none while they follow it
 /// as far as they go.
 pub fn first_departure(spec: &FilterSpec, record: &FilterRecord) -> Option<(usize, Mismatch)> {
-    grading::first_departure(NAMES, beliefs(record), beliefs(&spec.reference), TOLERANCE)
+    grading::first_departure(
+        NAMES,
+        beliefs(record),
+        beliefs(&spec.reference),
+        STEP_BY_STEP,
+    )
 }
 
 /// What the belief's parts are called in messages.
 const NAMES: [&str; 2] = ["mu", "sigma"];
-
-const TOLERANCE: BeliefTolerance = BeliefTolerance {
-    pose: POSE_TOLERANCE,
-    covariance_share: COVARIANCE_TOLERANCE,
-};
 
 fn beliefs(record: &FilterRecord) -> Beliefs<'_> {
     Beliefs {

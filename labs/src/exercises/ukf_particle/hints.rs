@@ -7,7 +7,7 @@
 
 use super::contract::{
     Answer, Call, Corrected, Estimate, Prediction, SigmaPoints, Vec2, Vec3, belief, cloud, control,
-    control_noise,
+    control_noise, spread,
 };
 use crate::angle::{difference, wrap};
 use crate::grading::{
@@ -18,7 +18,7 @@ use crate::mrclam::belief::Belief;
 use crate::mrclam::motion::{self, jacobian_control};
 use crate::mrclam::particle::{self, estimate, weigh};
 use crate::mrclam::sensor;
-use crate::mrclam::ukf::{self, HEADING, POINTS, SPREAD, Spread};
+use crate::mrclam::ukf::{self, HEADING, POINTS, SPREAD};
 use nalgebra::{Matrix2, Matrix3, SVector, Vector2, Vector3};
 use serde_json::Value;
 
@@ -264,11 +264,7 @@ fn mistakes(call: &Call, expected: &Answer) -> Vec<(HintKind, Answer)> {
             beta,
             kappa,
         } => {
-            let spread = Spread {
-                alpha: *alpha,
-                beta: *beta,
-                kappa: *kappa,
-            };
+            let spread = spread(*alpha, *beta, *kappa);
             let Answer::SigmaPoints(right) = expected else {
                 return Vec::new();
             };

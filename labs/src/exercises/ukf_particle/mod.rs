@@ -17,7 +17,7 @@ mod plan;
 
 pub use contract::{Call, FUNCTIONS};
 pub use generate::generate;
-pub use grade::{COVARIANCE_TOLERANCE, POSE_TOLERANCE, first_departure, grade};
+pub use grade::{first_departure, grade};
 pub use hints::HintKind;
 pub use job::{FilterRecord, FilterRun, RunFilter};
 pub use plan::{FilterSpec, PARTICLES, Plan, RUN_LIMIT_MS};
