@@ -1204,12 +1204,12 @@ async fn refusals_of_the_api_are_json_naming_what_is_wrong() {
 
     // An exercise that is not graded here: 400, naming the field and the known ones.
     let answer = app
-        .send(Req::get("/api/me/submissions?lab=particle-filter").who(&who))
+        .send(Req::get("/api/me/submissions?lab=kidnapped-robot").who(&who))
         .await;
     assert_eq!(answer.status, StatusCode::BAD_REQUEST);
     assert_eq!(
         answer.error(),
-        "field `lab`: unknown exercise \"particle-filter\"; the exercises graded here: ekf-localization, odometry, sensor-fusion"
+        "field `lab`: unknown exercise \"kidnapped-robot\"; the exercises graded here: ekf-localization, odometry, sensor-fusion, ukf-particle"
     );
 
     // A body that is not the JSON asked for: 400, naming the line and column.
