@@ -14,25 +14,32 @@ pub struct Beliefs<'a> {
 
 /// How close a run's beliefs must be to the reference's: the pose within `pose`, the
 /// covariance within `covariance_share` of the largest element of the reference's at that
-/// step (whose elements span orders of magnitude).
+/// step (whose elements span orders of magnitude), or within `covariance_floor`, where
+/// that is more.
 #[derive(Clone, Copy, Debug)]
 pub struct BeliefTolerance {
     pub pose: Tolerance,
     pub covariance_share: f64,
+    /// What a covariance may differ by however small the reference's is: a particle
+    /// cloud resampled to copies of one particle has a covariance of rounding alone
+    /// (1e-30), which another order of the same sums gives otherwise.
+    pub covariance_floor: f64,
 }
 
 /// How close the beliefs of a run of the odometry, sensor-fusion and UKF and particle
 /// filter exercises must be to the reference's at every step: x and y within 1e-6 m, the
 /// heading within 1e-6 rad (modulo 2 pi), covariances within 1e-6 of their largest
-/// element. The student's arithmetic may round otherwise than the reference's; over a few
-/// hundred steps that stays below 1e-12, and the filters forget such differences rather
-/// than growing them.
+/// element or 1e-12 (the square of the position's tolerance), whichever is more. The
+/// student's arithmetic may round otherwise than the reference's; over a few hundred
+/// steps that stays below 1e-12, and the filters forget such differences rather than
+/// growing them.
 pub const STEP_BY_STEP: BeliefTolerance = BeliefTolerance {
     pose: Tolerance {
         absolute: 1e-6,
         relative: 0.0,
     },
     covariance_share: 1e-6,
+    covariance_floor: 1e-12,
 };
 
 /// What the pose and the covariance are called in messages: `p` and `Sigma_p`.
@@ -67,7 +74,8 @@ pub fn first_departure(
                 &json!(expected_sigma),
                 &json!(sigma),
                 Tolerance {
-                    absolute: tolerance.covariance_share * largest,
+                    absolute: (tolerance.covariance_share * largest)
+                        .max(tolerance.covariance_floor),
                     relative: 0.0,
                 },
             ));

@@ -228,8 +228,10 @@ pub fn estimate(particles: &[Particle], weights: &[f64]) -> Belief {
     Belief { mean, covariance }
 }
 
-/// Low-variance resampling: one offset r drawn in [0, 1/N), then the particles whose
-/// cumulative weight first reaches r + m/N for m = 0..N-1; indices of the particles kept.
+/// Low-variance resampling: one draw `offset` in [0, 1), and the teeth of a comb at
+/// (offset + m) / N for m = 0..N-1, each keeping the first particle whose cumulative weight
+/// reaches it (the last, where rounding leaves a tooth above the total); the indices of
+/// the particles kept.
 pub fn low_variance(weights: &[f64], offset: f64) -> Vec<usize> {
     let n = weights.len();
     let step = 1.0 / n as f64;

@@ -45,7 +45,8 @@ fn path_test(spec: &PathSpec, output: Option<&RunOutput>, functions: &FunctionVe
             "The path: a {}, driven at {} m per step ({steps} steps), wheel base b = {} m, \
              k_r = {:.3e} m, k_l = {:.3e} m, from the pose {:?} known exactly (Sigma_p = 0). \
              Poses must match within {:e} (x and y in metres, the heading in radians, modulo \
-             2 pi), covariances within {:e} of their largest element.",
+             2 pi), covariances within {:e} of their largest element (or \
+             {:e}).",
             params.shape.describe(),
             params.speed,
             params.wheel_base,
@@ -54,6 +55,7 @@ fn path_test(spec: &PathSpec, output: Option<&RunOutput>, functions: &FunctionVe
             spec.reference.path.start,
             STEP_BY_STEP.pose.absolute,
             STEP_BY_STEP.covariance_share,
+            STEP_BY_STEP.covariance_floor,
         ),
     ];
     if let Err(departure) = outcome {

@@ -188,7 +188,7 @@ fn trial_test(spec: &TrialSpec, output: Option<&RunOutput>, functions: &Function
              of view of {} m and a gate of {:.4} (chi2inv(0.999, 3)), from the odometry's \
              first pose with standard deviations {:?}. Poses must match within {:e} (x and y \
              in metres, the heading in radians, modulo 2 pi), covariances within {:e} of \
-             their largest element.",
+             their largest element (or {:e}).",
             s.process_xy,
             s.process_theta,
             s.noise.c_xy,
@@ -197,6 +197,7 @@ fn trial_test(spec: &TrialSpec, output: Option<&RunOutput>, functions: &Function
             s.start_sigma,
             STEP_BY_STEP.pose.absolute,
             STEP_BY_STEP.covariance_share,
+            STEP_BY_STEP.covariance_floor,
         ),
     ];
     if let Err(departure) = outcome {

@@ -7,7 +7,8 @@
 //! uneven weights, and effective sizes either side of half the cloud.
 
 use super::Case;
-use super::contract::{Call, Mat2, Mat3, Vec2, Vec3};
+use super::contract::{Answer, Call, Mat2, Mat3, Vec2, Vec3};
+use crate::grading::Contract;
 use crate::grading::{self, scenario_cases};
 use crate::rng::Rng;
 use std::f64::consts::PI;
@@ -80,6 +81,9 @@ const SCENARIOS: [(&str, &[Scenario]); 11] = [
             ("a post ahead", |rng| ukf_update(rng, Post::Ahead)),
             ("a reading far from the expected one", |rng| {
                 ukf_update(rng, Post::Far)
+            }),
+            ("a post ahead, the update carrying the heading across +-pi", |rng| {
+                updated_across_pi(rng)
             }),
         ],
     ),
@@ -331,6 +335,27 @@ fn reading(rng: &mut Rng, pose: &Vec3, post: Post, q: &Mat2) -> (Vec2, Vec2) {
 
 fn ukf_update(rng: &mut Rng, post: Post) -> Call {
     let mu_bar = any_pose(rng);
+    ukf_update_from(rng, mu_bar, post)
+}
+
+/// An update whose heading starts a hair from +-pi and ends on the other side of it:
+/// drawn until the reference's correction carries it across (half the draws do).
+fn updated_across_pi(rng: &mut Rng) -> Call {
+    loop {
+        let side = if rng.chance(0.5) { 1.0 } else { -1.0 };
+        let heading = side * (PI - rng.uniform_in(1e-5, 1e-3));
+        let mu_bar = pose(rng, heading);
+        let call = ukf_update_from(rng, mu_bar, Post::Ahead);
+        if let Ok(Answer::Corrected(updated)) = call.reference()
+            && updated.mu[2].signum() != side
+        {
+            return call;
+        }
+    }
+}
+
+/// An update of a belief about `mu_bar` by a reading of a post where `post` says.
+fn ukf_update_from(rng: &mut Rng, mu_bar: Vec3, post: Post) -> Call {
     let q = camera_noise(rng);
     let (z, landmark) = reading(rng, &mu_bar, post, &q);
     Call::UkfUpdate {

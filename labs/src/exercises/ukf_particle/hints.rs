@@ -49,6 +49,8 @@ pub enum HintKind {
     UnscentedNoiseLeftOut,
     /// z - z_hat with its bearing not wrapped.
     UkfInnovationNotWrapped,
+    /// mu_bar + K nu with its heading not wrapped.
+    UpdatedHeadingNotWrapped,
     /// The likelihood's bearing residual not wrapped.
     LikelihoodBearingNotWrapped,
     /// w p(z | x) returned without dividing by their sum.
@@ -140,6 +142,10 @@ impl Mistake for HintKind {
                 "The innovation's bearing was not wrapped: z - z_hat near +-pi is a small \
                  angle, not almost 2 pi. Wrap it before the gain moves the mean by it."
             }
+            HintKind::UpdatedHeadingNotWrapped => {
+                "The updated heading lies outside [-pi, pi): the correction K nu can carry \
+                 mu_bar's heading across +-pi, so wrap the heading of mu_bar + K nu."
+            }
             HintKind::LikelihoodBearingNotWrapped => {
                 "The likelihood treats a bearing residual near 2 pi as a huge error: a post \
                  behind the robot is read at +pi from one particle and -pi from another. \
@@ -210,7 +216,7 @@ pub fn diagnose(
         });
     }
     let not_wrapped = match call {
-        Call::UkfUpdate { .. } => HintKind::UkfInnovationNotWrapped,
+        Call::UkfUpdate { .. } => HintKind::UpdatedHeadingNotWrapped,
         _ => HintKind::ArcHeadingNotWrapped,
     };
     if let Some(hint) = form_hint(call, expected, got, mismatches, None, not_wrapped.kind()) {
@@ -668,6 +674,7 @@ mod tests {
                 !matches!(
                     kind,
                     HintKind::ArcHeadingNotWrapped
+                        | HintKind::UpdatedHeadingNotWrapped
                         | HintKind::StraightLineDividedByZero
                         | HintKind::KeepsState
                 )

@@ -20,7 +20,8 @@ estlabHarness.defineLoop('mrclam', (tools) => {
     list(n)(value, what);
     for (let i = 0; i < n; i++) {
       const index = value[i];
-      if (typeof index !== 'number' || !(index >= 0 && index < n) || index !== Math.floor(index)) {
+      // (`% 1`, an operator, which the student's code cannot replace as it can Math.floor.)
+      if (typeof index !== 'number' || !(index >= 0 && index < n) || index % 1 !== 0) {
         throw new HarnessError(what + '[' + i + '] is ' + tools.describe(index) +
           ', not the index of a particle, 0 to ' + (n - 1));
       }

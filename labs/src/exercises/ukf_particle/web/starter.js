@@ -23,7 +23,8 @@
 //       (unless the robot stands still)
 //     weights = particle_weights(particles, weights, z, landmark, Q)
 //       for each reading
-//     after a reading, if needs_resampling(weights): the particles at
+//     after the step's readings, if there were any and
+//       needs_resampling(weights): the particles at
 //       low_variance_resample(weights, r), with weights 1/N
 //     {mu, sigma} = particle_estimate(particles, weights)
 // and the belief at every step must follow the reference filter's. The
@@ -135,9 +136,12 @@ function sample_motion(particles, u, dt, alphas, normals) {
 //   particles, weights  the cloud
 //   z, landmark, Q      as for ukf_update
 // Each weight is multiplied by the likelihood of the reading seen from its
-// particle, exp(-nu^T Q^-1 nu / 2) with nu = z - the particle's expected
-// reading (bearing wrapped); then the weights are divided by their sum (if
-// every one has vanished, each is 1/N). Returns the N new weights.
+// particle, exp(-d_i / 2) with d_i = nu^T Q^-1 nu, nu = z - the particle's
+// expected reading (bearing wrapped); then the weights are divided by their
+// sum. Use exp(-(d_i - d_min) / 2), d_min the smallest d_i: the division
+// cancels the common factor, and far readings then leave no weight at 0/0
+// (if the sum is still not a positive number, each weight is 1/N). Returns
+// the N new weights.
 function particle_weights(particles, weights, z, landmark, Q) {
   throw new Error("particle_weights: not implemented");
 }
@@ -153,8 +157,9 @@ function needs_resampling(weights) {
 //   weights  N weights that sum to 1
 //   r        a uniform draw in [0, 1)
 // One comb of N teeth at (r + m) / N, m = 0 .. N-1, laid along the weights:
-// tooth m picks the first particle whose cumulative weight reaches it (the
-// cumulative sum of weights[0..i]). Returns the N indices picked, in order
+// tooth m picks the first particle i whose cumulative weight w_0 + ... + w_i
+// reaches it (the last particle, where rounding leaves a tooth above the
+// total). Returns the N indices picked, in order
 // (counted from 0).
 function low_variance_resample(weights, r) {
   throw new Error("low_variance_resample: not implemented");
