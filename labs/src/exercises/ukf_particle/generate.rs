@@ -82,9 +82,10 @@ const SCENARIOS: [(&str, &[Scenario]); 11] = [
             ("a reading far from the expected one", |rng| {
                 ukf_update(rng, Post::Far)
             }),
-            ("a post ahead, the update carrying the heading across +-pi", |rng| {
-                updated_across_pi(rng)
-            }),
+            (
+                "a post ahead, the update carrying the heading across +-pi",
+                |rng| updated_across_pi(rng),
+            ),
         ],
     ),
     (

@@ -141,7 +141,9 @@ mod tests {
     #[test]
     fn a_collapsed_cloud_is_held_to_the_floor() {
         let plan = Plan::new(14, None);
-        let spec = plan.run("particle-filter").expect("the particle filter's run");
+        let spec = plan
+            .run("particle-filter")
+            .expect("the particle filter's run");
         let k = spec
             .reference
             .covariances
