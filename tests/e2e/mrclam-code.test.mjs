@@ -18,7 +18,7 @@ const correct = readFileSync(join(root, 'tests', 'student', 'ukf_particle', 'cor
 const starter = readFileSync(starterOf('ukf_particle'), 'utf8');
 const FUNCTIONS = [
   'motion', 'process_noise', 'sigma_points', 'ukf_predict', 'ukf_update', 'sample_motion', 'particle_weights',
-  'needs_resampling', 'low_variance_resample', 'particle_estimate', 'measurement_noise',
+  'needs_resampling', 'low_variance_resample', 'particle_estimate', 'measurement_noise', 'learn_alphas',
 ];
 const RUNS = ['ukf', 'particle-filter'];
 /** correct.js with each particle's two normal draws used the other way round in `sample_motion`. */
@@ -55,7 +55,7 @@ test('the starter file fails every test with "not implemented", the runs too, an
   const page = await openPage(browser, `${server.url}/mrclam/code`);
   await checkStarterFails(page, starter, FUNCTIONS, RUNS);
   assert.match(await page.locator('#score').textContent(),
-    new RegExp(`^In your browser: 0 of 130 points \\(0%\\), 0 of 13 tests pass\\. 11 functions not implemented yet: ${FUNCTIONS.join(', ')}\\.$`));
+    new RegExp(`^In your browser: 0 of 140 points \\(0%\\), 0 of 14 tests pass\\. 12 functions not implemented yet: ${FUNCTIONS.join(', ')}\\.$`));
   assert.equal(await page.locator('#runs').isHidden(), true, 'a run that reported no belief is not drawn');
   assert.deepEqual(page.problems, []);
   await page.close();
@@ -68,7 +68,7 @@ test('the correct file scores full marks in the browser, draws each run over the
   await type(page, correct);
   await runAndWait(page, '#run-tests');
   await runAndWait(page, '#run-datasets');
-  assert.match(await page.locator('#score').textContent(), /^In your browser: 130 of 130 points \(100%\), 13 of 13 tests pass\.$/);
+  assert.match(await page.locator('#score').textContent(), /^In your browser: 140 of 140 points \(100%\), 14 of 14 tests pass\.$/);
   for (const key of [...FUNCTIONS, ...RUNS]) assert.equal(await testStatus(page, key), 'passed', key);
 
   assert.equal(await page.locator('#runs').isVisible(), true, 'the runs are drawn');
@@ -98,7 +98,7 @@ test('the correct file scores full marks in the browser, draws each run over the
   await page.locator('#submit').click();
   await page.waitForSelector('#submission[data-status=graded]', { timeout: 120_000 });
   const verdict = await page.locator('#submission .verdict').textContent();
-  assert.match(verdict, /^The server's grade for submission \d+: 130 of 130 points \(100%\)\. The same as in your browser\./);
+  assert.match(verdict, /^The server's grade for submission \d+: 140 of 140 points \(100%\)\. The same as in your browser\./);
   assert.match(await page.locator('#submission .hidden-cases').textContent(), /ran your filters along generated robots/);
   const id = verdict.match(/submission (\d+)/)[1];
   const graded = await waitForSubmission(server, `/api/submissions/${id}`);

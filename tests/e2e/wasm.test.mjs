@@ -132,7 +132,7 @@ const outputName = {
   combine_platforms: 'z', heading_sigma: 'sigma_theta', measurement_noise: 'Q', in_field_of_view: 'in_view',
   mahalanobis: 'd2',
   motion: 'pose', process_noise: 'R', sample_motion: 'particles', particle_weights: 'weights', needs_resampling: 'resample',
-  low_variance_resample: 'indices',
+  low_variance_resample: 'indices', learn_alphas: 'alphas',
 };
 
 /**
@@ -163,7 +163,7 @@ function oneNumberWrong(expected, path) {
 
 test('generated test cases of every exercise', bounded, async () => {
   for (const [lab, count, seed] of [['ekf-localization', 8, 3], ['ekf-localization', 8, 99], ['odometry', 5, 3], ['odometry', 5, 99],
-    ['sensor-fusion', 7, 3], ['sensor-fusion', 7, 99], ['ukf-particle', 11, 3], ['ukf-particle', 11, 99]]) {
+    ['sensor-fusion', 7, 3], ['sensor-fusion', 7, 99], ['ukf-particle', 12, 3], ['ukf-particle', 12, 99]]) {
     const wasm = JSON.parse(await page.evaluate(([lab, seed]) => window.estlab.generateCases(lab, seed, 12), [lab, seed]));
     const native = JSON.parse(estlab('cases', '--lab', lab, '--seed', String(seed), '--per-function', '12'));
     assert.deepEqual(wasm, native, `${lab}, seed ${seed}`);

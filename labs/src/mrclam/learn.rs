@@ -58,7 +58,7 @@ pub fn alphas(pairs: &[(Control, Control)]) -> [f64; 4] {
 }
 
 /// The non-negative least-squares coefficients (a, b) of y ~ a x1 + b x2.
-fn fit(rows: impl Iterator<Item = [f64; 2]>, ys: impl Iterator<Item = f64>) -> [f64; 2] {
+pub fn fit(rows: impl Iterator<Item = [f64; 2]>, ys: impl Iterator<Item = f64>) -> [f64; 2] {
     let (mut xtx, mut xty) = (Matrix2::zeros(), Vector2::zeros());
     for (row, y) in rows.zip(ys) {
         let x = Vector2::from(row);

@@ -132,7 +132,38 @@ function Q = measurement_noise(residuals)
   Q = residuals' * residuals / rows(residuals);
 end
 
+function alphas = learn_alphas(commanded, implied)
+  X = abs(commanded);
+  errors = sqrt(pi / 2) * abs(implied - commanded);
+  alphas = [non_negative_fit(X, errors(:, 1)); non_negative_fit(X, errors(:, 2))];
+end
+
 % The helpers.
+
+% The least-squares [a; b] of y ~ a x1 + b x2, both 0 or more.
+function ab = non_negative_fit(X, y)
+  A = X' * X;
+  b = X' * y;
+  if det(A) ~= 0
+    ab = A \ b;
+    if all(ab >= 0)
+      return;
+    end
+  end
+  alone = zeros(2, 1);
+  for i = 1:2
+    if A(i, i) > 0
+      alone(i) = max(b(i) / A(i, i), 0);
+    end
+  end
+  first = [alone(1); 0];
+  second = [0; alone(2)];
+  if first' * A * first - 2 * first' * b <= second' * A * second - 2 * second' * b
+    ab = first;
+  else
+    ab = second;
+  end
+end
 
 function sd = control_sd(u, alphas)
   sd = [alphas(1) * abs(u(1)) + alphas(2) * abs(u(2));

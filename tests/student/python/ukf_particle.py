@@ -146,3 +146,22 @@ def particle_estimate(particles, weights):
 
 def measurement_noise(residuals):
     return residuals.T @ residuals / len(residuals)
+
+
+def non_negative_fit(X, y):
+    """The least-squares (a, b) of y ~ a x1 + b x2, both 0 or more."""
+    A, b = X.T @ X, X.T @ y
+    if np.linalg.det(A) != 0:
+        ab = np.linalg.solve(A, b)
+        if ab[0] >= 0 and ab[1] >= 0:
+            return list(ab)
+    alone = [max(b[i] / A[i, i], 0) if A[i, i] > 0 else 0 for i in range(2)]
+    candidates = [np.array([alone[0], 0.0]), np.array([0.0, alone[1]])]
+    sse = [c @ A @ c - 2 * c @ b for c in candidates]
+    return list(candidates[0] if sse[0] <= sse[1] else candidates[1])
+
+
+def learn_alphas(commanded, implied):
+    X = np.abs(commanded)
+    errors = math.sqrt(math.pi / 2) * np.abs(implied - commanded)
+    return non_negative_fit(X, errors[:, 0]) + non_negative_fit(X, errors[:, 1])

@@ -241,3 +241,33 @@ function measurement_noise(residuals) {
   }
   return scale(Q, 1 / n);
 }
+
+// The non-negative least-squares (a, b) of y ~ a x1 + b x2 over the rows.
+function nonNegativeFit(rows, ys) {
+  let [sxx, sxy, syy, bx, by] = [0, 0, 0, 0, 0];
+  rows.forEach(([x1, x2], k) => {
+    sxx += x1 * x1;
+    sxy += x1 * x2;
+    syy += x2 * x2;
+    bx += x1 * ys[k];
+    by += x2 * ys[k];
+  });
+  const det = sxx * syy - sxy * sxy;
+  if (det !== 0) {
+    const a = (syy * bx - sxy * by) / det;
+    const b = (sxx * by - sxy * bx) / det;
+    if (a >= 0 && b >= 0) return [a, b];
+  }
+  // Each term alone, clamped at 0; the smaller squared error (up to the common y^T y).
+  const alone = [sxx > 0 ? Math.max(bx / sxx, 0) : 0, syy > 0 ? Math.max(by / syy, 0) : 0];
+  const sse = (a, b) => a * a * sxx + 2 * a * b * sxy + b * b * syy - 2 * (a * bx + b * by);
+  return sse(alone[0], 0) <= sse(0, alone[1]) ? [alone[0], 0] : [0, alone[1]];
+}
+
+function learn_alphas(commanded, implied) {
+  const scale = Math.sqrt(Math.PI / 2);
+  const rows = commanded.map(([v, omega]) => [Math.abs(v), Math.abs(omega)]);
+  const [a1, a2] = nonNegativeFit(rows, commanded.map((u, k) => scale * Math.abs(implied[k][0] - u[0])));
+  const [a3, a4] = nonNegativeFit(rows, commanded.map((u, k) => scale * Math.abs(implied[k][1] - u[1])));
+  return [a1, a2, a3, a4];
+}

@@ -80,6 +80,8 @@ pub enum Answer {
     Estimate(Estimate),
     /// `measurement_noise`'s Q.
     Matrix2(Mat2),
+    /// `learn_alphas`' alphas.
+    Alphas([f64; 4]),
 }
 
 /// One call of a student function, arguments named and ordered as in the contract.
@@ -149,6 +151,10 @@ pub enum Call {
     MeasurementNoise {
         residuals: Vec<Vec2>,
     },
+    LearnAlphas {
+        commanded: Vec<Vec2>,
+        implied: Vec<Vec2>,
+    },
 }
 
 /// The student functions, in the order the exercise introduces them.
@@ -164,6 +170,7 @@ pub const FUNCTIONS: &[&str] = &[
     "low_variance_resample",
     "particle_estimate",
     "measurement_noise",
+    "learn_alphas",
 ];
 
 /// The share of the particles' count under which the effective sample size calls for
@@ -190,6 +197,7 @@ impl Contract for Call {
             Call::LowVarianceResample { .. } => 8,
             Call::ParticleEstimate { .. } => 9,
             Call::MeasurementNoise { .. } => 10,
+            Call::LearnAlphas { .. } => 11,
         }]
     }
 
@@ -246,6 +254,7 @@ pub fn output_shape(call: &Call) -> (&'static str, Shape) {
             Shape::Object(vec![("mu", pose()), ("sigma", matrix(3, 3))]),
         ),
         Call::MeasurementNoise { .. } => ("Q", matrix(2, 2)),
+        Call::LearnAlphas { .. } => ("alphas", numbers(4)),
     }
 }
 
@@ -295,6 +304,15 @@ pub fn cloud(poses: &[Vec3]) -> Vec<Particle> {
 /// The spread of the sigma points of a call.
 pub fn spread(alpha: f64, beta: f64, kappa: f64) -> Spread {
     Spread { alpha, beta, kappa }
+}
+
+/// The (commanded, implied) controls of the model from the contract's lists.
+pub fn pairs(commanded: &[Vec2], implied: &[Vec2]) -> Vec<(Control, Control)> {
+    commanded
+        .iter()
+        .zip(implied)
+        .map(|(u, m)| (control(u), control(m)))
+        .collect()
 }
 
 fn not_positive_definite(field: &str) -> Error {
@@ -426,6 +444,12 @@ pub fn reference(call: &Call) -> Result<Answer, Error> {
             let q = learn::measurement(&residuals)
                 .ok_or_else(|| Error::invalid("residuals", "they make no covariance"))?;
             Answer::Matrix2(rows(&q))
+        }
+        Call::LearnAlphas { commanded, implied } => {
+            if commanded.len() != implied.len() {
+                return Err(Error::invalid("implied", "one for each command"));
+            }
+            Answer::Alphas(learn::alphas(&pairs(commanded, implied)))
         }
     })
 }

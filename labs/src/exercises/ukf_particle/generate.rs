@@ -20,7 +20,7 @@ pub fn generate(seed: u64, per_function: usize) -> Vec<Case> {
 
 type Scenario = grading::Scenario<Call>;
 
-const SCENARIOS: [(&str, &[Scenario]); 11] = [
+const SCENARIOS: [(&str, &[Scenario]); 12] = [
     (
         "motion",
         &[
@@ -163,6 +163,19 @@ const SCENARIOS: [(&str, &[Scenario]); 11] = [
             ("a few residuals, off centre", |rng| {
                 measurement_noise(rng, 6)
             }),
+        ],
+    ),
+    (
+        "learn_alphas",
+        &[
+            (
+                "a robot's commands and the motion its truth implies",
+                |rng| learn_alphas(rng, false),
+            ),
+            (
+                "errors that a free fit would give a negative alpha",
+                |rng| learn_alphas(rng, true),
+            ),
         ],
     ),
 ];
@@ -520,6 +533,45 @@ fn measurement_noise(rng: &mut Rng, n: usize) -> Call {
         })
         .collect();
     Call::MeasurementNoise { residuals }
+}
+
+/// 40 to 80 commands, a fifth of them standing still, and the motion the truth implies:
+/// each command plus a normal error of the alphas' standard deviations; or (`negative`)
+/// errors of exactly 0.3 |v| - 0.1 |omega| (the speed's) and 0.5 |omega| - 0.2 |v| (the
+/// turn's), times sqrt(2 / pi), which a fit free of signs matches with a negative alpha.
+fn learn_alphas(rng: &mut Rng, negative: bool) -> Call {
+    let n = 40 + (rng.uniform() * 41.0) as usize;
+    let true_alphas = alphas(rng);
+    let scale = (2.0 / PI).sqrt();
+    let (mut commanded, mut implied) = (Vec::with_capacity(n), Vec::with_capacity(n));
+    for _ in 0..n {
+        let u = if rng.chance(0.2) {
+            [0.0, 0.0]
+        } else if negative {
+            [rng.uniform_in(0.1, 0.3), rng.uniform_in(-0.2, 0.2)]
+        } else {
+            [rng.uniform_in(-0.1, 0.4), rng.uniform_in(-1.0, 1.0)]
+        };
+        let sign = |rng: &mut Rng| if rng.chance(0.5) { 1.0 } else { -1.0 };
+        let (v, w) = (u[0].abs(), u[1].abs());
+        let error = if negative {
+            let moving = v > 0.0 || w > 0.0;
+            let (ev, ew) = (0.3 * v - 0.1 * w, (0.5 * w - 0.2 * v).max(0.0));
+            [
+                sign(rng) * scale * ev * f64::from(u8::from(moving)),
+                sign(rng) * scale * ew,
+            ]
+        } else {
+            let [a1, a2, a3, a4] = true_alphas;
+            [
+                (a1 * v + a2 * w) * rng.standard_normal(),
+                (a3 * v + a4 * w) * rng.standard_normal(),
+            ]
+        };
+        commanded.push(u);
+        implied.push([u[0] + error[0], u[1] + error[1]]);
+    }
+    Call::LearnAlphas { commanded, implied }
 }
 
 #[cfg(test)]

@@ -17,8 +17,8 @@ use crate::grading::{
 use crate::mrclam::belief::Belief;
 use crate::mrclam::motion::{self, jacobian_control};
 use crate::mrclam::particle::{self, estimate, weigh};
-use crate::mrclam::sensor;
 use crate::mrclam::ukf::{self, HEADING, POINTS, SPREAD};
+use crate::mrclam::{learn, sensor};
 use nalgebra::{Matrix2, Matrix3, SVector, Vector2, Vector3};
 use serde_json::Value;
 
@@ -69,6 +69,12 @@ pub enum HintKind {
     NoiseSampleCovariance,
     /// The residuals' mean taken off first.
     NoiseResidualsCentred,
+    /// The fit of |error| without sqrt(pi/2).
+    AlphasWithoutScale,
+    /// The fit of the signed errors.
+    AlphasSignedErrors,
+    /// A negative coefficient of the free fit kept.
+    AlphasNegativeKept,
     #[strum(serialize = "ukf_particle_keeps_state")]
     KeepsState,
 }
@@ -187,6 +193,23 @@ impl Mistake for HintKind {
                 "The residuals' mean was taken off first: the camera's noise is modelled \
                  with mean zero, so Q = sum r r^T / n about zero. A bias in the readings is \
                  part of the error the filter must allow for."
+            }
+            HintKind::AlphasWithoutScale => {
+                "The alphas come out sqrt(2/pi) (0.8) of what they should: for a zero-mean \
+                 normal error of standard deviation sd, the mean of |e| is sd sqrt(2/pi), so \
+                 fit sqrt(pi/2) |v_implied - v| ~ a1 |v| + a2 |omega| (and alike for omega)."
+            }
+            HintKind::AlphasSignedErrors => {
+                "The fit is of the signed errors, which average to zero whatever the noise: \
+                 the alphas give a standard deviation, so fit its size, sqrt(pi/2) \
+                 |v_implied - v| ~ a1 |v| + a2 |omega| and sqrt(pi/2) |omega_implied - omega| \
+                 ~ a3 |v| + a4 |omega|."
+            }
+            HintKind::AlphasNegativeKept => {
+                "An alpha came out negative: a standard deviation alpha1 |v| + alpha2 \
+                 |omega| cannot grow smaller as the robot turns faster. Where the free \
+                 least-squares fit gives a negative coefficient, fit each term alone (its \
+                 coefficient 0 or more) and keep the one with the smaller squared error."
             }
             HintKind::KeepsState => {
                 "The function answered a call differently when it was made again in a fresh \
@@ -535,6 +558,44 @@ fn mistakes(call: &Call, expected: &Answer) -> Vec<(HintKind, Answer)> {
                 ),
             ]
         }
+        Call::LearnAlphas { commanded, implied } => {
+            let Answer::Alphas(right) = expected else {
+                return Vec::new();
+            };
+            let scale = (std::f64::consts::PI / 2.0).sqrt();
+            let sizes = |u: &Vec2| [u[0].abs(), u[1].abs()];
+            // The two fits of `error` (of v, of omega) by `fit`.
+            let fitted = |fit: &Fit, error: &dyn Fn(f64) -> f64| {
+                let rows: Vec<[f64; 2]> = commanded.iter().map(sizes).collect();
+                let ys = |i: usize| -> Vec<f64> {
+                    commanded
+                        .iter()
+                        .zip(implied)
+                        .map(|(u, m)| error(m[i] - u[i]))
+                        .collect()
+                };
+                let [a1, a2] = fit(&rows, &ys(0));
+                let [a3, a4] = fit(&rows, &ys(1));
+                Answer::Alphas([a1, a2, a3, a4])
+            };
+            let bounded = |rows: &[[f64; 2]], ys: &[f64]| {
+                learn::fit(rows.iter().copied(), ys.iter().copied())
+            };
+            vec![
+                (
+                    HintKind::AlphasWithoutScale,
+                    Answer::Alphas(right.map(|a| a / scale)),
+                ),
+                (
+                    HintKind::AlphasSignedErrors,
+                    fitted(&bounded, &|e| scale * e),
+                ),
+                (
+                    HintKind::AlphasNegativeKept,
+                    fitted(&free_fit, &|e| scale * e.abs()),
+                ),
+            ]
+        }
         Call::MeasurementNoise { residuals } => {
             let n = residuals.len() as f64;
             let outer = |r: &Vec2, mean: &Vector2<f64>| {
@@ -565,6 +626,22 @@ fn mistakes(call: &Call, expected: &Answer) -> Vec<(HintKind, Answer)> {
             ]
         }
     }
+}
+
+/// A least-squares fit of the rows to the ys, (a, b) of y ~ a x1 + b x2.
+type Fit = dyn Fn(&[[f64; 2]], &[f64]) -> [f64; 2];
+
+/// The least-squares (a, b) of y ~ a x1 + b x2, signs free (zeros where the normal
+/// equations have no solution).
+fn free_fit(rows: &[[f64; 2]], ys: &[f64]) -> [f64; 2] {
+    let (mut xtx, mut xty) = (Matrix2::zeros(), Vector2::zeros());
+    for (row, y) in rows.iter().zip(ys) {
+        let x = Vector2::from(*row);
+        xtx += x * x.transpose();
+        xty += x * *y;
+    }
+    xtx.try_inverse()
+        .map_or([0.0, 0.0], |inverse| (inverse * xty).into())
 }
 
 /// The control noise's standard deviations without the absolute values.

@@ -39,8 +39,8 @@ pub struct FilterStepData {
 }
 
 /// One run of the loop with the student's functions. The loop first learns the camera's
-/// noise, `Q = measurement_noise(residuals)`, then from the start, at every step after the
-/// first:
+/// noise, `Q = measurement_noise(residuals)`, and the control noise's, `alphas =
+/// learn_alphas(commanded, implied)`, then from the start, at every step after the first:
 ///
 /// the UKF: R = process_noise(mu, u, dt, alphas); {mu_bar, sigma_bar} =
 /// ukf_predict(mu, sigma, u, dt, R); for each reading, {mu, sigma, d2} = ukf_update(...,
@@ -59,7 +59,10 @@ pub struct FilterRun {
     pub filter: RunFilter,
     /// The length of a step, seconds.
     pub dt: f64,
-    pub alphas: [f64; 4],
+    /// The commands over the run's span on the data's 50 Hz grid, [v, omega] each, and
+    /// beside each the motion the ground truth implies.
+    pub commanded: Vec<[f64; 2]>,
+    pub implied: Vec<[f64; 2]>,
     /// The camera's residuals against the ground truth, [range, bearing] each.
     pub residuals: Vec<[f64; 2]>,
     /// The UKF's gate on d2 (chi2inv(0.999, 2)).
@@ -79,6 +82,8 @@ pub struct FilterRecord {
     #[serde(default)]
     #[serde(rename = "Q")]
     pub q: Option<[[f64; 2]; 2]>,
+    #[serde(default)]
+    pub alphas: Option<[f64; 4]>,
     #[serde(default)]
     pub poses: Vec<[f64; 3]>,
     /// Sigma, as an array of rows.

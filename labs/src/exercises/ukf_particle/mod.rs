@@ -1,8 +1,8 @@
 //! The unscented Kalman filter and the particle filter on MRCLAM-like data: the student
-//! contract (eleven functions: the unicycle's arc and its process noise, the sigma points
+//! contract (twelve functions: the unicycle's arc and its process noise, the sigma points
 //! and their weights, the UKF's prediction and update, the particle filter's motion
 //! sampling, weighting, resampling test, low-variance resampling and estimate, and the
-//! camera's noise learned from residuals; `web/starter.js`, `README.md`), its case
+//! noise learned from data: the camera's from residuals, the control's alphas; `web/starter.js`, `README.md`), its case
 //! generator, the hints for its classic mistakes, and the runs of the harness's loop
 //! (`web/loop.js`): a UKF and a particle filter, every random number given by the
 //! harness, held to the reference filters' beliefs step by step. The reference answers
@@ -53,7 +53,7 @@ impl Graded for UkfParticle {
                    process noise, the sigma points and their weights \\(w_m, w_c\\), the \
                    unscented prediction and update with angles averaged as angles, the \
                    particles' motion, weights and low-variance resampling, the cloud's \
-                   estimate, and the camera's noise learned from data. Run them on test \
+                   estimate, and the noise learned from data. Run them on test \
                    cases and as whole filters, held to the reference step by step, with a \
                    hint where a classic mistake explains a failure, and submit them.",
             intro: include_str!("web/intro.html"),
@@ -66,7 +66,8 @@ impl Graded for UkfParticle {
         functions: "the unicycle's arc and its process noise, the sigma points and their \
                     weights, the UKF's prediction and update, the particle filter's motion \
                     sampling, weighting, resampling test, low-variance resampling and \
-                    estimate, and the camera's noise learned from residuals",
+                    estimate, and the noise learned from data (the camera's from residuals, \
+                    the control's alphas by least squares)",
         starter_template: include_str!("web/starter.txt"),
         starters: Starters {
             javascript: include_str!("web/starter.js"),

@@ -5,7 +5,7 @@
 //! JavaScript harness carries out with the student's code.
 
 use super::UkfParticle;
-use super::contract::{Call, RESAMPLE_BELOW};
+use super::contract::{Call, RESAMPLE_BELOW, pairs};
 use super::generate::generate;
 use super::grade::grade;
 use super::job::{FilterRecord, FilterRun, FilterStepData, PostReading, RunFilter};
@@ -32,14 +32,16 @@ use std::collections::VecDeque;
 pub const RUN_LIMIT_MS: u32 = 10_000;
 
 /// The functions the loop calls over a UKF run, and over a particle filter run.
-pub const UKF_FUNCTIONS: [&str; 4] = [
+pub const UKF_FUNCTIONS: [&str; 5] = [
     "measurement_noise",
+    "learn_alphas",
     "process_noise",
     "ukf_predict",
     "ukf_update",
 ];
-pub const PARTICLE_FUNCTIONS: [&str; 6] = [
+pub const PARTICLE_FUNCTIONS: [&str; 7] = [
     "measurement_noise",
+    "learn_alphas",
     "sample_motion",
     "particle_weights",
     "needs_resampling",
@@ -176,7 +178,7 @@ impl FilterSpec {
     /// The UKF along the first `UKF_STEPS` of `learned`'s run, with the camera's noise
     /// learned from `residuals`.
     fn ukf(learned: &learn::Learned, residuals: &[[f64; 2]]) -> FilterSpec {
-        let (run, noise) = prepared(learned, residuals, UKF_STEPS);
+        let (run, noise, taught) = prepared(learned, residuals, UKF_STEPS);
         let mut filter = Ukf::new(start(&run), noise);
         let (beliefs, _) = runs::filter(&run, &mut filter);
         FilterSpec::new(
@@ -184,7 +186,7 @@ impl FilterSpec {
             RunFilter::Ukf,
             &run,
             noise,
-            residuals,
+            taught,
             None,
             Vec::new(),
             &beliefs,
@@ -194,7 +196,7 @@ impl FilterSpec {
     /// The particle filter of `PARTICLES` along the first `PARTICLE_STEPS` of `learned`'s
     /// run, with every draw taken from `rng` and given to the loop.
     fn particle(learned: &learn::Learned, residuals: &[[f64; 2]], rng: &mut Rng) -> FilterSpec {
-        let (run, noise) = prepared(learned, residuals, PARTICLE_STEPS);
+        let (run, noise, taught) = prepared(learned, residuals, PARTICLE_STEPS);
         let settings = particle::Settings {
             particles: PARTICLES,
             resample_below: RESAMPLE_BELOW,
@@ -226,7 +228,7 @@ impl FilterSpec {
             RunFilter::Particle,
             &run,
             noise,
-            residuals,
+            taught,
             Some(cloud),
             draws,
             &beliefs,
@@ -239,7 +241,7 @@ impl FilterSpec {
         filter: RunFilter,
         run: &Run,
         noise: Noise,
-        residuals: &[[f64; 2]],
+        taught: Taught,
         particles: Option<Vec<[f64; 3]>>,
         draws: Vec<(Option<Vec<[f64; 2]>>, f64)>,
         beliefs: &[Belief],
@@ -270,8 +272,9 @@ impl FilterSpec {
             run: FilterRun {
                 filter,
                 dt: run.dt,
-                alphas: noise.alphas,
-                residuals: residuals.to_vec(),
+                commanded: taught.commanded,
+                implied: taught.implied,
+                residuals: taught.residuals,
                 gate: GATE,
                 start: begin.mean.into(),
                 start_sigma: rows(&begin.covariance),
@@ -282,6 +285,7 @@ impl FilterSpec {
             truth: run.steps.iter().map(|s| s.truth.into()).collect(),
             reference: FilterRecord {
                 q: Some(rows(&noise.measurement)),
+                alphas: Some(noise.alphas),
                 poses: beliefs.iter().map(|b| b.mean.into()).collect(),
                 covariances: beliefs.iter().map(|b| rows(&b.covariance)).collect(),
             },
@@ -308,16 +312,47 @@ impl FilterSpec {
     }
 }
 
-/// The first `steps` of `learned`'s run on the coarser grid, and its noise with the
-/// camera's learned from `residuals` (the loop learns it from the same ones).
-fn prepared(learned: &learn::Learned, residuals: &[[f64; 2]], steps: usize) -> (Run, Noise) {
+/// What the loop learns the noise from, as the job gives it: the camera's residuals, and
+/// the commands over the run's span on the data's grid beside the motion the truth implies
+/// (to a millionth, as the reference learns from them too).
+struct Taught {
+    residuals: Vec<[f64; 2]>,
+    commanded: Vec<[f64; 2]>,
+    implied: Vec<[f64; 2]>,
+}
+
+/// The first `steps` of `learned`'s run on the coarser grid, its noise as the loop learns
+/// it (the alphas from the commands and the implied motion over the run's span, the
+/// camera's from `residuals`), and what that is learned from.
+fn prepared(
+    learned: &learn::Learned,
+    residuals: &[[f64; 2]],
+    steps: usize,
+) -> (Run, Noise, Taught) {
     let run = coarser(&learned.run, steps);
-    let residuals: Vec<Vector2<f64>> = residuals.iter().map(|&r| r.into()).collect();
+    let mut fine = learned.run.clone();
+    fine.steps.truncate(COARSER * (steps - 1) + 1);
+    let millionth = |x: f64| libm::round(x * 1e6) / 1e6;
+    let (commanded, implied): (Vec<[f64; 2]>, Vec<[f64; 2]>) = learn::implied_controls(&fine)
+        .iter()
+        .map(|(u, m)| {
+            (
+                [millionth(u.v), millionth(u.omega)],
+                [millionth(m.v), millionth(m.omega)],
+            )
+        })
+        .unzip();
+    let vectors: Vec<Vector2<f64>> = residuals.iter().map(|&r| r.into()).collect();
     let noise = Noise {
-        measurement: learn::measurement(&residuals).expect("a generated camera's residuals"),
-        ..learned.noise
+        alphas: learn::alphas(&pairs(&commanded, &implied)),
+        measurement: learn::measurement(&vectors).expect("a generated camera's residuals"),
     };
-    (run, noise)
+    let taught = Taught {
+        residuals: residuals.to_vec(),
+        commanded,
+        implied,
+    };
+    (run, noise, taught)
 }
 
 /// The first `steps` of `run` on a grid `COARSER` times coarser: each step's command the

@@ -31,7 +31,7 @@ estlabHarness.defineLoop('mrclam', (tools) => {
 
   /// The UKF along the run from its start: at every step the process noise at the mean,
   /// the unscented prediction, and each reading's update when the gate lets it through.
-  function ukf(run, kept, invoke, at, Q) {
+  function ukf(run, kept, invoke, at, { Q, alphas }) {
     /** @type {number[]} */
     let mu = copy(run.start);
     /** @type {number[][]} */
@@ -42,7 +42,7 @@ estlabHarness.defineLoop('mrclam', (tools) => {
       const step = run.steps[k];
       at.step = 'at step ' + (k + 1) + ', ';
       const R = matrix(3, 3)(invoke('process_noise', [copy(mu), copy(step.u), run.dt,
-        copy(run.alphas)]), 'R');
+        copy(alphas)]), 'R');
       const bar = invoke('ukf_predict', [copy(mu), copy(sigma), copy(step.u), run.dt, R]);
       mu = field(bar, 'mu_bar', vector(3));
       sigma = field(bar, 'sigma_bar', matrix(3, 3));
@@ -65,7 +65,7 @@ estlabHarness.defineLoop('mrclam', (tools) => {
   /// moves, the particles sampled with the step's draws; each reading weighs them; after
   /// a reading, a cloud worth less than half its count is resampled with the step's
   /// offset; and the cloud's estimate is the belief.
-  function particleFilter(run, kept, invoke, at, Q) {
+  function particleFilter(run, kept, invoke, at, { Q, alphas }) {
     const start = run.particles;
     if (start === null) throw new HarnessError('the run has no particles');
     const n = start.length;
@@ -86,7 +86,7 @@ estlabHarness.defineLoop('mrclam', (tools) => {
       at.step = 'at step ' + (k + 1) + ', ';
       if (step.normals !== null) {
         particles = poses(n)(invoke('sample_motion', [copy(particles), copy(step.u), run.dt,
-          copy(run.alphas), copy(step.normals)]), 'particles');
+          copy(alphas), copy(step.normals)]), 'particles');
       }
       for (let i = 0; i < step.readings.length; i++) {
         const reading = step.readings[i];
@@ -113,7 +113,8 @@ estlabHarness.defineLoop('mrclam', (tools) => {
     }
   }
 
-  /// The loop over a run: the camera's noise learned from the residuals, then the run's
+  /// The loop over a run: the camera's noise learned from the residuals and the control
+  /// noise's alphas from the commands beside the motion the truth implies, then the run's
   /// filter.
   /** @type {Loop<import('estlab/types/UkfParticleRun').UkfParticleRun, import('estlab/types/UkfParticleRecord').UkfParticleRecord>} */
   function mrclamLoop(run, kept, invoke, at) {
@@ -122,8 +123,12 @@ estlabHarness.defineLoop('mrclam', (tools) => {
     at.step = 'at the start, ';
     const Q = copy(matrix(2, 2)(invoke('measurement_noise', [copy(run.residuals)]), 'Q'));
     put(kept, 'Q', Q);
-    if (run.filter === 'ukf') ukf(run, kept, invoke, at, Q);
-    else particleFilter(run, kept, invoke, at, Q);
+    const alphas = copy(vector(4)(invoke('learn_alphas', [copy(run.commanded), copy(run.implied)]),
+      'alphas'));
+    put(kept, 'alphas', alphas);
+    const noise = { Q, alphas };
+    if (run.filter === 'ukf') ukf(run, kept, invoke, at, noise);
+    else particleFilter(run, kept, invoke, at, noise);
   }
 
   return mrclamLoop;

@@ -12,7 +12,8 @@
 % called in two ways. The test harness calls each one on generated cases and
 % compares what it returns with the reference model (to about 1e-9). The
 % filter loop, which is given, strings them into two filters along generated
-% robots, after learning the camera's noise Q = measurement_noise(residuals):
+% robots, after learning the camera's noise Q = measurement_noise(residuals)
+% and the control noise's alphas = learn_alphas(commanded, implied):
 %   the UKF, at every step
 %     R = process_noise(mu, u, dt, alphas)
 %     {mu_bar, sigma_bar} = ukf_predict(mu, sigma, u, dt, R)
@@ -183,4 +184,20 @@ end
 % outer product, Q = sum r_k r_k^T / K. Returns Q, 2 x 2.
 function Q = measurement_noise(residuals)
   error('measurement_noise: not implemented');
+end
+
+% ---- The control noise, learned ----
+%   commanded  K commands [v, omega], K x 2
+%   implied    beside each, the [v, omega] the ground truth shows the robot
+%              drove, K x 2
+% For a zero-mean normal error of standard deviation sd, the mean of |e| is
+% sd sqrt(2/pi). So fit, by least squares over the K rows,
+%   sqrt(pi/2) |v_implied - v|         ~ a1 |v| + a2 |omega|
+%   sqrt(pi/2) |omega_implied - omega| ~ a3 |v| + a4 |omega|
+% each alpha 0 or more: where a fit's free solution has a negative
+% coefficient (or the normal equations have none), fit each of its two terms
+% alone, its coefficient clamped at 0, and keep the one whose squared error
+% is smaller (the first where they tie). Returns [a1, a2, a3, a4].
+function alphas = learn_alphas(commanded, implied)
+  error('learn_alphas: not implemented');
 end

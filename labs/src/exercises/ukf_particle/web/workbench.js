@@ -100,7 +100,8 @@ function runNote({ phase, particle }) {
     : 'a UKF, the gate at chi2inv(0.999, 2)';
   return [
     `Grading strings your functions into ${what}, over this run: ${steps} steps of ${fmt(phase.dt)} s of a generated robot, ` +
-      `the camera's noise learned first from ${phase.residuals.length} residuals; your belief must follow the reference ` +
+      `the camera's noise learned first from ${phase.residuals.length} residuals and the alphas from ${phase.commanded.length} ` +
+      'commands; your belief must follow the reference ' +
       'filter\'s at the start and after every step. Run the three filters on the real robots of MRCLAM, and tune them, on ',
     link('/mrclam', 'the EKF, UKF and particle filter page'), '.',
   ];
