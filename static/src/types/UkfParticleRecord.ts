@@ -4,7 +4,7 @@
  * What the loop records of a run: the noise it learned, and the belief at the start and
  * after every step.
  */
-export type UkfParticleRecord = { Q: [[number, number], [number, number]] | null, poses: Array<[number, number, number]>, 
+export type UkfParticleRecord = { Q: [[number, number], [number, number]] | null, alphas: [number, number, number, number] | null, poses: Array<[number, number, number]>, 
 /**
  * Sigma, as an array of rows.
  */

@@ -4,8 +4,8 @@ import type { UkfParticleStep } from "./UkfParticleStep";
 
 /**
  * One run of the loop with the student's functions. The loop first learns the camera's
- * noise, `Q = measurement_noise(residuals)`, then from the start, at every step after the
- * first:
+ * noise, `Q = measurement_noise(residuals)`, and the control noise's, `alphas =
+ * learn_alphas(commanded, implied)`, then from the start, at every step after the first:
  *
  * the UKF: R = process_noise(mu, u, dt, alphas); {mu_bar, sigma_bar} =
  * ukf_predict(mu, sigma, u, dt, R); for each reading, {mu, sigma, d2} = ukf_update(...,
@@ -23,7 +23,12 @@ export type UkfParticleRun = { filter: UkfParticleFilter,
 /**
  * The length of a step, seconds.
  */
-dt: number, alphas: [number, number, number, number], 
+dt: number, 
+/**
+ * The commands over the run's span on the data's 50 Hz grid, [v, omega] each, and
+ * beside each the motion the ground truth implies.
+ */
+commanded: Array<[number, number]>, implied: Array<[number, number]>, 
 /**
  * The camera's residuals against the ground truth, [range, bearing] each.
  */
