@@ -324,8 +324,9 @@ test('on a phone the /ekf map uses the screen\'s height, not a thin strip', boun
       // A plot out of view draws only once it is seen again: where the new width leaves
       // the map, look at it (as the reader would), then wait for the drawing, not a time.
       await page.locator('figure[data-name="map"]').scrollIntoViewIfNeeded();
+      // (A function, not a string: the page's CSP refuses a string evaluated as code.)
       const xAxisName = () => document.querySelector('figure[data-name="map"] .chart').plot.chart.getOption().xAxis[0].name;
-      await page.waitForFunction(`(${xAxisName})() === 'x (m)'`);
+      await page.waitForFunction((name) => document.querySelector('figure[data-name="map"] .chart').plot.chart.getOption().xAxis[0].name === name, 'x (m)');
       assert.equal(await page.evaluate(xAxisName), 'x (m)');
     } else {
       assert.equal(await page.locator('#map-turned').isVisible(), false);
