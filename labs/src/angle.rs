@@ -3,6 +3,7 @@
 use std::f64::consts::{PI, TAU};
 
 /// Wraps an angle to [-pi, pi).
+#[inline]
 pub fn wrap(angle: f64) -> f64 {
     if (-PI..PI).contains(&angle) {
         return angle;
@@ -17,6 +18,7 @@ pub fn wrap(angle: f64) -> f64 {
 }
 
 /// The difference `a - b` of two angles, wrapped: how far apart two headings are.
+#[inline]
 pub fn difference(a: f64, b: f64) -> f64 {
     wrap(a - b)
 }

@@ -64,7 +64,7 @@ impl Rng {
     /// `standard_normal`, for the particle filter's thousands of draws a step. Its rare
     /// draws from the tails take a logarithm or an exponential, which natively and in
     /// WebAssembly may round apart in the last bit.
-    #[inline]
+    #[inline(always)]
     pub fn ziggurat_normal(&mut self) -> f64 {
         rand_distr::Distribution::sample(&rand_distr::StandardNormal, &mut self.state)
     }

@@ -24,6 +24,7 @@ pub trait Draws {
 }
 
 impl Draws for Rng {
+    #[inline(always)]
     fn normal(&mut self) -> f64 {
         self.ziggurat_normal()
     }
@@ -147,8 +148,10 @@ pub fn needs_resampling(weights: &[f64], below: f64) -> bool {
 
 /// `particle` moved for `dt` under the control `u` plus noise: (v + sd_v n_v,
 /// omega + sd_omega n_omega), with the noise's standard deviations `sd` and the standard
-/// normal draws `normals`.
-#[inline]
+/// normal draws `normals`. (Its distance and turn are taken as v dt + sd_v dt n_v and
+/// omega dt + sd_omega dt n_omega, whose products by dt the filter's loop makes once a
+/// step.)
+#[inline(always)]
 pub fn moved(
     particle: &Particle,
     u: Control,
@@ -156,11 +159,9 @@ pub fn moved(
     [n_v, n_omega]: [f64; 2],
     dt: f64,
 ) -> Particle {
-    let drawn = Control {
-        v: u.v + sd_v * n_v,
-        omega: u.omega + sd_omega * n_omega,
-    };
-    let (pose, heading) = motion::advance(&particle.pose, particle.heading, drawn, dt);
+    let distance = u.v * dt + sd_v * dt * n_v;
+    let delta = u.omega * dt + sd_omega * dt * n_omega;
+    let (pose, heading) = motion::advance(&particle.pose, particle.heading, distance, delta);
     Particle { pose, heading }
 }
 
