@@ -36,6 +36,9 @@ pub struct Declaration {
     pub harness_loop: &'static str,
     /// Where the lab's MATLAB functions differ from the contract.
     pub matlab: MatlabConventions,
+    /// The written questions an assignment of the exercise starts with, each set a TOML
+    /// file of `questions/` (the server's `courses::questions` reads them), in order.
+    pub questions: &'static [&'static str],
 }
 
 /// An exercise's starter file in each language.

@@ -158,7 +158,7 @@ fn room(params: &DatasetParams) -> Result<World, Error> {
     let mut codes: Vec<u32> = (10..100).collect();
     let barcodes = subjects
         .map(|subject| {
-            let pick = (rng.uniform() * codes.len() as f64) as usize;
+            let pick = rng.index(codes.len());
             Barcode {
                 subject,
                 barcode: codes.swap_remove(pick),

@@ -8,6 +8,8 @@ pub mod codes;
 pub mod deadline;
 pub mod export;
 pub mod ids;
+pub mod questions;
+pub mod review;
 pub mod roster;
 pub mod setup;
 

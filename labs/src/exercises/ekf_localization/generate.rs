@@ -197,10 +197,6 @@ fn put_behind(rng: &mut Rng, m: &mut TwoRows, j: usize, x: &Vec3) {
     m[1][j] = x[1] + distance * libm::sin(direction);
 }
 
-fn index(rng: &mut Rng, n: usize) -> usize {
-    ((rng.uniform() * n as f64) as usize).min(n - 1)
-}
-
 // ---- one builder per function ----
 
 enum Motion {
@@ -212,7 +208,7 @@ enum Motion {
 }
 
 fn odometry(rng: &mut Rng, motion: Motion) -> Call {
-    let e_t = [512.0, 1024.0, 2048.0, 4096.0][index(rng, 4)];
+    let e_t = [512.0, 1024.0, 2048.0, 4096.0][rng.index(4)];
     let r = rng.uniform_in(0.05, 0.3);
     let (r_r, r_l) = match motion {
         Motion::UnequalWheels => (r, r * rng.uniform_in(0.8, 0.95)),
@@ -290,7 +286,7 @@ fn observation(rng: &mut Rng, sight: Sight, jacobian: bool) -> Call {
     let j = match sight {
         Sight::First => 0,
         Sight::Last => n - 1,
-        Sight::Anywhere | Sight::Behind => index(rng, n),
+        Sight::Anywhere | Sight::Behind => rng.index(n),
     };
     if matches!(sight, Sight::Behind) {
         // Behind, and where atan2(dy, dx) - theta itself lies outside [-pi, pi), so that
@@ -487,12 +483,12 @@ impl Scene {
 
 /// A threshold Lambda_M of the lab's kind, chi2inv(delta_M, 2).
 fn lab_threshold(rng: &mut Rng) -> f64 {
-    ekf::lambda_m([0.95, 0.99, 0.999][index(rng, 3)])
+    ekf::lambda_m([0.95, 0.99, 0.999][rng.index(3)])
 }
 
 fn association(rng: &mut Rng, kind: Reading) -> Call {
     let mut s = scene(rng);
-    let j = index(rng, s.m[0].len());
+    let j = rng.index(s.m[0].len());
     if kind == Reading::BehindJustInside {
         put_behind(rng, &mut s.m, j, &s.mu_bar);
     }
@@ -514,7 +510,7 @@ fn good_reading(rng: &mut Rng) -> Call {
     loop {
         let s = scene(rng);
         let last = s.m[0].len() - 1;
-        let j = 1 + index(rng, last - 1);
+        let j = 1 + rng.index(last - 1);
         let z_i = s.reading(rng, j);
         let lambda_m = lab_threshold(rng);
         let a = s.associate(z_i, lambda_m);
@@ -607,15 +603,15 @@ fn threshold_boundary() -> Call {
 fn batch_association(rng: &mut Rng, no_rejection: bool) -> Call {
     let mut s = scene(rng);
     let n_landmarks = s.m[0].len();
-    let behind = index(rng, n_landmarks);
+    let behind = rng.index(n_landmarks);
     put_behind(rng, &mut s.m, behind, &s.mu_bar);
-    let n = 3 + index(rng, 6);
+    let n = 3 + rng.index(6);
     let mut z: TwoRows = [Vec::with_capacity(n), Vec::with_capacity(n)];
     // The first two readings, where the scene has them, are ones a wrong association
     // rule gets wrong; every third reading is an outlier.
     let rivals = [Rival::NearestMahalanobis, Rival::NearestInnovation];
     for k in 0..n {
-        let j = index(rng, n_landmarks);
+        let j = rng.index(n_landmarks);
         let mut reading = s.reading(rng, j);
         if k % 3 == 2 {
             reading = s.stretched(reading, rng.uniform_in(30.0, 400.0));
@@ -641,7 +637,7 @@ fn batch_association(rng: &mut Rng, no_rejection: bool) -> Call {
 
 fn single_update(rng: &mut Rng) -> Call {
     let s = scene(rng);
-    let j = index(rng, s.m[0].len());
+    let j = rng.index(s.m[0].len());
     let z = s.reading(rng, j);
     let cand = ekf::associate(
         &s.belief(),
@@ -662,13 +658,13 @@ fn single_update(rng: &mut Rng) -> Call {
 
 fn stacked_update(rng: &mut Rng) -> Call {
     let s = scene(rng);
-    let n = 1 + index(rng, 6);
+    let n = 1 + rng.index(6);
     let belief = s.belief();
     let map = contract_map(&s.m);
     let mut h_bar = Vec::with_capacity(2 * n);
     let mut nu_bar = Vec::with_capacity(2 * n);
     for _ in 0..n {
-        let j = index(rng, s.m[0].len());
+        let j = rng.index(s.m[0].len());
         let z = s.reading(rng, j);
         let m = ekf::most_likely(
             &belief,

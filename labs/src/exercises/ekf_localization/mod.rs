@@ -86,6 +86,10 @@ impl Graded for EkfLocalization {
             ],
             trailing: &[("jacobian_observation_model", 1.0)],
         },
+        questions: &[
+            include_str!("questions/part-1.toml"),
+            include_str!("questions/part-2.toml"),
+        ],
     };
     type Call = Call;
     type Plan = Plan;

@@ -461,7 +461,7 @@ fn weights(rng: &mut Rng, spread: Spread) -> Vec<f64> {
         Spread::Uneven => uneven(rng, n),
         Spread::OneHeavy => {
             let mut w: Vec<f64> = (0..n).map(|_| rng.uniform_in(0.01, 0.05)).collect();
-            w[(rng.uniform() * n as f64) as usize] = 1.0;
+            w[rng.index(n)] = 1.0;
             normalised(w)
         }
         Spread::JustAbove | Spread::JustBelow => {
@@ -471,7 +471,7 @@ fn weights(rng: &mut Rng, spread: Spread) -> Vec<f64> {
             };
             let mut w = weights_with_size(n, share * n as f64);
             // Shuffled, so that the heavy one is not always first.
-            let heavy = (rng.uniform() * n as f64) as usize;
+            let heavy = rng.index(n);
             w.swap(0, heavy);
             w
         }
