@@ -120,6 +120,15 @@ const MATRIX: &[(&str, &str, [u16; 9])] = &[
     // The languages an assignment takes, for the course's staff, alike.
     ("POST", "/api/courses/el2320/labs/ekf-localization/languages",        [404, 404, 404, 400, 400, 404, 400, 401, 401]),
     ("POST", "/api/courses/other/labs/ekf-localization/languages",         [404, 404, 404, 404, 404, 400, 404, 401, 401]),
+    // The written questions: the course's students (without what answers are checked
+    // against) and staff (in full); other sets from its instructors, answers from its
+    // students only; sent without a body, they get the 400 of a body checked after who asks.
+    ("GET",  "/api/courses/el2320/labs/ekf-localization/questions",        [404, 200, 200, 200, 200, 404, 200, 401, 401]),
+    ("GET",  "/api/courses/other/labs/ekf-localization/questions",         [404, 404, 404, 404, 404, 200, 404, 401, 401]),
+    ("POST", "/api/courses/el2320/labs/ekf-localization/questions",        [404, 404, 404, 403, 400, 404, 400, 401, 401]),
+    ("POST", "/api/courses/other/labs/ekf-localization/questions",         [404, 404, 404, 404, 404, 400, 404, 401, 401]),
+    ("POST", "/api/courses/el2320/labs/ekf-localization/answers",          [404, 400, 400, 403, 403, 404, 403, 401, 401]),
+    ("POST", "/api/courses/other/labs/ekf-localization/answers",           [404, 404, 404, 404, 404, 403, 404, 401, 401]),
     ("POST", "/api/courses/el2320/regrades",   [404, 404, 404, 202, 202, 404, 202, 401, 401]),
     ("GET",  "/api/courses/el2320/regrades/1", [404, 404, 404, 200, 200, 404, 200, 401, 401]),
     ("POST", "/api/courses/el2320/extensions", [404, 404, 404, 200, 200, 404, 200, 401, 401]),

@@ -671,3 +671,100 @@ fn a_backup_taken_while_the_database_is_in_use_restores_every_submission() {
         );
     }
 }
+
+#[test]
+fn questions_are_imported_from_files_each_problem_naming_its_file_and_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("data");
+    ok(
+        &data,
+        &[
+            "course",
+            "create",
+            "el2320",
+            "--title",
+            "Applied Estimation",
+        ],
+    );
+    ok(
+        &data,
+        &[
+            "course",
+            "assign",
+            "el2320",
+            "ekf-localization",
+            "--due",
+            "2026-12-15T23:59+01:00",
+        ],
+    );
+    let good = dir.path().join("part-1.toml");
+    std::fs::write(
+        &good,
+        "title = \"Part I\"\n\n[[question]]\nkind = \"text\"\nprompt = \"Why?\"\n",
+    )
+    .unwrap();
+    let bad = dir.path().join("part-2.toml");
+    std::fs::write(
+        &bad,
+        "title = \"Part II\"\n\n[[question]]\nkind = \"choice\"\nprompt = \"Which?\"\noptions = [\"a\"]\n",
+    )
+    .unwrap();
+    let [good_path, bad_path] = [&good, &bad].map(|p| p.to_str().unwrap());
+    let error = refused(
+        &data,
+        &[
+            "course",
+            "questions",
+            "el2320",
+            "ekf-localization",
+            good_path,
+            bad_path,
+        ],
+    );
+    assert!(
+        error.contains(&format!(
+            "{bad_path}: line 3: question 1: options: 1 given; give 2 to 30"
+        )),
+        "{error}"
+    );
+    let store = || Store::open(&data).unwrap();
+    assert_eq!(
+        store()
+            .questions("el2320", labs::Exercise::EkfLocalization)
+            .unwrap(),
+        None
+    );
+    let done = ok(
+        &data,
+        &[
+            "course",
+            "questions",
+            "el2320",
+            "ekf-localization",
+            good_path,
+        ],
+    );
+    assert_eq!(
+        done.trim(),
+        "ekf-localization in el2320 has 1 written questions."
+    );
+    assert_eq!(
+        store()
+            .questions("el2320", labs::Exercise::EkfLocalization)
+            .unwrap(),
+        Some(vec![std::fs::read_to_string(&good).unwrap()])
+    );
+    let own = ok(
+        &data,
+        &["course", "questions", "el2320", "ekf-localization", "--own"],
+    );
+    assert_eq!(
+        own.trim(),
+        "ekf-localization in el2320 has 26 written questions, the exercise's own."
+    );
+    let error = refused(
+        &data,
+        &["course", "questions", "el2320", "odometry", "--own"],
+    );
+    assert!(error.contains("el2320 has not opened odometry"), "{error}");
+}

@@ -134,6 +134,12 @@ const OBJECTS: &[Row] = &[
     // So does the choice of its languages.
     row("POST", "/api/courses/{course}/labs/{lab}/languages", "/api/courses/{course}/labs/{lab}/languages")
         .body(r#"{"languages": ["javascript", "python"]}"#),
+    // The written questions name no object but the course's exercise; staff answer none.
+    row("GET", "/api/courses/{course}/labs/{lab}/questions", "/api/courses/{course}/labs/{lab}/questions"),
+    row("POST", "/api/courses/{course}/labs/{lab}/questions", "/api/courses/{course}/labs/{lab}/questions")
+        .body(r#"{"sets": null}"#).instructors(),
+    row("POST", "/api/courses/{course}/labs/{lab}/answers", "/api/courses/{course}/labs/{lab}/answers")
+        .body(r#"{"part": 0, "question": "roles", "answer": {"kind": "text", "value": "a state"}}"#).own(403),
     // A student, by id: the other course's is no student of this one; one on both
     // rosters is this course's member, with this course's submissions only.
     row("GET", STUDENT, STUDENT).other(404),

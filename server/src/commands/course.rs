@@ -5,6 +5,7 @@ use super::{file_name, print, read};
 use crate::courses::check_course_name;
 use crate::courses::deadline::{Counts, Policy, parse_moment, parse_penalty};
 use crate::courses::export::Format;
+use crate::courses::questions;
 use crate::courses::setup::{self, Setup};
 use crate::error::Error;
 use crate::store::{Member, Role, Store};
@@ -88,6 +89,19 @@ enum Command {
         /// Which submission's score counts.
         #[arg(long, value_enum, default_value_t = Counts::Best)]
         counts: Counts,
+    },
+    /// Give an exercise's assignment its written questions: question sets in TOML, in
+    /// order (see DESIGN.md, "The written hand-in"), or with --own the exercise's own.
+    Questions {
+        course: String,
+        #[arg(value_parser = Exercise::from_str)]
+        lab: Exercise,
+        /// The sets, one TOML file each.
+        #[arg(required_unless_present = "own", conflicts_with = "own")]
+        files: Vec<PathBuf>,
+        /// The exercise's own sets again.
+        #[arg(long)]
+        own: bool,
     },
     /// Print an API token for scripts (shown once, stored hashed), or revoke one.
     Token {
@@ -245,6 +259,32 @@ pub fn run(args: &Args) -> Result<(), Error> {
                 policy.cutoff,
                 late_penalty * 100.0,
                 counts.as_str()
+            ))
+        }
+        Command::Questions {
+            course,
+            lab,
+            files,
+            own,
+        } => {
+            store.course(course)?;
+            let texts = if *own {
+                None
+            } else {
+                let mut texts = Vec::with_capacity(files.len());
+                for file in files {
+                    let text = read(file)?;
+                    // Read here first, so that a problem names its file.
+                    questions::read(&text)
+                        .map_err(|e| Error::Invalid(format!("{}: {e}", file.display())))?;
+                    texts.push(text);
+                }
+                Some(texts)
+            };
+            let count = setup(course).set_questions(*lab, texts)?;
+            print(&format!(
+                "{lab} in {course} has {count} written questions{}.",
+                if *own { ", the exercise's own" } else { "" }
             ))
         }
         Command::Token {

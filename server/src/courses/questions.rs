@@ -22,6 +22,8 @@
 //!
 //! A problem in a file names its line and the question's number and field.
 
+use crate::store::{self, Store};
+use labs::Exercise;
 use serde::Deserialize;
 use std::collections::HashSet;
 use toml::Spanned;
@@ -319,7 +321,7 @@ fn checked_items(
     let items = items.ok_or_else(|| format!("{name} is missing"))?;
     if !(least..=MAX_ITEMS).contains(&items.len()) {
         return Err(format!(
-            "{name} has {} items: give {least} to {MAX_ITEMS}",
+            "{name}: {} given; give {least} to {MAX_ITEMS}",
             items.len()
         ));
     }
@@ -328,6 +330,69 @@ fn checked_items(
         .enumerate()
         .map(|(i, item)| checked_text(&format!("{name}[{}]", i + 1), item, true))
         .collect()
+}
+
+/// The question sets of an assignment: those its instructors gave it, or the exercise's
+/// own.
+pub fn of_assignment(
+    store: &Store,
+    course: &str,
+    lab: Exercise,
+) -> Result<Vec<QuestionSet>, store::Error> {
+    let texts = match store.questions(course, lab)? {
+        Some(stored) => stored,
+        None => own(lab),
+    };
+    read_all(&texts).map_err(|e| store::Error::Conflict(format!("the questions of {lab}: {e}")))
+}
+
+/// The exercise's own question sets (in its folder's `questions/`), as TOML.
+pub fn own(lab: Exercise) -> Vec<String> {
+    lab.declaration()
+        .questions
+        .iter()
+        .map(|&t| t.to_owned())
+        .collect()
+}
+
+/// Reads the sets `texts`, in order; a problem names the set (from 1) as well.
+pub fn read_all(texts: &[String]) -> Result<Vec<QuestionSet>, String> {
+    texts
+        .iter()
+        .enumerate()
+        .map(|(i, text)| read(text).map_err(|e| format!("set {}: {e}", i + 1)))
+        .collect()
+}
+
+impl QuestionSet {
+    /// The set as a student sees it before the review: the answers it checks against and
+    /// the model answers left out.
+    pub fn for_students(&self) -> QuestionSet {
+        let questions = self
+            .questions
+            .iter()
+            .map(|q| Question {
+                kind: match &q.kind {
+                    Kind::Number { unit, .. } => Kind::Number {
+                        answer: None,
+                        tolerance: 0.0,
+                        unit: unit.clone(),
+                    },
+                    Kind::Choice { options, .. } => Kind::Choice {
+                        options: options.clone(),
+                        correct: None,
+                    },
+                    other => other.clone(),
+                },
+                model: String::new(),
+                ..q.clone()
+            })
+            .collect();
+        QuestionSet {
+            questions,
+            ..self.clone()
+        }
+    }
 }
 
 impl Question {
@@ -550,7 +615,7 @@ columns = ["dimension"]
             ),
             (
                 "title = \"t\"\n[[question]]\nkind = \"table\"\nprompt = \"p\"\nrows = []\ncolumns = [\"c\"]\n",
-                "rows has 0 items",
+                "rows: 0 given; give 1 to 30",
             ),
             ("title = \"t\n", "line 1"),
         ];

@@ -8,6 +8,7 @@ use super::codes::{self, NewCode};
 use super::deadline::Policy;
 use super::export::inert;
 use super::ids;
+use super::questions;
 use super::roster;
 use crate::store::{self, Member, NewMember, Role, RosterChange, Store};
 use jiff::{SignedDuration, Timestamp};
@@ -260,6 +261,44 @@ impl Setup<'_> {
                 policy.counts.as_str()
             ),
         )
+    }
+
+    /// Gives an exercise's assignment the question sets `texts` (TOML, in order; `None`:
+    /// the exercise's own), each read and checked first; how many questions it then has.
+    pub fn set_questions(
+        &self,
+        exercise: Exercise,
+        texts: Option<Vec<String>>,
+    ) -> Result<usize, Error> {
+        let sets = match &texts {
+            Some(texts) => questions::read_all(texts),
+            None => questions::read_all(&questions::own(exercise)),
+        }
+        .map_err(Error::Invalid)?;
+        if !self
+            .store
+            .set_questions(self.course, exercise, texts.as_deref())?
+        {
+            return Err(Error::Invalid(format!(
+                "{} has not opened {exercise}: open it first",
+                self.course
+            )));
+        }
+        let count = sets.iter().map(|s| s.questions.len()).sum();
+        let titles: Vec<&str> = sets.iter().map(|s| s.title.as_str()).collect();
+        self.audit(
+            "questions",
+            &format!(
+                "{exercise}: {} ({count} questions{})",
+                inert(&titles.join("; ")),
+                if texts.is_none() {
+                    ", the exercise's own"
+                } else {
+                    ""
+                }
+            ),
+        )?;
+        Ok(count)
     }
 
     /// A new API token of a staff role: its id and the token, shown this once.

@@ -5,6 +5,7 @@
 //! never on the async executor.
 
 mod access;
+mod answers;
 mod courses;
 mod regrades;
 mod schema;
@@ -12,6 +13,7 @@ mod staff;
 mod submissions;
 
 pub use access::{CodeCheck, FoundCode, TokenInfo};
+pub use answers::SavedAnswer;
 pub use courses::{Assignment, Course, Member, NewMember, Role, RosterChange};
 pub use regrades::{Change, EarlierResult, Regrade, Scope};
 pub use staff::{
@@ -48,6 +50,8 @@ pub enum Error {
     Sql(#[from] rusqlite::Error),
     #[error("a stored result is unreadable: {0}")]
     StoredResult(serde_json::Error),
+    #[error("a stored answer or question set is unreadable: {0}")]
+    StoredAnswer(serde_json::Error),
     #[error("the server's secret {}: {source}", path.display())]
     Secret {
         path: PathBuf,
@@ -92,6 +96,7 @@ impl Error {
             | Error::Database { .. }
             | Error::Sql(_)
             | Error::StoredResult(_)
+            | Error::StoredAnswer(_)
             | Error::Secret { .. }
             | Error::Task(_) => Kind::Failure,
         }

@@ -174,6 +174,19 @@ const MIGRATIONS: &[&str] = &[
     // 8: the languages an assignment takes (names, comma-separated); none: every language
     // the server grades, those of later releases too.
     "ALTER TABLE assignments ADD COLUMN languages TEXT;",
+    // 9: the written hand-in. An assignment's question sets (`questions`: their TOML as a
+    // JSON array, in order; none: the exercise's own sets) and each student's answers,
+    // the latest to each question, by the set's place and the question's id.
+    "ALTER TABLE assignments ADD COLUMN questions TEXT;
+    CREATE TABLE answers (
+        member INTEGER NOT NULL REFERENCES members (id),
+        lab TEXT NOT NULL,
+        part INTEGER NOT NULL,
+        question TEXT NOT NULL,
+        answer TEXT NOT NULL,
+        saved_at INTEGER NOT NULL,
+        PRIMARY KEY (member, lab, part, question)
+    );",
 ];
 
 /// Brings the schema up to the newest version, one migration per transaction.

@@ -3,6 +3,7 @@
 //! it serves (see `viewer`); changes are taken from estlab's own pages only (`origin`).
 
 mod address;
+mod answers;
 mod api;
 mod assets;
 pub mod connections;
@@ -136,6 +137,14 @@ pub fn router(state: Arc<AppState>) -> Router {
             get(api::course_submissions),
         )
         .route("/api/courses/{course}/labs/{lab}/class", get(staff::class))
+        .route(
+            "/api/courses/{course}/labs/{lab}/questions",
+            get(answers::questions).post(answers::import),
+        )
+        .route(
+            "/api/courses/{course}/labs/{lab}/answers",
+            post(answers::save),
+        )
         .route(
             "/api/courses/{course}/labs/{lab}/ranking",
             post(staff::set_ranking),

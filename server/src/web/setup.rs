@@ -33,7 +33,7 @@ impl From<setup::Error> for Error {
 }
 
 /// Runs one instructor's change to `course` on the database, off the async executor.
-async fn change<T: Send + 'static>(
+pub(super) async fn change<T: Send + 'static>(
     state: &AppState,
     viewer: &Viewer,
     course: String,

@@ -1,0 +1,204 @@
+//! The written part of an assignment: its question sets, for its students to answer (the
+//! answers they are checked against and the model answers left out) and for its staff
+//! in full; the students' answers, saved as they type until their cutoff; and the
+//! instructors' import of other sets.
+//!
+//! - `GET /api/courses/{course}/labs/{lab}/questions`
+//! - `POST /api/courses/{course}/labs/{lab}/questions` (instructors)
+//! - `POST /api/courses/{course}/labs/{lab}/answers` (students)
+//!
+//! Anyone outside the course gets the 404 of a course that does not exist.
+
+use super::extract::Body;
+use super::setup::change;
+use super::viewer::Viewer;
+use super::{AppState, Error, blocking};
+use crate::courses::questions::{self, Answer, QuestionSet};
+use crate::store::SavedAnswer;
+use axum::Json;
+use axum::extract::{Path, State};
+use axum::response::{IntoResponse, Response};
+use jiff::Timestamp;
+use labs::Exercise;
+use serde::{Deserialize, Serialize};
+use std::sync::Arc;
+use ts_rs::TS;
+
+fn known_lab(lab: &str) -> Result<Exercise, Error> {
+    lab.parse()
+        .map_err(|unknown: labs::UnknownExercise| Error::NotFound(unknown.to_string()))
+}
+
+/// What `GET .../questions` answers.
+#[derive(Serialize, TS)]
+pub struct Written {
+    pub lab: Exercise,
+    /// Whether the sets are the exercise's own (none imported).
+    pub own: bool,
+    /// For staff in full; for a student without what they are checked against.
+    pub sets: Vec<QuestionSet>,
+    /// The student's answers (none for staff).
+    pub answers: Vec<SavedAnswer>,
+    /// The last moment a student's answers are taken (their cutoff, extensions counted);
+    /// none for staff.
+    #[ts(as = "Option<String>")]
+    pub cutoff: Option<Timestamp>,
+}
+
+pub async fn questions(
+    State(state): State<Arc<AppState>>,
+    viewer: Viewer,
+    Path((course, lab)): Path<(String, String)>,
+) -> Result<Response, Error> {
+    let exercise = known_lab(&lab)?;
+    let staff = viewer.is_staff_of(&course);
+    let student = match viewer.member() {
+        Some(member) if !staff && member.course == course => Some(member.id),
+        _ if staff => None,
+        _ => return Err(Error::NotFound(format!("there is no course {course:?}"))),
+    };
+    let written = blocking(&state, move |store| {
+        if store.assignment(&course, exercise)?.is_none() {
+            return Ok(None);
+        }
+        let own = store.questions(&course, exercise)?.is_none();
+        let sets = questions::of_assignment(store, &course, exercise)?;
+        Ok(Some(match student {
+            None => Written {
+                lab: exercise,
+                own,
+                sets,
+                answers: Vec::new(),
+                cutoff: None,
+            },
+            Some(member) => Written {
+                lab: exercise,
+                own,
+                sets: sets.iter().map(QuestionSet::for_students).collect(),
+                answers: store.answers(member, exercise)?,
+                cutoff: store
+                    .policy_for(&course, exercise, member)?
+                    .map(|p| p.cutoff),
+            },
+        }))
+    })
+    .await?
+    .ok_or_else(|| Error::NotFound("the course has not opened this exercise".into()))?;
+    Ok(Json(written).into_response())
+}
+
+/// The body of `POST .../answers`: one answer.
+#[derive(Deserialize, TS)]
+#[serde(deny_unknown_fields)]
+pub struct AnswerRequest {
+    /// The set's place in the assignment, from 0.
+    #[ts(type = "number")]
+    pub part: usize,
+    /// The question's id.
+    pub question: String,
+    pub answer: Answer,
+}
+
+/// `POST .../answers`: a student's answer to one question, kept as their latest until
+/// their cutoff.
+pub async fn save(
+    State(state): State<Arc<AppState>>,
+    viewer: Viewer,
+    Path((course, lab)): Path<(String, String)>,
+    body: Body,
+) -> Result<Response, Error> {
+    let exercise = known_lab(&lab)?;
+    let member = match viewer.member() {
+        Some(member) if member.course == course && !member.role.is_staff() => member.clone(),
+        _ if viewer.is_staff_of(&course) => {
+            return Err(Error::Forbidden(
+                "only the course's students answer its questions".into(),
+            ));
+        }
+        _ => return Err(Error::NotFound(format!("there is no course {course:?}"))),
+    };
+    let request: AnswerRequest = body.json(&viewer, "the answer").await?;
+    let now = state.clock.now();
+    let saved = blocking(&state, move |store| {
+        let Some(policy) = store.policy_for(&course, exercise, member.id)? else {
+            return Ok(Err(Error::NotFound(
+                "the course has not opened this exercise".into(),
+            )));
+        };
+        if now > policy.cutoff {
+            return Ok(Err(Error::Forbidden(format!(
+                "the cutoff of this exercise was {}: answers are no longer taken",
+                policy.cutoff.strftime("%Y-%m-%d %H:%M UTC")
+            ))));
+        }
+        let sets = questions::of_assignment(store, &course, exercise)?;
+        let Some(set) = sets.get(request.part) else {
+            return Ok(Err(Error::BadRequest(format!(
+                "field `part`: the assignment has {} question sets, counted from 0",
+                sets.len()
+            ))));
+        };
+        let Some(question) = set.questions.iter().find(|q| q.id == request.question) else {
+            return Ok(Err(Error::BadRequest(format!(
+                "field `question`: {:?} has no question {:?}",
+                set.title, request.question
+            ))));
+        };
+        if let Err(problem) = question.accepts(&request.answer) {
+            return Ok(Err(Error::BadRequest(format!("field `answer`: {problem}"))));
+        }
+        let place = (request.part, request.question.as_str());
+        store.save_answer(member.id, exercise, place, &request.answer, now)?;
+        Ok(Ok(SavedAnswer {
+            part: request.part,
+            question: request.question,
+            answer: request.answer,
+            saved_at: now,
+        }))
+    })
+    .await??;
+    Ok(Json(saved).into_response())
+}
+
+/// The body of `POST .../questions`: the sets, as TOML, or none for the exercise's own.
+#[derive(Deserialize, TS)]
+#[serde(deny_unknown_fields)]
+pub struct QuestionsRequest {
+    pub sets: Option<Vec<String>>,
+}
+
+/// `POST .../questions`: an instructor gives the assignment other question sets (each
+/// read and checked, a problem naming its set, line, question and field), or its
+/// exercise's own again; logged. Answers are kept by question id across such changes.
+pub async fn import(
+    State(state): State<Arc<AppState>>,
+    viewer: Viewer,
+    Path((course, lab)): Path<(String, String)>,
+    body: Body,
+) -> Result<Response, Error> {
+    viewer.instructor_of(&course)?;
+    let exercise = known_lab(&lab)?;
+    let request: QuestionsRequest = body.json(&viewer, "the question sets").await?;
+    let at = course.clone();
+    change(&state, &viewer, course, move |setup| {
+        setup.set_questions(exercise, request.sets)
+    })
+    .await
+    .map_err(|error| match error {
+        Error::BadRequest(problem) => Error::BadRequest(format!("field `sets`: {problem}")),
+        other => other,
+    })?;
+    let written = blocking(&state, move |store| {
+        let own = store.questions(&at, exercise)?.is_none();
+        let sets = questions::of_assignment(store, &at, exercise)?;
+        Ok(Written {
+            lab: exercise,
+            own,
+            sets,
+            answers: Vec::new(),
+            cutoff: None,
+        })
+    })
+    .await?;
+    Ok(Json(written).into_response())
+}
