@@ -120,6 +120,9 @@ const MATRIX: &[(&str, &str, [u16; 9])] = &[
     // The languages an assignment takes, for the course's staff, alike.
     ("POST", "/api/courses/el2320/labs/ekf-localization/languages",        [404, 404, 404, 400, 400, 404, 400, 401, 401]),
     ("POST", "/api/courses/other/labs/ekf-localization/languages",         [404, 404, 404, 404, 404, 400, 404, 401, 401]),
+    // The written questions' page, for the course's people; their API alike.
+    ("GET",  "/courses/el2320/ekf-localization/questions",                 [303, 200, 200, 200, 200, 404, 200, 401, 401]),
+    ("GET",  "/courses/other/ekf-localization/questions",                  [303, 404, 404, 404, 404, 200, 404, 401, 401]),
     // The written questions: the course's students (without what answers are checked
     // against) and staff (in full); other sets from its instructors, answers from its
     // students only; sent without a body, they get the 400 of a body checked after who asks.

@@ -67,3 +67,13 @@ declare var estlabHarness: {
    * arguments), where the engine's error does not say it. */
   defineSyntaxLocator(locate: (params: string[]) => number | null): void;
 };
+
+declare module 'markdown-it-texmath' {
+  /** The plugin: `markdown.use(texmath, { engine, delimiters, katexOptions })`. */
+  const texmath: import('markdown-it').PluginWithOptions<{
+    engine: unknown;
+    delimiters?: string | string[];
+    katexOptions?: Record<string, unknown>;
+  }>;
+  export default texmath;
+}

@@ -63,6 +63,7 @@ for (const [name, size] of [['phone', phone], ['laptop', laptop]]) {
       ['/ekf/code', student], ['/odometry/code', student], ['/fusion/code', student], ['/mrclam/code', student], ['/me', student],
       ['/me', teacher], [`/courses/${course}`, teacher], [`/courses/${course}/${LAB}`, teacher],
       [`/courses/${course}/${LAB}/students/${students[0].id}`, teacher],
+      [`/courses/${course}/${LAB}/questions`, student], [`/courses/${course}/${LAB}/questions`, teacher],
     ];
     const problems = [];
     for (const [path, cookie] of pages) {

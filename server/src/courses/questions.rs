@@ -680,6 +680,22 @@ columns = ["dimension"]
         );
     }
 
+    /// The example set in the README reads, and means what it says.
+    #[test]
+    fn the_readmes_example_reads() {
+        let readme = include_str!("../../../README.md");
+        let section = &readme[readme.find("### The written questions").unwrap()..];
+        let start = section.find("```toml\n").unwrap() + "```toml\n".len();
+        let example = &section[start..start + section[start..].find("```").unwrap()];
+        let set = read(example).unwrap();
+        assert_eq!(set.questions.len(), 3);
+        assert_eq!(set.questions[1].check(&Answer::Choice(1)), Some(true));
+        assert_eq!(
+            set.questions[0].check(&Answer::Number("13.81".into())),
+            Some(true)
+        );
+    }
+
     proptest! {
         /// A number typed as Rust prints it is read back, and checked against itself.
         #[test]

@@ -3,6 +3,7 @@
 //! in full; the students' answers, saved as they type until their cutoff; and the
 //! instructors' import of other sets.
 //!
+//! - `GET /courses/{course}/{lab}/questions`: the page students answer on (staff read it)
 //! - `GET /api/courses/{course}/labs/{lab}/questions`
 //! - `POST /api/courses/{course}/labs/{lab}/questions` (instructors)
 //! - `POST /api/courses/{course}/labs/{lab}/answers` (students)
@@ -10,14 +11,16 @@
 //! Anyone outside the course gets the 404 of a course that does not exist.
 
 use super::extract::Body;
+use super::pages::{Nav, html};
 use super::setup::change;
 use super::viewer::Viewer;
 use super::{AppState, Error, blocking};
 use crate::courses::questions::{self, Answer, QuestionSet};
 use crate::store::SavedAnswer;
+use askama::Template;
 use axum::Json;
 use axum::extract::{Path, State};
-use axum::response::{IntoResponse, Response};
+use axum::response::{IntoResponse, Redirect, Response};
 use jiff::Timestamp;
 use labs::Exercise;
 use serde::{Deserialize, Serialize};
@@ -33,6 +36,8 @@ fn known_lab(lab: &str) -> Result<Exercise, Error> {
 #[derive(Serialize, TS)]
 pub struct Written {
     pub lab: Exercise,
+    /// Whether staff read it (the sets in full, no answers of their own).
+    pub staff: bool,
     /// Whether the sets are the exercise's own (none imported).
     pub own: bool,
     /// For staff in full; for a student without what they are checked against.
@@ -66,6 +71,7 @@ pub async fn questions(
         Ok(Some(match student {
             None => Written {
                 lab: exercise,
+                staff: true,
                 own,
                 sets,
                 answers: Vec::new(),
@@ -73,6 +79,7 @@ pub async fn questions(
             },
             Some(member) => Written {
                 lab: exercise,
+                staff: false,
                 own,
                 sets: sets.iter().map(QuestionSet::for_students).collect(),
                 answers: store.answers(member, exercise)?,
@@ -193,6 +200,7 @@ pub async fn import(
         let sets = questions::of_assignment(store, &at, exercise)?;
         Ok(Written {
             lab: exercise,
+            staff: true,
             own,
             sets,
             answers: Vec::new(),
@@ -201,4 +209,43 @@ pub async fn import(
     })
     .await?;
     Ok(Json(written).into_response())
+}
+
+#[derive(Template)]
+#[template(path = "questions.html")]
+struct QuestionsPage<'a> {
+    page: &'a str,
+    assets: super::assets::PageAssets<'a>,
+    nav: Nav,
+    course: String,
+    lab: Exercise,
+    title: &'static str,
+}
+
+/// `GET /courses/{course}/{lab}/questions`: the page of the written questions, for the
+/// course's people (a student answers there; staff read the sets in full); anyone
+/// signed out is sent to sign in, anyone else gets the 404 of a course that does not
+/// exist.
+pub async fn page(
+    State(state): State<Arc<AppState>>,
+    viewer: Viewer,
+    Path((course, lab)): Path<(String, String)>,
+) -> Result<Response, Error> {
+    if matches!(viewer, Viewer::Anonymous) {
+        return Ok(Redirect::to("/signin").into_response());
+    }
+    let of_course =
+        viewer.is_staff_of(&course) || viewer.member().is_some_and(|m| m.course == course);
+    if !of_course {
+        return Err(Error::NotFound(format!("there is no course {course:?}")));
+    }
+    let exercise = known_lab(&lab)?;
+    html(&QuestionsPage {
+        page: "questions",
+        assets: state.assets.page("questions"),
+        nav: Nav::of(&state, &viewer).await?,
+        course,
+        lab: exercise,
+        title: exercise.declaration().title,
+    })
 }

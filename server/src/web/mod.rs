@@ -96,6 +96,7 @@ fn page_route(page: &Page) -> MethodRouter<Arc<AppState>> {
         "course" => get(setup::page),
         "dashboard" => get(staff::page),
         "dashboard-student" => get(staff::student_page),
+        "questions" => get(answers::page),
         name => panic!("static/pages.json: no handler serves the page {name:?}"),
     }
 }

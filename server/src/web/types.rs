@@ -4,7 +4,7 @@
 //! fails when the files there are not what the Rust types make; `ESTLAB_WRITE_TYPES=1
 //! cargo test -p estlab --lib browser_types` writes them anew.
 
-use super::{error, me, registry, setup, staff, submit};
+use super::{answers, error, me, registry, setup, staff, submit};
 use crate::store;
 use labs::Exercise;
 use labs::exercises::{Graded, Visit};
@@ -69,6 +69,10 @@ pub fn export(dir: &Path) -> Result<(), ExportError> {
     d.visit::<store::Granted>();
     d.visit::<store::Waived>();
     d.visit::<store::AuditEntry>();
+    // The written questions: the sets, the answers, what the page sends.
+    d.visit::<answers::Written>();
+    d.visit::<answers::AnswerRequest>();
+    d.visit::<answers::QuestionsRequest>();
     declared.error.map_or(Ok(()), Err)
 }
 

@@ -1,0 +1,29 @@
+// Markdown with math, as question sets and students' answers are written: markdown-it
+// without raw HTML (escaped, never run) and its links checked, and `$...$` and
+// `$$...$$` typeset by KaTeX through markdown-it-texmath.
+import katex from 'katex';
+import MarkdownIt from 'markdown-it';
+import texmath from 'markdown-it-texmath';
+
+const markdown = new MarkdownIt({ html: false, linkify: false, typographer: false })
+  .use(texmath, { engine: katex, delimiters: 'dollars', katexOptions: { throwOnError: false, trust: false } });
+
+/**
+ * `text` as HTML, safe to insert: raw HTML is escaped, and KaTeX builds the formulas.
+ *
+ * @param {string} text
+ * @returns {string}
+ */
+export function toHtml(text) {
+  return markdown.render(text);
+}
+
+/**
+ * Fills `node` with `text` rendered.
+ *
+ * @param {HTMLElement} node
+ * @param {string} text
+ */
+export function renderInto(node, text) {
+  node.innerHTML = toHtml(text);
+}

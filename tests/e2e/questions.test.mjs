@@ -1,0 +1,94 @@
+// The written questions in headless Chromium against the real server: a student finds
+// them from /me, answers in words with math (typeset as they type), a choice, a number and
+// a table, each saved a moment after they stop; the answers are there after a reload and
+// nothing of the answer keys reaches the student's page; staff read the sets with the
+// model answers and the keys, the fields read only; at a phone's size nothing spills over.
+import assert from 'node:assert/strict';
+import { after, before, test } from 'node:test';
+import {
+  bounded, estlab, launchBrowser, laptop, openIn, phone, setUpCourse, signedInContext, signIn, startServer,
+} from './harness.mjs';
+
+const LAB = 'ekf-localization';
+let server;
+let browser;
+before(async () => {
+  server = await startServer();
+  browser = await launchBrowser();
+}, bounded);
+after(async () => {
+  await browser?.close();
+  await server?.stop();
+}, bounded);
+
+/** Waits until the question `id` of set `part` says it is saved. */
+async function saved(page, part, id) {
+  await page.locator(`#q-${part}-${id} .saved`).filter({ hasText: /^Saved / }).waitFor({ timeout: 30_000 });
+}
+
+test('a student answers, the answers stay, staff read the keys', bounded, async () => {
+  const { students } = setUpCourse(server, { title: 'Written', prefix: 'w', count: 1, role: 'assistant' });
+  const student = await signIn(server, students[0].code);
+  const link = estlab('course', 'staff', 'el2320', 'teacher@example.org', '--role', 'instructor',
+    '--data', server.dataDir, '--url', server.url).trim().split('\n').pop();
+  const teacher = await signIn(server, link.split('#')[1]);
+
+  const context = await signedInContext(browser, server, student, laptop);
+  const me = await openIn(context, `${server.url}/me`);
+  await me.getByRole('link', { name: 'answer the written questions' }).click();
+  await me.waitForSelector('body[data-ready=true]');
+  assert.equal(new URL(me.url()).pathname, `/courses/el2320/${LAB}/questions`);
+  const page = me;
+  assert.equal(await page.locator('.question-set h2').count(), 2);
+  assert.equal(await page.locator('#set-0 ~ .question').count(), 15);
+
+  // Words with math, typeset beside the field as they are typed.
+  const roles = page.getByLabel('Your answer to question 1 (Markdown, $…$ for math)').first();
+  await roles.fill('The state $x_t = (x, y, \\theta)$ is what the filter estimates.');
+  await page.locator('#q-0-roles .preview .katex').first().waitFor();
+  await saved(page, 0, 'roles');
+  // A choice, a number with its unit field, a table.
+  await page.locator('#q-0-map-mle input[type=radio]').first().check();
+  await saved(page, 0, 'map-mle');
+  await page.locator('#q-1-gate-value input').fill('13.82');
+  await saved(page, 1, 'gate-value');
+  await page.locator('#q-1-batch-dimensions input').first().fill('2n x 1');
+  await saved(page, 1, 'batch-dimensions');
+  // Nothing of what answers are checked against, nor a model answer.
+  const text = await page.locator('#question-sets').textContent();
+  assert.ok(!text.includes('Model answer') && !text.includes('Checked against'), 'a key on the student\'s page');
+  assert.equal(await page.locator('.key').count(), 0);
+
+  // After a reload, every answer is there.
+  await page.reload();
+  await page.waitForSelector('body[data-ready=true]');
+  assert.equal(await page.locator('#q-0-roles textarea').inputValue(), 'The state $x_t = (x, y, \\theta)$ is what the filter estimates.');
+  assert.ok(await page.locator('#q-0-map-mle input[type=radio]').first().isChecked());
+  assert.equal(await page.locator('#q-1-gate-value input').inputValue(), '13.82');
+  assert.equal(await page.locator('#q-1-batch-dimensions input').first().inputValue(), '2n x 1');
+  assert.deepEqual(page.problems, []);
+
+  // A wrong number is saved as typed (it is checked later, not refused).
+  await page.locator('#q-1-gate-value input').fill('about 14');
+  await saved(page, 1, 'gate-value');
+
+  // At a phone's size, nothing is wider than the screen.
+  const phoneContext = await signedInContext(browser, server, student, phone);
+  const small = await openIn(phoneContext, `${server.url}/courses/el2320/${LAB}/questions`);
+  const overflow = await small.evaluate(() => document.documentElement.scrollWidth - window.innerWidth);
+  assert.ok(overflow <= 0, `the page is ${overflow} px wider than a phone`);
+  await phoneContext.close();
+
+  // Staff read the keys and the model answers, and answer nothing.
+  const staffContext = await signedInContext(browser, server, teacher, laptop);
+  const staff = await openIn(staffContext, `${server.url}/courses/el2320/${LAB}/questions`);
+  assert.match(await staff.locator('#q-1-gate-value .key').textContent(), /Checked against 13\.8155 ± 0\.01/);
+  assert.match(await staff.locator('#q-0-map-mle .key').textContent(), /Checked against option 1/);
+  assert.ok(await staff.locator('#q-0-roles .key .model .katex').count() > 0, 'the model answer typeset');
+  const fields = staff.locator('#question-sets textarea, #question-sets input');
+  assert.ok(await fields.count() > 0);
+  assert.deepEqual(new Set(await fields.evaluateAll((all) => all.map((f) => f.disabled))), new Set([true]));
+  assert.deepEqual(staff.problems, []);
+  await staffContext.close();
+  await context.close();
+});
