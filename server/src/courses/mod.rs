@@ -9,7 +9,6 @@ pub mod deadline;
 pub mod export;
 pub mod ids;
 pub mod questions;
-pub mod review;
 pub mod roster;
 pub mod setup;
 
