@@ -195,6 +195,7 @@ const OBJECTS: &[Row] = &[
     // was typed in its URL, and nothing else.
     row("GET", "/courses/{course}", "/courses/{course}"),
     row("GET", "/courses/{course}/{lab}", "/courses/{course}/{lab}"),
+    row("GET", "/courses/{course}/{lab}/questions", "/courses/{course}/{lab}/questions"),
     row("GET", "/courses/{course}/{lab}/students/{student}", "/courses/{course}/{lab}/students/{student}")
         .other(200),
 ];
