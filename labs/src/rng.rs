@@ -45,6 +45,13 @@ impl Rng {
         ((self.uniform() * n as f64) as usize).min(n - 1)
     }
 
+    /// `items` in an order drawn uniformly (Fisher and Yates: each place from the rest).
+    pub fn shuffle<T>(&mut self, items: &mut [T]) {
+        for i in (1..items.len()).rev() {
+            items.swap(i, self.index(i + 1));
+        }
+    }
+
     /// True with probability `p`.
     pub fn chance(&mut self, p: f64) -> bool {
         self.uniform() < p
