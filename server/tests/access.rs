@@ -132,6 +132,15 @@ const MATRIX: &[(&str, &str, [u16; 9])] = &[
     ("POST", "/api/courses/other/labs/ekf-localization/questions",         [404, 404, 404, 404, 404, 400, 404, 401, 401]),
     ("POST", "/api/courses/el2320/labs/ekf-localization/answers",          [404, 400, 400, 403, 403, 404, 403, 401, 401]),
     ("POST", "/api/courses/other/labs/ekf-localization/answers",           [404, 404, 404, 404, 404, 403, 404, 401, 401]),
+    // Review rounds: run by the course's staff; the sheets reviewed by its students only
+    // (staff are told so); sent without a body, the 400 of a body checked after who asks.
+    ("GET",  "/api/courses/el2320/labs/ekf-localization/rounds",           [404, 404, 404, 200, 200, 404, 200, 401, 401]),
+    ("GET",  "/api/courses/other/labs/ekf-localization/rounds",            [404, 404, 404, 404, 404, 200, 404, 401, 401]),
+    ("POST", "/api/courses/el2320/labs/ekf-localization/rounds",           [404, 404, 404, 400, 400, 404, 400, 401, 401]),
+    ("POST", "/api/courses/el2320/labs/ekf-localization/rounds/1",         [404, 404, 404, 400, 400, 404, 400, 401, 401]),
+    ("GET",  "/api/courses/el2320/labs/ekf-localization/reviews",          [404, 200, 200, 403, 403, 404, 403, 401, 401]),
+    ("GET",  "/api/courses/el2320/labs/ekf-localization/reviews/1/1",      [404, 404, 404, 403, 403, 404, 403, 401, 401]),
+    ("POST", "/api/courses/el2320/labs/ekf-localization/reviews/1/1",      [404, 400, 400, 403, 403, 404, 403, 401, 401]),
     ("POST", "/api/courses/el2320/regrades",   [404, 404, 404, 202, 202, 404, 202, 401, 401]),
     ("GET",  "/api/courses/el2320/regrades/1", [404, 404, 404, 200, 200, 404, 200, 401, 401]),
     ("POST", "/api/courses/el2320/extensions", [404, 404, 404, 200, 200, 404, 200, 401, 401]),

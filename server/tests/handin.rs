@@ -282,3 +282,276 @@ async fn students_answer_staff_read_instructors_import() {
         .unwrap();
     assert_eq!(roles["answer"]["value"], "The state is the pose $x_t$.");
 }
+
+const ROUNDS: &str = "/api/courses/el2320/labs/ekf-localization/rounds";
+const REVIEWS: &str = "/api/courses/el2320/labs/ekf-localization/reviews";
+
+/// Saves `text` as `who`'s answer to the first two questions of Part I.
+async fn answer_part_one(app: &App, who: &Who, text: &str) {
+    for question in ["roles", "weighing"] {
+        let saved = app
+            .send(Req::post(ANSWERS).who(who).json(answer(
+                0,
+                question,
+                json!({"kind": "text", "value": format!("{text} ({question})")}),
+            )))
+            .await;
+        assert_eq!(saved.status, StatusCode::OK, "{}", saved.body);
+    }
+}
+
+/// Marks every answer of `who`'s sheet `number` of `round` (the first right, the rest
+/// wrong), and hands the review in.
+async fn review_sheet(app: &App, who: &Who, round: i64, number: u64) -> Value {
+    let path = format!("{REVIEWS}/{round}/{number}");
+    let sheet = app.get_json(who, &path).await;
+    let marks: Vec<Value> = sheet["answers"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .enumerate()
+        .map(|(i, a)| json!({ "question": a["question"], "correct": i == 0, "comment": format!("mark {i}") }))
+        .collect();
+    let done = app
+        .send(
+            Req::post(&path)
+                .who(who)
+                .json(json!({ "marks": marks, "submit": true })),
+        )
+        .await;
+    assert_eq!(done.status, StatusCode::OK, "{}", done.body);
+    sheet
+}
+
+#[tokio::test]
+async fn a_review_round_in_class() {
+    let app = App::new();
+    app.open_course("el2320");
+    app.open_course("other");
+    let logins = ["u-a-2001", "u-b-2002", "u-c-2003", "u-d-2004"];
+    let mut who = Vec::new();
+    for login in logins {
+        let member = app.enrol("el2320", login);
+        who.push(app.signed_in(&member).await);
+    }
+    let outsider = app.signed_in(&app.enrol("other", "u-x-2009")).await;
+    let assistant = app
+        .signed_in(&app.staff("el2320", "ta@example.org", Role::Assistant))
+        .await;
+    let other_staff = app
+        .signed_in(&app.staff("other", "t@other.example", Role::Instructor))
+        .await;
+    for (i, w) in who.iter().take(3).enumerate() {
+        answer_part_one(&app, w, &format!("sheet of student {i}")).await;
+    }
+
+    // Opening: too many reviews for three sheets, then two each.
+    let refused = app
+        .send(
+            Req::post(ROUNDS)
+                .who(&assistant)
+                .json(json!({"part": 0, "per_sheet": 3})),
+        )
+        .await;
+    assert_eq!(refused.status, StatusCode::BAD_REQUEST);
+    assert!(refused.error().contains("at most 2"), "{}", refused.error());
+    let opened = app
+        .send(
+            Req::post(ROUNDS)
+                .who(&assistant)
+                .json(json!({"part": 0, "per_sheet": 2})),
+        )
+        .await;
+    assert_eq!(opened.status, StatusCode::OK, "{}", opened.body);
+    let round = opened.json();
+    let id = round["id"].as_i64().unwrap();
+    assert_eq!(round["students"].as_array().unwrap().len(), 3);
+    assert_eq!(round["bonus_above"], 0.3);
+    let again = app
+        .send(
+            Req::post(ROUNDS)
+                .who(&assistant)
+                .json(json!({"part": 0, "per_sheet": 2})),
+        )
+        .await;
+    assert!(again.error().contains("still open"), "{}", again.error());
+
+    // A late answer joins; every student then reviews two sheets, none their own.
+    answer_part_one(&app, &who[3], "sheet of student 3").await;
+    let rounds = app.get_json(&assistant, ROUNDS).await;
+    assert_eq!(rounds[0]["waiting"], json!(["u-d-2004"]));
+    let joined = app
+        .send(
+            Req::post(&format!("{ROUNDS}/{id}"))
+                .who(&assistant)
+                .json(json!({"action": "join", "student": "u-d-2004"})),
+        )
+        .await;
+    assert_eq!(joined.status, StatusCode::OK, "{}", joined.body);
+    for (i, w) in who.iter().enumerate() {
+        let mine = app.get_json(w, REVIEWS).await;
+        let sheets = mine[0]["sheets"].as_array().unwrap();
+        assert_eq!(sheets.len(), 2, "{}: {mine}", logins[i]);
+        assert!(mine[0]["received"].is_null());
+        for number in [1, 2] {
+            let sheet = app.get_json(w, &format!("{REVIEWS}/{id}/{number}")).await;
+            let text = serde_json::to_string(&sheet).unwrap();
+            assert!(
+                !text.contains(&format!("student {i} ")),
+                "{} has their own sheet",
+                logins[i]
+            );
+            assert!(!text.contains("u-"), "a sheet names someone: {text}");
+            assert!(
+                sheet["set"]["questions"][0]["model"]
+                    .as_str()
+                    .unwrap()
+                    .len()
+                    > 10
+            );
+        }
+        assert_eq!(
+            app.send(Req::get(&format!("{REVIEWS}/{id}/3")).who(w))
+                .await
+                .status,
+            StatusCode::NOT_FOUND
+        );
+    }
+
+    // A review is handed in only when every answer is marked, and then no more changed.
+    let path = format!("{REVIEWS}/{id}/1");
+    let partial =
+        json!({"marks": [{"question": "roles", "correct": true, "comment": ""}], "submit": true});
+    let refused = app.send(Req::post(&path).who(&who[0]).json(partial)).await;
+    assert_eq!(refused.status, StatusCode::BAD_REQUEST);
+    assert!(
+        refused.error().contains("weighing is not marked yet"),
+        "{}",
+        refused.error()
+    );
+    review_sheet(&app, &who[0], id, 1).await;
+    let late = app
+        .send(
+            Req::post(&path)
+                .who(&who[0])
+                .json(json!({"marks": [], "submit": false})),
+        )
+        .await;
+    assert_eq!(late.status, StatusCode::FORBIDDEN);
+
+    // Student b leaves: their sheets go to the others; the rest review everything.
+    let moved = app
+        .send(
+            Req::post(&format!("{ROUNDS}/{id}"))
+                .who(&assistant)
+                .json(json!({"action": "reassign", "student": "u-b-2002"})),
+        )
+        .await;
+    assert_eq!(moved.status, StatusCode::OK, "{}", moved.body);
+    let b = moved.json()["students"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|s| s["student"] == "u-b-2002")
+        .unwrap()
+        .clone();
+    assert_eq!(b["reviewing"], 0);
+    for (i, w) in who.iter().enumerate() {
+        for sheet in app.get_json(w, REVIEWS).await[0]["sheets"]
+            .as_array()
+            .unwrap()
+        {
+            if sheet["submitted"] == false {
+                review_sheet(&app, w, id, sheet["number"].as_u64().unwrap()).await;
+            }
+        }
+        assert!(
+            i != 1
+                || app.get_json(w, REVIEWS).await[0]["sheets"]
+                    .as_array()
+                    .unwrap()
+                    .is_empty()
+        );
+    }
+
+    // Closed: each author reads the marks of their sheet, a share of a half (one answer
+    // of two marked right by each reviewer), above 30 %: the bonus.
+    let closed = app
+        .send(
+            Req::post(&format!("{ROUNDS}/{id}"))
+                .who(&assistant)
+                .json(json!({"action": "close"})),
+        )
+        .await;
+    assert_eq!(closed.status, StatusCode::OK, "{}", closed.body);
+    for student in closed.json()["students"].as_array().unwrap() {
+        assert_eq!(student["tally"]["marks"], 4, "{student}");
+        assert_eq!(student["tally"]["share"], 0.5, "{student}");
+        assert_eq!(student["tally"]["bonus"], true, "{student}");
+    }
+    let mine = app.get_json(&who[2], REVIEWS).await;
+    let received = &mine[0]["received"];
+    assert_eq!(received["marks"].as_array().unwrap().len(), 4);
+    assert_eq!(received["tally"]["share"], 0.5);
+    assert!(
+        !serde_json::to_string(received).unwrap().contains("u-"),
+        "a mark names its reviewer"
+    );
+    let shut = app
+        .send(
+            Req::post(&format!("{REVIEWS}/{id}/1"))
+                .who(&who[2])
+                .json(json!({"marks": [], "submit": false})),
+        )
+        .await;
+    assert_eq!(shut.status, StatusCode::FORBIDDEN);
+
+    // The gradebook has each student's share and bonus.
+    let export = app
+        .send(Req::get("/api/courses/el2320/labs/ekf-localization/export?format=csv").who(&assistant))
+        .await;
+    assert_eq!(export.status, StatusCode::OK);
+    let mut reader = csv::Reader::from_reader(export.body.as_bytes());
+    let header = reader.headers().unwrap().clone();
+    let column = |name: &str| header.iter().position(|c| c == name).unwrap();
+    let (share, bonus) = (column("review_share"), column("review_bonus"));
+    let rows = csv_rows(&export.body);
+    assert_eq!(rows.len(), 4);
+    for row in &rows {
+        assert_eq!((row[share].as_str(), row[bonus].as_str()), ("0.5000", "yes"), "{row:?}");
+    }
+
+    // Nobody outside reaches the rounds.
+    assert_eq!(
+        app.send(Req::get(REVIEWS).who(&outsider)).await.status,
+        StatusCode::NOT_FOUND
+    );
+    assert_eq!(
+        app.send(Req::get(&format!("{REVIEWS}/{id}/1")).who(&outsider))
+            .await
+            .status,
+        StatusCode::NOT_FOUND
+    );
+    assert_eq!(
+        app.send(Req::get(ROUNDS).who(&who[0])).await.status,
+        StatusCode::NOT_FOUND
+    );
+    assert_eq!(
+        app.send(Req::get(REVIEWS).who(&assistant)).await.status,
+        StatusCode::FORBIDDEN
+    );
+    let theirs = format!("/api/courses/other/labs/ekf-localization/rounds/{id}");
+    let refused = app
+        .send(
+            Req::post(&theirs)
+                .who(&other_staff)
+                .json(json!({"action": "close"})),
+        )
+        .await;
+    assert_eq!(refused.status, StatusCode::NOT_FOUND);
+    let audit = serde_json::to_string(&app.get_json(&assistant, "/api/courses/el2320/audit").await)
+        .unwrap();
+    for logged in ["opened", "u-d-2004 joined", "went to others", "closed"] {
+        assert!(audit.contains(logged), "{logged} not in the audit: {audit}");
+    }
+}

@@ -106,9 +106,15 @@ impl Row {
 
     /// The object placeholder the row names, if any.
     fn names(&self) -> Option<&'static str> {
-        ["{submission}", "{student}", "{regrade}", "{token}"]
-            .into_iter()
-            .find(|p| self.path.contains(p) || self.body.is_some_and(|b| b.contains(p)))
+        [
+            "{submission}",
+            "{student}",
+            "{regrade}",
+            "{token}",
+            "{round}",
+        ]
+        .into_iter()
+        .find(|p| self.path.contains(p) || self.body.is_some_and(|b| b.contains(p)))
     }
 }
 
@@ -140,6 +146,19 @@ const OBJECTS: &[Row] = &[
         .body(r#"{"sets": null}"#).instructors(),
     row("POST", "/api/courses/{course}/labs/{lab}/answers", "/api/courses/{course}/labs/{lab}/answers")
         .body(r#"{"part": 0, "question": "roles", "answer": {"kind": "text", "value": "a state"}}"#).own(403),
+    // Review rounds: the course's own list; a new one while one is open is refused; a
+    // round by id, the other course's a 404 like one that does not exist; staff review
+    // no sheets, of any round.
+    row("GET", "/api/courses/{course}/labs/{lab}/rounds", "/api/courses/{course}/labs/{lab}/rounds"),
+    row("POST", "/api/courses/{course}/labs/{lab}/rounds", "/api/courses/{course}/labs/{lab}/rounds")
+        .body(r#"{"part": 0, "per_sheet": 1}"#).own(400),
+    row("POST", "/api/courses/{course}/labs/{lab}/rounds/{id}", "/api/courses/{course}/labs/{lab}/rounds/{round}")
+        .body(r#"{"action": "join", "student": "u-both-3090"}"#).own(400).other(404),
+    row("GET", "/api/courses/{course}/labs/{lab}/reviews", "/api/courses/{course}/labs/{lab}/reviews").own(403),
+    row("GET", "/api/courses/{course}/labs/{lab}/reviews/{round}/{sheet}", "/api/courses/{course}/labs/{lab}/reviews/{round}/1")
+        .own(403).other(403),
+    row("POST", "/api/courses/{course}/labs/{lab}/reviews/{round}/{sheet}", "/api/courses/{course}/labs/{lab}/reviews/{round}/1")
+        .body(r#"{"marks": [], "submit": false}"#).own(403).other(403),
     // A student, by id: the other course's is no student of this one; one on both
     // rosters is this course's member, with this course's submissions only.
     row("GET", STUDENT, STUDENT).other(404),
@@ -205,6 +224,8 @@ struct Ids {
     submission: i64,
     student: String,
     regrade: i64,
+    /// An open review round of Part I, between the course's two students.
+    round: i64,
     /// A spare API token's id (revoking it again changes nothing).
     token: i64,
     /// The course's roster as a CSV, as a JSON string.
@@ -217,6 +238,7 @@ impl Ids {
             submission: 999_999,
             student: "u-nobody-0000".into(),
             regrade: 999_999,
+            round: 999_999,
             token: 999_999,
             roster: json!("id,name,email\n").to_string(),
         }
@@ -228,6 +250,7 @@ impl Ids {
             .replace("{submission}", &self.submission.to_string())
             .replace("{student}", &self.student)
             .replace("{regrade}", &self.regrade.to_string())
+            .replace("{round}", &self.round.to_string())
             .replace("{token}", &self.token.to_string())
             .replace("{roster}", &self.roster)
     }
@@ -238,6 +261,7 @@ impl Ids {
             "{submission}" => self.submission.to_string(),
             "{student}" => self.student.clone(),
             "{token}" => self.token.to_string(),
+            "{round}" => self.round.to_string(),
             _ => self.regrade.to_string(),
         }
     }
@@ -321,6 +345,28 @@ async fn course(app: &App, name: &'static str, tag: &str, student: &str, extende
         )
         .await;
     assert_eq!(extension.status, StatusCode::OK, "{}", extension.body);
+    // Both students answer Part I, and a round hands each the other's sheet.
+    for (who, text) in [(&own, &student_source), (&both, &both_source)] {
+        let answer =
+            json!({"part": 0, "question": "roles", "answer": {"kind": "text", "value": text}});
+        let saved = app
+            .send(
+                Req::post(&format!("/api/courses/{name}/labs/{LAB}/answers"))
+                    .who(who)
+                    .json(answer),
+            )
+            .await;
+        assert_eq!(saved.status, StatusCode::OK, "{}", saved.body);
+    }
+    let opened = app
+        .send(
+            Req::post(&format!("/api/courses/{name}/labs/{LAB}/rounds"))
+                .who(&instructor)
+                .json(json!({ "part": 0, "per_sheet": 1 })),
+        )
+        .await;
+    assert_eq!(opened.status, StatusCode::OK, "{}", opened.body);
+    let round = opened.json()["id"].as_i64().unwrap();
 
     Course {
         name,
@@ -328,6 +374,7 @@ async fn course(app: &App, name: &'static str, tag: &str, student: &str, extende
             submission,
             student: student.into(),
             regrade,
+            round,
             token: spare_token,
             roster,
         },

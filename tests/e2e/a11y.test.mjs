@@ -5,15 +5,11 @@
 // fields and buttons, headings in order, table headers with text, scrollable regions a
 // keyboard reaches, ...). A violation names the page, the rule and the elements.
 import assert from 'node:assert/strict';
-import { readFileSync } from 'node:fs';
-import { createRequire } from 'node:module';
 import { test } from 'node:test';
 import {
-  bounded, correct, estlab, getJson, laptop, openIn, phone, runAndWait, setUpCourse, signIn, signedInContext, waitFor,
-  withServerAndBrowser,
+  bounded, correct, estlab, getJson, laptop, openIn, phone, runAndWait, setUpCourse, signIn, signedInContext, violations,
+  waitFor, withServerAndBrowser,
 } from './harness.mjs';
-
-const axeSource = readFileSync(createRequire(import.meta.url).resolve('axe-core/axe.min.js'), 'utf8');
 
 let server;
 let browser;
@@ -21,16 +17,6 @@ withServerAndBrowser((s, b) => { server = s; browser = b; });
 
 const COURSE = 'a11y';
 const LAB = 'ekf-localization';
-
-/** The serious and critical violations axe finds on `page` as it is now, as readable lines. */
-async function violations(page) {
-  await page.evaluate(axeSource);
-  const found = await page.evaluate(() => window.axe.run(document, { resultTypes: ['violations'] }).then((r) => r.violations
-    .filter((v) => v.impact === 'serious' || v.impact === 'critical')
-    .map((v) => `${v.id} (${v.impact}): ${v.help}; ${v.nodes.slice(0, 5).map((n) => n.target.join(' ')).join(' | ')}` +
-      (v.nodes.length > 5 ? ` and ${v.nodes.length - 5} more` : ''))));
-  return found;
-}
 
 /** Opens `path` in a context of `size` (signed in with `cookie` when given), drawn. */
 async function open(path, size, cookie) {

@@ -3,10 +3,14 @@
 // a table, each saved a moment after they stop; the answers are there after a reload and
 // nothing of the answer keys reaches the student's page; staff read the sets with the
 // model answers and the keys, the fields read only; at a phone's size nothing spills over.
+// A round of peer review: the teacher opens it on the same page, each student marks the
+// two sheets handed to them and hands the reviews in, the teacher closes it and each
+// student reads their share of right marks (axe-core finds no serious violation on a
+// sheet, the rounds or the marks).
 import assert from 'node:assert/strict';
 import { after, before, test } from 'node:test';
 import {
-  bounded, estlab, launchBrowser, laptop, openIn, phone, setUpCourse, signedInContext, signIn, startServer,
+  bounded, estlab, launchBrowser, laptop, openIn, phone, setUpCourse, signedInContext, signIn, startServer, violations,
 } from './harness.mjs';
 
 const LAB = 'ekf-localization';
@@ -90,5 +94,75 @@ test('a student answers, the answers stay, staff read the keys', bounded, async 
   assert.deepEqual(new Set(await fields.evaluateAll((all) => all.map((f) => f.disabled))), new Set([true]));
   assert.deepEqual(staff.problems, []);
   await staffContext.close();
+  await context.close();
+});
+
+test('a review round in class: opened, reviewed, closed, marks read', bounded, async () => {
+  const course = 'review-class';
+  const { students } = setUpCourse(server, { course, title: 'Review', prefix: 'r', count: 3, role: 'assistant' });
+  const link = estlab('course', 'staff', course, 'teacher@review.example', '--role', 'instructor',
+    '--data', server.dataDir, '--url', server.url).trim().split('\n').pop();
+  const teacher = await signIn(server, link.split('#')[1]);
+  const api = `${server.url}/api/courses/${course}/labs/${LAB}`;
+  const cookies = [];
+  for (const [i, student] of students.entries()) {
+    const cookie = await signIn(server, student.code);
+    cookies.push(cookie);
+    for (const question of ['roles', 'weighing']) {
+      const response = await fetch(`${api}/answers`, {
+        method: 'POST',
+        headers: { cookie, 'content-type': 'application/json', origin: server.url },
+        body: JSON.stringify({ part: 0, question, answer: { kind: 'text', value: `Answer ${i} to ${question}: $K_t$` } }),
+      });
+      assert.equal(response.status, 200, await response.text());
+    }
+  }
+
+  // The teacher opens a round of Part I, two reviews a sheet.
+  const staffContext = await signedInContext(browser, server, teacher, laptop);
+  const staff = await openIn(staffContext, `${server.url}/courses/${course}/${LAB}/questions`);
+  await staff.getByLabel('Reviews of each sheet').fill('2');
+  await staff.getByRole('button', { name: 'Open a round' }).click();
+  await staff.getByRole('status').filter({ hasText: /Round \d+ is open: 3 sheets/ }).waitFor();
+  assert.equal(await staff.locator('.round-table tr[data-student]').count(), 3);
+
+  // Each student reviews their two sheets: the first answer right, the second wrong.
+  for (const cookie of cookies) {
+    const context = await signedInContext(browser, server, cookie, laptop);
+    const page = await openIn(context, `${server.url}/courses/${course}/${LAB}/questions`);
+    assert.ok(!(await page.locator('#peer-review').isHidden()));
+    for (const number of [1, 2]) {
+      await page.getByRole('button', { name: `Review sheet ${number}` }).click();
+      const sheet = page.locator('.review-sheet');
+      await sheet.locator('.given .katex').first().waitFor();
+      await sheet.getByLabel('Right').first().check();
+      await sheet.getByLabel('Wrong').nth(1).check();
+      await sheet.getByLabel(/^Your comment on question/).nth(1).fill('the gain decides');
+      if (number === 1) assert.deepEqual(await violations(page), [], 'a sheet to mark');
+      await sheet.getByRole('button', { name: 'Hand in the review' }).click();
+      await page.getByRole('button', { name: `Read sheet ${number}` }).waitFor();
+    }
+    assert.deepEqual(page.problems, []);
+    await context.close();
+  }
+
+  // The teacher sees every review handed in and closes the round.
+  await staff.reload();
+  await staff.waitForSelector('body[data-ready=true]');
+  await staff.locator('.round p').filter({ hasText: '6 of 6 reviews handed in' }).waitFor();
+  await staff.getByRole('button', { name: /^Close round/ }).click();
+  await staff.locator('.round h3').filter({ hasText: '(closed)' }).waitFor();
+  const shares = await staff.locator('.round-table tr[data-student] td:nth-child(4)').allTextContents();
+  assert.deepEqual(shares, ['50 %', '50 %', '50 %']);
+  assert.deepEqual(await violations(staff), [], 'the staff\'s rounds');
+  assert.deepEqual(staff.problems, []);
+  await staffContext.close();
+
+  // A student reads what their sheet received.
+  const context = await signedInContext(browser, server, cookies[0], laptop);
+  const page = await openIn(context, `${server.url}/courses/${course}/${LAB}/questions`);
+  assert.match(await page.locator('.received .tally').textContent(), /2 of 4 marks right, 50 %: the bonus is yours/);
+  assert.match(await page.locator('.received .marks').textContent(), /the gain decides/);
+  assert.deepEqual(await violations(page), [], 'the marks received');
   await context.close();
 });

@@ -11,6 +11,7 @@ pub mod ids;
 pub mod questions;
 pub mod review;
 pub mod roster;
+pub mod rounds;
 pub mod setup;
 
 /// A course's short name (`el2320`): what `estlab course` and the database call it.

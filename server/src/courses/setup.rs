@@ -93,7 +93,7 @@ fn listed(logins: &[String]) -> String {
 }
 
 impl Setup<'_> {
-    fn audit(&self, kind: &str, detail: &str) -> Result<(), Error> {
+    pub(super) fn audit(&self, kind: &str, detail: &str) -> Result<(), Error> {
         Ok(self
             .store
             .audit(self.course, self.actor, kind, detail, self.now)?)

@@ -8,6 +8,7 @@ mod access;
 mod answers;
 mod courses;
 mod regrades;
+mod reviews;
 mod schema;
 mod staff;
 mod submissions;
@@ -16,6 +17,7 @@ pub use access::{CodeCheck, FoundCode, TokenInfo};
 pub use answers::SavedAnswer;
 pub use courses::{Assignment, Course, Member, NewMember, Role, RosterChange};
 pub use regrades::{Change, EarlierResult, Regrade, Scope};
+pub use reviews::{Mark, NewRound, Round, SheetAnswer, StoredPair};
 pub use staff::{
     AuditEntry, Extension, Granted, NewExtension, NewWaiver, Rejudged, Waived, Waiver,
 };

@@ -187,6 +187,46 @@ const MIGRATIONS: &[&str] = &[
         saved_at INTEGER NOT NULL,
         PRIMARY KEY (member, lab, part, question)
     );",
+    // 10: peer review of the written answers. A round hands one question set's answer
+    // sheets (each frozen as it stood when the round opened, or when its author joined
+    // late) to reviewers among their authors, each pair numbered for its reviewer (who
+    // never learns the author); a mark is one reviewer's judgement of one answer.
+    "CREATE TABLE review_rounds (
+        id INTEGER PRIMARY KEY,
+        course TEXT NOT NULL,
+        lab TEXT NOT NULL,
+        part INTEGER NOT NULL,
+        per_sheet INTEGER NOT NULL,
+        seed INTEGER NOT NULL,
+        bonus_above REAL NOT NULL,
+        opened_by TEXT NOT NULL,
+        opened_at INTEGER NOT NULL,
+        closed_at INTEGER
+    );
+    CREATE TABLE review_sheets (
+        round INTEGER NOT NULL REFERENCES review_rounds (id),
+        author INTEGER NOT NULL REFERENCES members (id),
+        answers TEXT NOT NULL,
+        PRIMARY KEY (round, author)
+    );
+    CREATE TABLE review_pairs (
+        round INTEGER NOT NULL REFERENCES review_rounds (id),
+        reviewer INTEGER NOT NULL REFERENCES members (id),
+        author INTEGER NOT NULL REFERENCES members (id),
+        number INTEGER NOT NULL,
+        submitted_at INTEGER,
+        PRIMARY KEY (round, reviewer, author),
+        UNIQUE (round, reviewer, number)
+    );
+    CREATE TABLE review_marks (
+        round INTEGER NOT NULL REFERENCES review_rounds (id),
+        reviewer INTEGER NOT NULL,
+        author INTEGER NOT NULL,
+        question TEXT NOT NULL,
+        correct INTEGER NOT NULL CHECK (correct IN (0, 1)),
+        comment TEXT NOT NULL,
+        PRIMARY KEY (round, reviewer, author, question)
+    );",
 ];
 
 /// Brings the schema up to the newest version, one migration per transaction.

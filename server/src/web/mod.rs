@@ -15,6 +15,7 @@ mod origin;
 mod pages;
 pub mod phases;
 mod registry;
+mod reviews;
 mod setup;
 mod signin;
 mod staff;
@@ -145,6 +146,22 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route(
             "/api/courses/{course}/labs/{lab}/answers",
             post(answers::save),
+        )
+        .route(
+            "/api/courses/{course}/labs/{lab}/rounds",
+            get(reviews::list).post(reviews::open),
+        )
+        .route(
+            "/api/courses/{course}/labs/{lab}/rounds/{id}",
+            post(reviews::act),
+        )
+        .route(
+            "/api/courses/{course}/labs/{lab}/reviews",
+            get(reviews::mine),
+        )
+        .route(
+            "/api/courses/{course}/labs/{lab}/reviews/{round}/{sheet}",
+            get(reviews::sheet).post(reviews::mark),
         )
         .route(
             "/api/courses/{course}/labs/{lab}/ranking",

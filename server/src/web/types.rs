@@ -4,7 +4,7 @@
 //! fails when the files there are not what the Rust types make; `ESTLAB_WRITE_TYPES=1
 //! cargo test -p estlab --lib browser_types` writes them anew.
 
-use super::{answers, error, me, registry, setup, staff, submit};
+use super::{answers, error, me, registry, reviews, setup, staff, submit};
 use crate::store;
 use labs::Exercise;
 use labs::exercises::{Graded, Visit};
@@ -73,6 +73,13 @@ pub fn export(dir: &Path) -> Result<(), ExportError> {
     d.visit::<answers::Written>();
     d.visit::<answers::AnswerRequest>();
     d.visit::<answers::QuestionsRequest>();
+    // Peer review: the rounds for staff, the sheets for students, what each sends.
+    d.visit::<reviews::RoundView>();
+    d.visit::<reviews::OpenRequest>();
+    d.visit::<reviews::RoundAction>();
+    d.visit::<reviews::StudentRound>();
+    d.visit::<reviews::SheetView>();
+    d.visit::<reviews::MarkRequest>();
     declared.error.map_or(Ok(()), Err)
 }
 

@@ -2,8 +2,11 @@
 // answers each question in the field its kind takes (words with math, a number, a
 // choice, a table) and every answer is saved as they type, a moment after they stop,
 // until their cutoff; a written answer is shown typeset beside the field. Staff read the
-// sets in full: the model answers and what numbers and choices are checked against.
+// sets in full: the model answers and what numbers and choices are checked against. Above
+// the sets, peer review: a student's sheets to review and their own marks; staff's rounds.
 import { renderInto } from '../markdown.js';
+import { showReviews } from '../questions/reviewing.js';
+import { showRounds } from '../questions/rounds.js';
 import { getJson, postJson } from '../results/http.js';
 import { element } from '../results/render.js';
 
@@ -270,6 +273,13 @@ async function load() {
     /** @type {Written} */
     const written = await getJson(`${api}/questions`);
     show(written);
+    const review = /** @type {HTMLElement} */ (document.getElementById('peer-review'));
+    if (written.staff) {
+      review.hidden = false;
+      await showRounds(review, api, written.sets);
+    } else {
+      await showReviews(review, api);
+    }
     document.body.dataset.ready = 'true';
   } catch (error) {
     status.textContent = `The questions could not be read: ${error instanceof Error ? error.message : error}`;

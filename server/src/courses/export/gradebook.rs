@@ -2,9 +2,11 @@
 //! a spreadsheet, where a name is a string cell whatever it starts with).
 
 use crate::courses::class::ClassView;
+use crate::courses::rounds::Tally;
 use rust_xlsxwriter::{Format, Workbook, XlsxError};
+use std::collections::HashMap;
 
-const HEADER: [&str; 9] = [
+const HEADER: [&str; 11] = [
     "id",
     "name",
     "email",
@@ -14,6 +16,8 @@ const HEADER: [&str; 9] = [
     "late_penalty",
     "final_score",
     "submitted_at",
+    "review_share",
+    "review_bonus",
 ];
 
 /// One student's line of the gradebook; the last four are `None` for a student with no
@@ -28,9 +32,15 @@ struct Row<'a> {
     late_penalty: Option<f64>,
     final_score: Option<f64>,
     submitted_at: Option<&'a str>,
+    /// The share of right marks of their written answers in the latest closed review
+    /// round, and whether it earned the bonus; `None` outside such a round.
+    review: Option<&'a Tally>,
 }
 
-fn rows(view: &ClassView) -> impl Iterator<Item = Row<'_>> {
+fn rows<'a>(
+    view: &'a ClassView,
+    reviews: &'a HashMap<String, Tally>,
+) -> impl Iterator<Item = Row<'a>> {
     view.students.iter().map(|s| {
         let counting = s.counting.as_ref();
         Row {
@@ -43,6 +53,7 @@ fn rows(view: &ClassView) -> impl Iterator<Item = Row<'_>> {
             late_penalty: counting.map(|c| c.penalty),
             final_score: counting.and_then(|c| c.final_score),
             submitted_at: counting.map(|c| c.submitted_at.as_str()),
+            review: reviews.get(&s.id),
         }
     })
 }
@@ -50,12 +61,19 @@ fn rows(view: &ClassView) -> impl Iterator<Item = Row<'_>> {
 /// The gradebook as CSV. Columns: `id, name, email, status (enrolled or dropped),
 /// submissions, score (of the submission that counts, in [0, 1]), late_penalty (its share
 /// lost), final_score (score × (1 − late_penalty)), submitted_at (UTC)`; empty for a
-/// student with no graded submission. Text cells are made inert (`inert`).
-pub fn csv(view: &ClassView) -> Vec<u8> {
+/// student with no graded submission; `review_share, review_bonus (yes or no)` of the
+/// latest closed review round (`reviews`, by student id), empty for a student outside it.
+/// Text cells are made inert (`inert`).
+pub fn csv(view: &ClassView, reviews: &HashMap<String, Tally>) -> Vec<u8> {
     let mut csv = csv::Writer::from_writer(Vec::new());
     csv.write_record(HEADER).expect("writing to memory");
     let number = |value: Option<f64>| value.map_or_else(String::new, |v| format!("{v:.4}"));
-    for row in rows(view) {
+    for row in rows(view, reviews) {
+        let share = row.review.and_then(|r| r.share);
+        let bonus = row
+            .review
+            .and_then(|r| r.bonus)
+            .map(|b| if b { "yes" } else { "no" });
         csv.write_record([
             inert(row.id),
             inert(row.name),
@@ -66,6 +84,8 @@ pub fn csv(view: &ClassView) -> Vec<u8> {
             number(row.late_penalty),
             number(row.final_score),
             row.submitted_at.unwrap_or_default().to_string(),
+            number(share),
+            bonus.unwrap_or_default().to_string(),
         ])
         .expect("writing to memory");
     }
@@ -75,21 +95,21 @@ pub fn csv(view: &ClassView) -> Vec<u8> {
 /// The gradebook as XLSX, one sheet `grades` with the CSV's columns: ids, names, emails
 /// and the dates as string cells (never formulas, so they need no `'`), the counts and
 /// scores as numbers.
-pub fn xlsx(view: &ClassView) -> Vec<u8> {
-    write_xlsx(view).expect("a gradebook within Excel's limits, written to memory")
+pub fn xlsx(view: &ClassView, reviews: &HashMap<String, Tally>) -> Vec<u8> {
+    write_xlsx(view, reviews).expect("a gradebook within Excel's limits, written to memory")
 }
 
-fn write_xlsx(view: &ClassView) -> Result<Vec<u8>, XlsxError> {
+fn write_xlsx(view: &ClassView, reviews: &HashMap<String, Tally>) -> Result<Vec<u8>, XlsxError> {
     let mut workbook = Workbook::new();
     let sheet = workbook.add_worksheet();
     sheet.set_name("grades")?;
     let bold = Format::new().set_bold();
-    let share = Format::new().set_num_format("0.0000");
+    let share_format = Format::new().set_num_format("0.0000");
     for (col, title) in (0..).zip(HEADER) {
         sheet.write_string_with_format(0, col, title, &bold)?;
     }
     sheet.set_freeze_panes(1, 0)?;
-    for (row, line) in (1..).zip(rows(view)) {
+    for (row, line) in (1..).zip(rows(view, reviews)) {
         sheet.write_string(row, 0, within_a_cell(line.id))?;
         sheet.write_string(row, 1, within_a_cell(line.name))?;
         sheet.write_string(row, 2, within_a_cell(line.email))?;
@@ -101,11 +121,17 @@ fn write_xlsx(view: &ClassView) -> Result<Vec<u8>, XlsxError> {
             (7, line.final_score),
         ] {
             if let Some(value) = value {
-                sheet.write_number_with_format(row, col, value, &share)?;
+                sheet.write_number_with_format(row, col, value, &share_format)?;
             }
         }
         if let Some(at) = line.submitted_at {
             sheet.write_string(row, 8, at)?;
+        }
+        if let Some(share) = line.review.and_then(|r| r.share) {
+            sheet.write_number_with_format(row, 9, share, &share_format)?;
+        }
+        if let Some(bonus) = line.review.and_then(|r| r.bonus) {
+            sheet.write_string(row, 10, if bonus { "yes" } else { "no" })?;
         }
     }
     workbook.save_to_buffer()

@@ -9,6 +9,7 @@ mod gradebook;
 pub use gradebook::inert;
 
 use super::class::{self, ClassView, StudentRow};
+use super::rounds;
 use crate::platforms::{GradescopeResults, PrairieLearnResults};
 use crate::store::{self, Store, Submission};
 use archive::{FileNames, zip_of};
@@ -129,8 +130,8 @@ pub fn make(
     };
     let ids: Vec<i64> = view.students.iter().filter_map(exported).collect();
     Ok(Some(match format {
-        Format::Csv => gradebook::csv(&view),
-        Format::Xlsx => gradebook::xlsx(&view),
+        Format::Csv => gradebook::csv(&view, &rounds::latest_closed(store, course, lab)?),
+        Format::Xlsx => gradebook::xlsx(&view, &rounds::latest_closed(store, course, lab)?),
         Format::Gradescope | Format::Prairielearn => {
             let mut graded = HashMap::new();
             for id in ids {

@@ -1,0 +1,345 @@
+//! Peer review of the written answers: the rounds, the answer sheets as handed out, who
+//! reviews which sheet (numbered for the reviewer, who never learns whose it is), and the
+//! marks. What a round hands out and how its marks count is `courses::rounds`' to decide.
+
+use super::{Error, Store, timestamp};
+use crate::courses::questions::Answer;
+use crate::courses::review::Pair;
+use jiff::Timestamp;
+use labs::Exercise;
+use rusqlite::{OptionalExtension, Transaction, params};
+use serde::{Deserialize, Serialize};
+use ts_rs::TS;
+
+/// A round of peer review of one question set of an assignment.
+#[derive(Clone, Debug, PartialEq, Serialize, TS)]
+pub struct Round {
+    pub id: i64,
+    /// The question set reviewed: its place in the assignment, from 0.
+    #[ts(type = "number")]
+    pub part: usize,
+    /// How many reviews each sheet gets.
+    #[ts(type = "number")]
+    pub per_sheet: usize,
+    /// The share of correct marks above which a student earns the bonus.
+    pub bonus_above: f64,
+    pub opened_by: String,
+    #[ts(as = "String")]
+    pub opened_at: Timestamp,
+    #[ts(as = "Option<String>")]
+    pub closed_at: Option<Timestamp>,
+    #[serde(skip)]
+    pub seed: u64,
+}
+
+/// One answer of a sheet as it was handed out.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, TS)]
+pub struct SheetAnswer {
+    pub question: String,
+    pub answer: Answer,
+}
+
+/// A pair of a round as stored: `reviewer` has the sheet of `author` as their sheet
+/// `number`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StoredPair {
+    pub pair: Pair,
+    pub number: usize,
+    pub submitted_at: Option<Timestamp>,
+}
+
+/// A reviewer's mark of one answer.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, TS)]
+#[serde(deny_unknown_fields)]
+pub struct Mark {
+    pub question: String,
+    pub correct: bool,
+    pub comment: String,
+}
+
+const ROUND_COLUMNS: &str =
+    "id, part, per_sheet, bonus_above, opened_by, opened_at, closed_at, seed";
+
+fn round(row: &rusqlite::Row) -> rusqlite::Result<Round> {
+    Ok(Round {
+        id: row.get(0)?,
+        part: row.get::<_, i64>(1)? as usize,
+        per_sheet: row.get::<_, i64>(2)? as usize,
+        bonus_above: row.get(3)?,
+        opened_by: row.get(4)?,
+        opened_at: timestamp(row.get(5)?),
+        closed_at: row.get::<_, Option<i64>>(6)?.map(timestamp),
+        seed: row.get::<_, i64>(7)? as u64,
+    })
+}
+
+/// A new round's settings.
+pub struct NewRound<'a> {
+    pub course: &'a str,
+    pub lab: Exercise,
+    pub part: usize,
+    pub per_sheet: usize,
+    pub bonus_above: f64,
+    pub seed: u64,
+    pub opened_by: &'a str,
+}
+
+fn insert_sheet(
+    transaction: &Transaction,
+    round: i64,
+    author: i64,
+    sheet: &[SheetAnswer],
+) -> rusqlite::Result<()> {
+    let json = serde_json::to_string(sheet).expect("a sheet serialises");
+    transaction.execute(
+        "INSERT INTO review_sheets (round, author, answers) VALUES (?1, ?2, ?3)",
+        params![round, author, json],
+    )?;
+    Ok(())
+}
+
+/// Adds `pair` as the reviewer's sheet with the smallest number they do not have (a
+/// sheet that went elsewhere leaves its number to the next).
+fn insert_pair(transaction: &Transaction, round: i64, pair: Pair) -> rusqlite::Result<()> {
+    transaction.execute(
+        "INSERT INTO review_pairs (round, reviewer, author, number)
+         VALUES (?1, ?2, ?3, CASE
+             WHEN NOT EXISTS (SELECT 1 FROM review_pairs WHERE round = ?1 AND reviewer = ?2 AND number = 1) THEN 1
+             ELSE (SELECT MIN(p.number) + 1 FROM review_pairs p WHERE p.round = ?1 AND p.reviewer = ?2
+                   AND NOT EXISTS (SELECT 1 FROM review_pairs q
+                                   WHERE q.round = ?1 AND q.reviewer = ?2 AND q.number = p.number + 1))
+         END)",
+        params![round, pair.reviewer, pair.author],
+    )?;
+    Ok(())
+}
+
+fn delete_pair(transaction: &Transaction, round: i64, pair: Pair) -> rusqlite::Result<()> {
+    let keys = params![round, pair.reviewer, pair.author];
+    transaction.execute(
+        "DELETE FROM review_marks WHERE round = ?1 AND reviewer = ?2 AND author = ?3",
+        keys,
+    )?;
+    transaction.execute(
+        "DELETE FROM review_pairs WHERE round = ?1 AND reviewer = ?2 AND author = ?3",
+        keys,
+    )?;
+    Ok(())
+}
+
+impl Store {
+    /// Opens a round with its sheets (author, answers) and its pairs; its id.
+    pub fn open_round(
+        &self,
+        new: &NewRound,
+        sheets: &[(i64, Vec<SheetAnswer>)],
+        pairs: &[Pair],
+        now: Timestamp,
+    ) -> Result<i64, Error> {
+        let mut connection = self.connection();
+        let transaction = connection.transaction()?;
+        transaction.execute(
+            "INSERT INTO review_rounds (course, lab, part, per_sheet, seed, bonus_above, opened_by, opened_at)
+             VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)",
+            params![
+                new.course,
+                new.lab.name(),
+                new.part as i64,
+                new.per_sheet as i64,
+                new.seed as i64,
+                new.bonus_above,
+                new.opened_by,
+                now.as_second()
+            ],
+        )?;
+        let id = transaction.last_insert_rowid();
+        for (author, sheet) in sheets {
+            insert_sheet(&transaction, id, *author, sheet)?;
+        }
+        for &pair in pairs {
+            insert_pair(&transaction, id, pair)?;
+        }
+        transaction.commit()?;
+        Ok(id)
+    }
+
+    /// An assignment's rounds, the latest first.
+    pub fn rounds(&self, course: &str, lab: Exercise) -> Result<Vec<Round>, Error> {
+        let connection = self.connection();
+        let mut statement = connection.prepare(&format!(
+            "SELECT {ROUND_COLUMNS} FROM review_rounds WHERE course = ?1 AND lab = ?2 ORDER BY id DESC"
+        ))?;
+        let rounds = statement
+            .query_map(params![course, lab.name()], round)?
+            .collect::<Result<_, _>>()?;
+        Ok(rounds)
+    }
+
+    /// The round `id` of an assignment; `None` when the assignment has no such round.
+    pub fn round(&self, course: &str, lab: Exercise, id: i64) -> Result<Option<Round>, Error> {
+        Ok(self
+            .connection()
+            .query_row(
+                &format!(
+                    "SELECT {ROUND_COLUMNS} FROM review_rounds WHERE course = ?1 AND lab = ?2 AND id = ?3"
+                ),
+                params![course, lab.name(), id],
+                round,
+            )
+            .optional()?)
+    }
+
+    /// Closes a round; false when it was closed already.
+    pub fn close_round(&self, id: i64, now: Timestamp) -> Result<bool, Error> {
+        let changed = self.connection().execute(
+            "UPDATE review_rounds SET closed_at = ?2 WHERE id = ?1 AND closed_at IS NULL",
+            params![id, now.as_second()],
+        )?;
+        Ok(changed == 1)
+    }
+
+    /// A round's pairs.
+    pub fn pairs(&self, round: i64) -> Result<Vec<StoredPair>, Error> {
+        let connection = self.connection();
+        let mut statement = connection.prepare(
+            "SELECT reviewer, author, number, submitted_at FROM review_pairs
+             WHERE round = ?1 ORDER BY reviewer, number",
+        )?;
+        let pairs = statement
+            .query_map([round], |row| {
+                Ok(StoredPair {
+                    pair: Pair {
+                        reviewer: row.get(0)?,
+                        author: row.get(1)?,
+                    },
+                    number: row.get::<_, i64>(2)? as usize,
+                    submitted_at: row.get::<_, Option<i64>>(3)?.map(timestamp),
+                })
+            })?
+            .collect::<Result<_, _>>()?;
+        Ok(pairs)
+    }
+
+    /// A round's sheets, by author.
+    pub fn sheets(&self, round: i64) -> Result<Vec<(i64, Vec<SheetAnswer>)>, Error> {
+        let connection = self.connection();
+        let mut statement = connection.prepare(
+            "SELECT author, answers FROM review_sheets WHERE round = ?1 ORDER BY author",
+        )?;
+        let rows = statement
+            .query_map([round], |row| {
+                Ok((row.get::<_, i64>(0)?, row.get::<_, String>(1)?))
+            })?
+            .collect::<Result<Vec<_>, _>>()?;
+        rows.into_iter()
+            .map(|(author, json)| {
+                Ok((
+                    author,
+                    serde_json::from_str(&json).map_err(Error::StoredAnswer)?,
+                ))
+            })
+            .collect()
+    }
+
+    /// Every mark of a round: (reviewer, author, mark).
+    pub fn marks(&self, round: i64) -> Result<Vec<(Pair, Mark)>, Error> {
+        let connection = self.connection();
+        let mut statement = connection.prepare(
+            "SELECT reviewer, author, question, correct, comment FROM review_marks
+             WHERE round = ?1 ORDER BY reviewer, author, question",
+        )?;
+        let marks = statement
+            .query_map([round], |row| {
+                Ok((
+                    Pair {
+                        reviewer: row.get(0)?,
+                        author: row.get(1)?,
+                    },
+                    Mark {
+                        question: row.get(2)?,
+                        correct: row.get(3)?,
+                        comment: row.get(4)?,
+                    },
+                ))
+            })?
+            .collect::<Result<_, _>>()?;
+        Ok(marks)
+    }
+
+    /// Replaces a reviewer's marks of one sheet, and submits them when `submit`.
+    pub fn save_marks(
+        &self,
+        round: i64,
+        pair: Pair,
+        marks: &[Mark],
+        submit: bool,
+        now: Timestamp,
+    ) -> Result<(), Error> {
+        let mut connection = self.connection();
+        let transaction = connection.transaction()?;
+        let keys = params![round, pair.reviewer, pair.author];
+        transaction.execute(
+            "DELETE FROM review_marks WHERE round = ?1 AND reviewer = ?2 AND author = ?3",
+            keys,
+        )?;
+        for mark in marks {
+            transaction.execute(
+                "INSERT INTO review_marks (round, reviewer, author, question, correct, comment)
+                 VALUES (?1, ?2, ?3, ?4, ?5, ?6)",
+                params![
+                    round,
+                    pair.reviewer,
+                    pair.author,
+                    mark.question,
+                    mark.correct,
+                    mark.comment
+                ],
+            )?;
+        }
+        if submit {
+            transaction.execute(
+                "UPDATE review_pairs SET submitted_at = ?4 WHERE round = ?1 AND reviewer = ?2 AND author = ?3",
+                params![round, pair.reviewer, pair.author, now.as_second()],
+            )?;
+        }
+        transaction.commit()?;
+        Ok(())
+    }
+
+    /// A late author joins a round: their sheet, the pairs that make room for them
+    /// (`removed`, with any marks) and those that take them in (`added`).
+    pub fn join_round(
+        &self,
+        round: i64,
+        (author, sheet): (i64, &[SheetAnswer]),
+        removed: &[Pair],
+        added: &[Pair],
+    ) -> Result<(), Error> {
+        let mut connection = self.connection();
+        let transaction = connection.transaction()?;
+        insert_sheet(&transaction, round, author, sheet)?;
+        for &pair in removed {
+            delete_pair(&transaction, round, pair)?;
+        }
+        for &pair in added {
+            insert_pair(&transaction, round, pair)?;
+        }
+        transaction.commit()?;
+        Ok(())
+    }
+
+    /// Moves sheets between reviewers: each old pair (with any marks) is removed and its
+    /// new one, where there is one, added.
+    pub fn move_pairs(&self, round: i64, moves: &[(Pair, Option<Pair>)]) -> Result<(), Error> {
+        let mut connection = self.connection();
+        let transaction = connection.transaction()?;
+        for &(old, new) in moves {
+            delete_pair(&transaction, round, old)?;
+            if let Some(new) = new {
+                insert_pair(&transaction, round, new)?;
+            }
+        }
+        transaction.commit()?;
+        Ok(())
+    }
+}
