@@ -295,9 +295,7 @@ fn a_course_is_set_up_from_scratch_and_re_imports_change_only_what_changed() {
             "score",
             "late_penalty",
             "final_score",
-            "submitted_at",
-            "review_share",
-            "review_bonus"
+            "submitted_at"
         ]
     );
     let rows: Vec<Vec<String>> = reader

@@ -159,9 +159,7 @@ async fn the_xlsx_gradebook_holds_the_names_as_strings() {
             "score",
             "late_penalty",
             "final_score",
-            "submitted_at",
-            "review_share",
-            "review_bonus"
+            "submitted_at"
         ]
     );
     assert_eq!(rows.len(), 1 + STORED.len());

@@ -341,6 +341,9 @@ async fn a_review_round_in_class() {
     let other_staff = app
         .signed_in(&app.staff("other", "t@other.example", Role::Instructor))
         .await;
+    let instructor = app
+        .signed_in(&app.staff("el2320", "teacher@example.org", Role::Instructor))
+        .await;
     for (i, w) in who.iter().take(3).enumerate() {
         answer_part_one(&app, w, &format!("sheet of student {i}")).await;
     }
@@ -393,8 +396,19 @@ async fn a_review_round_in_class() {
         let sheets = mine[0]["sheets"].as_array().unwrap();
         assert_eq!(sheets.len(), 2, "{}: {mine}", logins[i]);
         assert!(mine[0]["received"].is_null());
-        for number in [1, 2] {
+        for number in sheets.iter().map(|s| s["number"].as_u64().unwrap()) {
             let sheet = app.get_json(w, &format!("{REVIEWS}/{id}/{number}")).await;
+            // The model answers, but no key a reviewer could use for their own answers.
+            for question in sheet["set"]["questions"].as_array().unwrap() {
+                assert!(
+                    question.get("correct").is_none_or(Value::is_null),
+                    "{question}"
+                );
+                assert!(
+                    question.get("answer").is_none_or(Value::is_null),
+                    "{question}"
+                );
+            }
             let text = serde_json::to_string(&sheet).unwrap();
             assert!(
                 !text.contains(&format!("student {i} ")),
@@ -411,15 +425,28 @@ async fn a_review_round_in_class() {
             );
         }
         assert_eq!(
-            app.send(Req::get(&format!("{REVIEWS}/{id}/3")).who(w))
+            app.send(Req::get(&format!("{REVIEWS}/{id}/99")).who(w))
                 .await
                 .status,
             StatusCode::NOT_FOUND
         );
     }
 
-    // A review is handed in only when every answer is marked, and then no more changed.
-    let path = format!("{REVIEWS}/{id}/1");
+    // A review is handed in only when every answer is marked (and only those), and then
+    // no more changed.
+    let first = app.get_json(&who[0], REVIEWS).await[0]["sheets"][0]["number"]
+        .as_u64()
+        .unwrap();
+    let path = format!("{REVIEWS}/{id}/{first}");
+    let unanswered = json!({"marks": [{"question": "optimal", "correct": false, "comment": ""}], "submit": false});
+    let refused = app
+        .send(Req::post(&path).who(&who[0]).json(unanswered))
+        .await;
+    assert!(
+        refused.error().contains("no question the sheet answers"),
+        "{}",
+        refused.error()
+    );
     let partial =
         json!({"marks": [{"question": "roles", "correct": true, "comment": ""}], "submit": true});
     let refused = app.send(Req::post(&path).who(&who[0]).json(partial)).await;
@@ -429,7 +456,7 @@ async fn a_review_round_in_class() {
         "{}",
         refused.error()
     );
-    review_sheet(&app, &who[0], id, 1).await;
+    review_sheet(&app, &who[0], id, first).await;
     let late = app
         .send(
             Req::post(&path)
@@ -438,6 +465,14 @@ async fn a_review_round_in_class() {
         )
         .await;
     assert_eq!(late.status, StatusCode::FORBIDDEN);
+
+    // Other sets imported meanwhile leave the open round's set alone.
+    let imported = app
+        .send(Req::post(QUESTIONS).who(&instructor).json(json!({ "sets": [OTHER_SET] })))
+        .await;
+    assert_eq!(imported.status, StatusCode::OK, "{}", imported.body);
+    let mine = app.get_json(&who[0], REVIEWS).await;
+    assert_eq!(mine[0]["title"], "Part I: before the lab");
 
     // Student b leaves: their sheets go to the others; the rest review everything.
     let moved = app
@@ -497,9 +532,10 @@ async fn a_review_round_in_class() {
         !serde_json::to_string(received).unwrap().contains("u-"),
         "a mark names its reviewer"
     );
+    let theirs = mine[0]["sheets"][0]["number"].as_u64().unwrap();
     let shut = app
         .send(
-            Req::post(&format!("{REVIEWS}/{id}/1"))
+            Req::post(&format!("{REVIEWS}/{id}/{theirs}"))
                 .who(&who[2])
                 .json(json!({"marks": [], "submit": false})),
         )
@@ -508,17 +544,23 @@ async fn a_review_round_in_class() {
 
     // The gradebook has each student's share and bonus.
     let export = app
-        .send(Req::get("/api/courses/el2320/labs/ekf-localization/export?format=csv").who(&assistant))
+        .send(
+            Req::get("/api/courses/el2320/labs/ekf-localization/export?format=csv").who(&assistant),
+        )
         .await;
     assert_eq!(export.status, StatusCode::OK);
     let mut reader = csv::Reader::from_reader(export.body.as_bytes());
     let header = reader.headers().unwrap().clone();
     let column = |name: &str| header.iter().position(|c| c == name).unwrap();
-    let (share, bonus) = (column("review_share"), column("review_bonus"));
+    let (share, bonus) = (column("review_share_1"), column("review_bonus_1"));
     let rows = csv_rows(&export.body);
     assert_eq!(rows.len(), 4);
     for row in &rows {
-        assert_eq!((row[share].as_str(), row[bonus].as_str()), ("0.5000", "yes"), "{row:?}");
+        assert_eq!(
+            (row[share].as_str(), row[bonus].as_str()),
+            ("0.5000", "yes"),
+            "{row:?}"
+        );
     }
 
     // Nobody outside reaches the rounds.

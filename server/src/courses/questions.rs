@@ -339,11 +339,14 @@ pub fn of_assignment(
     course: &str,
     lab: Exercise,
 ) -> Result<Vec<QuestionSet>, store::Error> {
-    let texts = match store.questions(course, lab)? {
-        Some(stored) => stored,
-        None => own(lab),
-    };
-    read_all(&texts).map_err(|e| store::Error::Conflict(format!("the questions of {lab}: {e}")))
+    read_all(&sources(store, course, lab)?)
+        .map_err(|e| store::Error::Conflict(format!("the questions of {lab}: {e}")))
+}
+
+/// The TOML of the question sets of an assignment: those its instructors gave it, or the
+/// exercise's own.
+pub fn sources(store: &Store, course: &str, lab: Exercise) -> Result<Vec<String>, store::Error> {
+    Ok(store.questions(course, lab)?.unwrap_or_else(|| own(lab)))
 }
 
 /// The exercise's own question sets (in its folder's `questions/`), as TOML.
@@ -368,6 +371,17 @@ impl QuestionSet {
     /// The set as a student sees it before the review: the answers it checks against and
     /// the model answers left out.
     pub fn for_students(&self) -> QuestionSet {
+        self.without_keys(false)
+    }
+
+    /// The set as a reviewer marks against it: the model answers, without the answers
+    /// numbers and choices are checked against (which the reviewer could use for their own
+    /// answers).
+    pub fn for_reviewers(&self) -> QuestionSet {
+        self.without_keys(true)
+    }
+
+    fn without_keys(&self, models: bool) -> QuestionSet {
         let questions = self
             .questions
             .iter()
@@ -384,7 +398,11 @@ impl QuestionSet {
                     },
                     other => other.clone(),
                 },
-                model: String::new(),
+                model: if models {
+                    q.model.clone()
+                } else {
+                    String::new()
+                },
                 ..q.clone()
             })
             .collect();

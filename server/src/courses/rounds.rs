@@ -25,32 +25,26 @@ pub struct Opening {
     pub bonus_above: f64,
 }
 
-/// The course's students (not dropped) who have answered some question of set `part`.
-fn authors(
+/// Whether `member` is a student of the roster (not dropped) who has answered a question
+/// of `set`, the set `part` of the assignment.
+pub fn may_take_part(
     store: &Store,
-    course: &str,
+    member: &Member,
     lab: Exercise,
-    part: usize,
-) -> Result<Vec<Member>, store::Error> {
-    let mut authors = Vec::new();
-    for member in store.members(course)? {
-        if member.role == Role::Student
-            && !member.dropped
-            && !sheet(store, &member, lab, part, None)?.is_empty()
-        {
-            authors.push(member);
-        }
-    }
-    Ok(authors)
+    (part, set): (usize, &QuestionSet),
+) -> Result<bool, store::Error> {
+    Ok(member.role == Role::Student
+        && !member.dropped
+        && !sheet(store, member, lab, part, set)?.is_empty())
 }
 
-/// `member`'s answers to set `part`, in the set's order when `set` is given.
+/// `member`'s answers to the questions of `set` (the set `part`), in the set's order.
 fn sheet(
     store: &Store,
     member: &Member,
     lab: Exercise,
     part: usize,
-    set: Option<&QuestionSet>,
+    set: &QuestionSet,
 ) -> Result<Vec<SheetAnswer>, store::Error> {
     let mut answers: Vec<SheetAnswer> = store
         .answers(member.id, lab)?
@@ -61,27 +55,16 @@ fn sheet(
             answer: a.answer,
         })
         .collect();
-    if let Some(set) = set {
-        let place = |id: &str| set.questions.iter().position(|q| q.id == id);
-        answers.retain(|a| place(&a.question).is_some());
-        answers.sort_by_key(|a| place(&a.question));
-    }
+    let place = |id: &str| set.questions.iter().position(|q| q.id == id);
+    answers.retain(|a| place(&a.question).is_some());
+    answers.sort_by_key(|a| place(&a.question));
     Ok(answers)
 }
 
-/// The set a round reviews.
-pub fn set_of(
-    store: &Store,
-    course: &str,
-    lab: Exercise,
-    part: usize,
-) -> Result<QuestionSet, store::Error> {
-    questions::of_assignment(store, course, lab)?
-        .into_iter()
-        .nth(part)
-        .ok_or_else(|| {
-            store::Error::Conflict(format!("the question set {} of {lab} is gone", part + 1))
-        })
+/// The set a round reviews, as it was when the round opened.
+pub fn set_of(round: &Round) -> Result<QuestionSet, store::Error> {
+    questions::read(&round.questions)
+        .map_err(|e| store::Error::Conflict(format!("the questions of round {}: {e}", round.id)))
 }
 
 fn random_seed() -> u64 {
@@ -94,14 +77,15 @@ fn random_seed() -> u64 {
 /// they stand now; its id.
 pub fn open(setup: &Setup, lab: Exercise, opening: &Opening) -> Result<i64, Error> {
     let store = setup.store;
-    let sets = questions::of_assignment(store, setup.course, lab)?;
-    let Some(set) = sets.get(opening.part) else {
+    let sources = questions::sources(store, setup.course, lab)?;
+    let Some(source) = sources.get(opening.part) else {
         return Err(Error::Invalid(format!(
             "part {}: the assignment has {} question sets, counted from 0",
             opening.part,
-            sets.len()
+            sources.len()
         )));
     };
+    let set = questions::read(source).map_err(Error::Invalid)?;
     if !(0.0..1.0).contains(&opening.bonus_above) {
         return Err(Error::Invalid(format!(
             "bonus_above {}: a share from 0 up to (not including) 1",
@@ -118,13 +102,18 @@ pub fn open(setup: &Setup, lab: Exercise, opening: &Opening) -> Result<i64, Erro
             open.id, set.title
         )));
     }
-    let authors = authors(store, setup.course, lab, opening.part)?;
+    let mut authors = Vec::new();
+    for member in store.members(setup.course)? {
+        if may_take_part(store, &member, lab, (opening.part, &set))? {
+            authors.push(member);
+        }
+    }
     let ids: Vec<i64> = authors.iter().map(|m| m.id).collect();
     let seed = random_seed();
     let pairs = review::hand_out(&ids, opening.per_sheet, seed).map_err(Error::Invalid)?;
     let sheets = authors
         .iter()
-        .map(|m| Ok((m.id, sheet(store, m, lab, opening.part, Some(set))?)))
+        .map(|m| Ok((m.id, sheet(store, m, lab, opening.part, &set)?)))
         .collect::<Result<Vec<_>, store::Error>>()?;
     let new = NewRound {
         course: setup.course,
@@ -133,6 +122,7 @@ pub fn open(setup: &Setup, lab: Exercise, opening: &Opening) -> Result<i64, Erro
         per_sheet: opening.per_sheet,
         bonus_above: opening.bonus_above,
         seed,
+        questions: source,
         opened_by: setup.actor,
     };
     let id = store.open_round(&new, &sheets, &pairs, setup.now)?;
@@ -173,14 +163,14 @@ pub fn join(setup: &Setup, lab: Exercise, id: i64, login: &str) -> Result<(), Er
     let store = setup.store;
     let round = open_round(setup, lab, id)?;
     let member = store.member(setup.course, login)?;
-    let set = set_of(store, setup.course, lab, round.part)?;
-    let answers = sheet(store, &member, lab, round.part, Some(&set))?;
-    if member.role != Role::Student || answers.is_empty() {
+    let set = set_of(&round)?;
+    if !may_take_part(store, &member, lab, (round.part, &set))? {
         return Err(Error::Invalid(format!(
-            "{login} has not answered {:?}: only students who answered join",
+            "{login} has not answered {:?} or is not on the roster: only its students who answered join",
             set.title
         )));
     }
+    let answers = sheet(store, &member, lab, round.part, &set)?;
     let pairs = store.pairs(id)?;
     let done: HashSet<review::Pair> = pairs
         .iter()
@@ -249,9 +239,9 @@ pub fn check_marks(
 ) -> Result<(), String> {
     let mut seen = HashSet::new();
     for mark in marks {
-        if !set.questions.iter().any(|q| q.id == mark.question) {
+        if !sheet.iter().any(|a| a.question == mark.question) {
             return Err(format!(
-                "{:?} is no question of {:?}",
+                "{:?} is no question the sheet answers (of {:?})",
                 mark.question, set.title
             ));
         }
@@ -314,27 +304,40 @@ pub fn tallies(store: &Store, round: &Round) -> Result<HashMap<i64, Tally>, stor
     Ok(tallies)
 }
 
-/// Each student's tally (by id) in the assignment's latest closed round; none before one
-/// has closed.
-pub fn latest_closed(
-    store: &Store,
-    course: &str,
-    lab: Exercise,
-) -> Result<HashMap<String, Tally>, store::Error> {
-    let Some(round) = store
-        .rounds(course, lab)?
-        .into_iter()
-        .find(|r| r.closed_at.is_some())
-    else {
-        return Ok(HashMap::new());
-    };
+/// What the review rounds of an assignment gave its students, for the gradebook: for
+/// each question set with a closed round (by place, in order), each student's tally (by
+/// id) in the latest round of it to close.
+#[derive(Debug, Default)]
+pub struct Reviewed {
+    pub parts: Vec<(usize, HashMap<String, Tally>)>,
+}
+
+pub fn reviewed(store: &Store, course: &str, lab: Exercise) -> Result<Reviewed, store::Error> {
+    let mut latest: HashMap<usize, Round> = HashMap::new();
+    for round in store.rounds(course, lab)? {
+        let Some(closed) = round.closed_at else {
+            continue;
+        };
+        if latest
+            .get(&round.part)
+            .is_none_or(|r| r.closed_at < Some(closed))
+        {
+            latest.insert(round.part, round);
+        }
+    }
     let logins: HashMap<i64, String> = store
         .members(course)?
         .into_iter()
         .map(|m| (m.id, m.login))
         .collect();
-    Ok(tallies(store, &round)?
-        .into_iter()
-        .filter_map(|(id, tally)| Some((logins.get(&id)?.clone(), tally)))
-        .collect())
+    let mut parts = Vec::new();
+    for (part, round) in latest {
+        let tallies = tallies(store, &round)?
+            .into_iter()
+            .filter_map(|(id, tally)| Some((logins.get(&id)?.clone(), tally)))
+            .collect();
+        parts.push((part, tallies));
+    }
+    parts.sort_by_key(|(part, _)| *part);
+    Ok(Reviewed { parts })
 }

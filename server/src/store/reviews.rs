@@ -30,6 +30,9 @@ pub struct Round {
     pub closed_at: Option<Timestamp>,
     #[serde(skip)]
     pub seed: u64,
+    /// The set reviewed, as TOML, as it was when the round opened.
+    #[serde(skip)]
+    pub questions: String,
 }
 
 /// One answer of a sheet as it was handed out.
@@ -58,7 +61,7 @@ pub struct Mark {
 }
 
 const ROUND_COLUMNS: &str =
-    "id, part, per_sheet, bonus_above, opened_by, opened_at, closed_at, seed";
+    "id, part, per_sheet, bonus_above, opened_by, opened_at, closed_at, seed, questions";
 
 fn round(row: &rusqlite::Row) -> rusqlite::Result<Round> {
     Ok(Round {
@@ -70,6 +73,7 @@ fn round(row: &rusqlite::Row) -> rusqlite::Result<Round> {
         opened_at: timestamp(row.get(5)?),
         closed_at: row.get::<_, Option<i64>>(6)?.map(timestamp),
         seed: row.get::<_, i64>(7)? as u64,
+        questions: row.get(8)?,
     })
 }
 
@@ -81,6 +85,8 @@ pub struct NewRound<'a> {
     pub per_sheet: usize,
     pub bonus_above: f64,
     pub seed: u64,
+    /// The set reviewed, as TOML.
+    pub questions: &'a str,
     pub opened_by: &'a str,
 }
 
@@ -98,17 +104,19 @@ fn insert_sheet(
     Ok(())
 }
 
-/// Adds `pair` as the reviewer's sheet with the smallest number they do not have (a
-/// sheet that went elsewhere leaves its number to the next).
+/// Adds `pair` as the reviewer's sheet numbered after every number they ever had in the
+/// round: a number names one sheet for good, so marks sent for a sheet that went
+/// elsewhere meanwhile never land on another.
 fn insert_pair(transaction: &Transaction, round: i64, pair: Pair) -> rusqlite::Result<()> {
     transaction.execute(
         "INSERT INTO review_pairs (round, reviewer, author, number)
-         VALUES (?1, ?2, ?3, CASE
-             WHEN NOT EXISTS (SELECT 1 FROM review_pairs WHERE round = ?1 AND reviewer = ?2 AND number = 1) THEN 1
-             ELSE (SELECT MIN(p.number) + 1 FROM review_pairs p WHERE p.round = ?1 AND p.reviewer = ?2
-                   AND NOT EXISTS (SELECT 1 FROM review_pairs q
-                                   WHERE q.round = ?1 AND q.reviewer = ?2 AND q.number = p.number + 1))
-         END)",
+         VALUES (?1, ?2, ?3, 1 + (SELECT COALESCE(MAX(number), 0) FROM review_numbers
+                                  WHERE round = ?1 AND reviewer = ?2))",
+        params![round, pair.reviewer, pair.author],
+    )?;
+    transaction.execute(
+        "INSERT INTO review_numbers (round, reviewer, number)
+         SELECT round, reviewer, number FROM review_pairs WHERE round = ?1 AND reviewer = ?2 AND author = ?3",
         params![round, pair.reviewer, pair.author],
     )?;
     Ok(())
@@ -139,8 +147,8 @@ impl Store {
         let mut connection = self.connection();
         let transaction = connection.transaction()?;
         transaction.execute(
-            "INSERT INTO review_rounds (course, lab, part, per_sheet, seed, bonus_above, opened_by, opened_at)
-             VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)",
+            "INSERT INTO review_rounds (course, lab, part, per_sheet, seed, bonus_above, opened_by, opened_at, questions)
+             VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9)",
             params![
                 new.course,
                 new.lab.name(),
@@ -149,7 +157,8 @@ impl Store {
                 new.seed as i64,
                 new.bonus_above,
                 new.opened_by,
-                now.as_second()
+                now.as_second(),
+                new.questions
             ],
         )?;
         let id = transaction.last_insert_rowid();
@@ -266,7 +275,9 @@ impl Store {
         Ok(marks)
     }
 
-    /// Replaces a reviewer's marks of one sheet, and submits them when `submit`.
+    /// Replaces a reviewer's marks of one sheet, and submits them when `submit`; false,
+    /// changing nothing, when the round has closed or the review was handed in meanwhile
+    /// (both judged within the change).
     pub fn save_marks(
         &self,
         round: i64,
@@ -274,10 +285,20 @@ impl Store {
         marks: &[Mark],
         submit: bool,
         now: Timestamp,
-    ) -> Result<(), Error> {
+    ) -> Result<bool, Error> {
         let mut connection = self.connection();
         let transaction = connection.transaction()?;
         let keys = params![round, pair.reviewer, pair.author];
+        let open: bool = transaction.query_row(
+            "SELECT EXISTS (SELECT 1 FROM review_rounds r JOIN review_pairs p ON p.round = r.id
+                            WHERE r.id = ?1 AND r.closed_at IS NULL AND p.reviewer = ?2
+                              AND p.author = ?3 AND p.submitted_at IS NULL)",
+            keys,
+            |row| row.get(0),
+        )?;
+        if !open {
+            return Ok(false);
+        }
         transaction.execute(
             "DELETE FROM review_marks WHERE round = ?1 AND reviewer = ?2 AND author = ?3",
             keys,
@@ -303,7 +324,7 @@ impl Store {
             )?;
         }
         transaction.commit()?;
-        Ok(())
+        Ok(true)
     }
 
     /// A late author joins a round: their sheet, the pairs that make room for them

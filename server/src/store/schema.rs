@@ -190,7 +190,9 @@ const MIGRATIONS: &[&str] = &[
     // 10: peer review of the written answers. A round hands one question set's answer
     // sheets (each frozen as it stood when the round opened, or when its author joined
     // late) to reviewers among their authors, each pair numbered for its reviewer (who
-    // never learns the author); a mark is one reviewer's judgement of one answer.
+    // never learns the author); a mark is one reviewer's judgement of one answer. The
+    // round keeps the set as it was (its TOML), so that a change of the assignment's sets
+    // leaves what it reviews alone.
     "CREATE TABLE review_rounds (
         id INTEGER PRIMARY KEY,
         course TEXT NOT NULL,
@@ -199,6 +201,7 @@ const MIGRATIONS: &[&str] = &[
         per_sheet INTEGER NOT NULL,
         seed INTEGER NOT NULL,
         bonus_above REAL NOT NULL,
+        questions TEXT NOT NULL,
         opened_by TEXT NOT NULL,
         opened_at INTEGER NOT NULL,
         closed_at INTEGER
@@ -226,6 +229,13 @@ const MIGRATIONS: &[&str] = &[
         correct INTEGER NOT NULL CHECK (correct IN (0, 1)),
         comment TEXT NOT NULL,
         PRIMARY KEY (round, reviewer, author, question)
+    );
+    -- Every number a reviewer's sheet had in a round, so that none is given twice.
+    CREATE TABLE review_numbers (
+        round INTEGER NOT NULL REFERENCES review_rounds (id),
+        reviewer INTEGER NOT NULL,
+        number INTEGER NOT NULL,
+        PRIMARY KEY (round, reviewer, number)
     );",
 ];
 

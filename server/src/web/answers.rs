@@ -116,6 +116,11 @@ pub async fn save(
 ) -> Result<Response, Error> {
     let exercise = known_lab(&lab)?;
     let member = match viewer.member() {
+        Some(member) if member.course == course && !member.role.is_staff() && member.dropped => {
+            return Err(Error::Forbidden(format!(
+                "you are no longer on the roster of {course}: your answers are kept as they are"
+            )));
+        }
         Some(member) if member.course == course && !member.role.is_staff() => member.clone(),
         _ if viewer.is_staff_of(&course) => {
             return Err(Error::Forbidden(

@@ -63,7 +63,7 @@ fn round_view(
     lab: Exercise,
     round: Round,
 ) -> Result<RoundView, crate::store::Error> {
-    let set = rounds::set_of(store, course, lab, round.part)?;
+    let set = rounds::set_of(&round)?;
     let members: HashMap<i64, Member> = store
         .members(course)?
         .into_iter()
@@ -99,11 +99,7 @@ fn round_view(
     if round.closed_at.is_none() {
         for member in members.values() {
             let in_round = students.iter().any(|s| s.student == member.login);
-            let answered = store
-                .answers(member.id, lab)?
-                .iter()
-                .any(|a| a.part == round.part);
-            if member.role == Role::Student && !member.dropped && !in_round && answered {
+            if !in_round && rounds::may_take_part(store, member, lab, (round.part, &set))? {
                 waiting.push(member.login.clone());
             }
         }
@@ -285,6 +281,11 @@ pub struct StudentRound {
 /// answers (staff review no sheets: they are told so).
 fn student_of(viewer: &Viewer, course: &str) -> Result<Member, Error> {
     match viewer.member() {
+        Some(member) if member.course == course && member.role == Role::Student && member.dropped => {
+            Err(Error::Forbidden(format!(
+                "you are no longer on the roster of {course}: you take no part in its reviews"
+            )))
+        }
         Some(member) if member.course == course && member.role == Role::Student => Ok(member.clone()),
         _ if viewer.is_staff_of(course) => Err(Error::Forbidden(
             "only the course's students review sheets: staff follow the rounds on the questions page".into(),
@@ -340,7 +341,7 @@ pub async fn mine(
             mine.push(StudentRound {
                 id: round.id,
                 part: round.part,
-                title: rounds::set_of(store, &course, exercise, round.part)?.title,
+                title: rounds::set_of(&round)?.title,
                 open: round.closed_at.is_none(),
                 sheets,
                 received,
@@ -409,7 +410,7 @@ fn sheet_view(
             number,
             open: found.closed_at.is_none(),
             submitted: stored.submitted_at.is_some(),
-            set: rounds::set_of(store, course, exercise, found.part)?,
+            set: rounds::set_of(&found)?.for_reviewers(),
             answers,
             marks,
         },
@@ -471,7 +472,11 @@ pub async fn mark(
         {
             return Ok(Err(Error::BadRequest(format!("field `marks`: {problem}"))));
         }
-        store.save_marks(round, pair, &request.marks, request.submit, now)?;
+        if !store.save_marks(round, pair, &request.marks, request.submit, now)? {
+            return Ok(Err(Error::Forbidden(format!(
+                "round {round} closed, or your review of sheet {number} was handed in, meanwhile"
+            ))));
+        }
         Ok(sheet_view(store, (&course, exercise), &member, (round, number))?.map(|(view, _)| view))
     })
     .await??;

@@ -90,7 +90,11 @@ async function openSheet(panel, api, round, number, changed) {
     if (!given) return;
     const mark = sheet.marks.find((m) => m.question === question.id);
     const article = element('article', 'question');
-    article.append(element('h5', null, `${i + 1}. ${question.title}`), markdown('prompt', question.prompt));
+    const title = element('h5', null, `${i + 1}. `);
+    const named = element('span');
+    renderInto(named, question.title);
+    title.append(...(named.firstElementChild?.childNodes ?? []));
+    article.append(title, markdown('prompt', question.prompt));
     article.append(element('h6', null, 'The answer'), shownAnswer(question, given.answer));
     if (question.model) article.append(element('h6', null, 'Model answer'), markdown('model', question.model));
     const group = element('fieldset', 'mark');

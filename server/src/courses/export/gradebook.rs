@@ -2,11 +2,10 @@
 //! a spreadsheet, where a name is a string cell whatever it starts with).
 
 use crate::courses::class::ClassView;
-use crate::courses::rounds::Tally;
+use crate::courses::rounds::Reviewed;
 use rust_xlsxwriter::{Format, Workbook, XlsxError};
-use std::collections::HashMap;
 
-const HEADER: [&str; 11] = [
+const HEADER: [&str; 9] = [
     "id",
     "name",
     "email",
@@ -16,9 +15,36 @@ const HEADER: [&str; 11] = [
     "late_penalty",
     "final_score",
     "submitted_at",
-    "review_share",
-    "review_bonus",
 ];
+
+/// The whole header: `HEADER`, then `review_share_N, review_bonus_N` for each question
+/// set N (from 1) with a closed review round.
+fn header(reviewed: &Reviewed) -> Vec<String> {
+    HEADER
+        .iter()
+        .map(|h| h.to_string())
+        .chain(reviewed.parts.iter().flat_map(|(part, _)| {
+            [
+                format!("review_share_{}", part + 1),
+                format!("review_bonus_{}", part + 1),
+            ]
+        }))
+        .collect()
+}
+
+/// A student's review columns: (share, bonus) for each set of `reviewed`.
+fn review_cells<'a>(
+    reviewed: &'a Reviewed,
+    id: &'a str,
+) -> impl Iterator<Item = (Option<f64>, Option<&'static str>)> + 'a {
+    reviewed.parts.iter().map(move |(_, tallies)| {
+        let tally = tallies.get(id);
+        let bonus = tally
+            .and_then(|t| t.bonus)
+            .map(|b| if b { "yes" } else { "no" });
+        (tally.and_then(|t| t.share), bonus)
+    })
+}
 
 /// One student's line of the gradebook; the last four are `None` for a student with no
 /// graded submission.
@@ -32,15 +58,9 @@ struct Row<'a> {
     late_penalty: Option<f64>,
     final_score: Option<f64>,
     submitted_at: Option<&'a str>,
-    /// The share of right marks of their written answers in the latest closed review
-    /// round, and whether it earned the bonus; `None` outside such a round.
-    review: Option<&'a Tally>,
 }
 
-fn rows<'a>(
-    view: &'a ClassView,
-    reviews: &'a HashMap<String, Tally>,
-) -> impl Iterator<Item = Row<'a>> {
+fn rows(view: &ClassView) -> impl Iterator<Item = Row<'_>> {
     view.students.iter().map(|s| {
         let counting = s.counting.as_ref();
         Row {
@@ -53,7 +73,6 @@ fn rows<'a>(
             late_penalty: counting.map(|c| c.penalty),
             final_score: counting.and_then(|c| c.final_score),
             submitted_at: counting.map(|c| c.submitted_at.as_str()),
-            review: reviews.get(&s.id),
         }
     })
 }
@@ -61,20 +80,18 @@ fn rows<'a>(
 /// The gradebook as CSV. Columns: `id, name, email, status (enrolled or dropped),
 /// submissions, score (of the submission that counts, in [0, 1]), late_penalty (its share
 /// lost), final_score (score × (1 − late_penalty)), submitted_at (UTC)`; empty for a
-/// student with no graded submission; `review_share, review_bonus (yes or no)` of the
-/// latest closed review round (`reviews`, by student id), empty for a student outside it.
-/// Text cells are made inert (`inert`).
-pub fn csv(view: &ClassView, reviews: &HashMap<String, Tally>) -> Vec<u8> {
+/// student with no graded submission; then, for each question set N with a closed review
+/// round, `review_share_N, review_bonus_N (yes or no)` of its latest (`reviewed`), empty for
+/// a student outside it. Text cells are made inert (`inert`).
+pub fn csv(view: &ClassView, reviewed: &Reviewed) -> Vec<u8> {
     let mut csv = csv::Writer::from_writer(Vec::new());
-    csv.write_record(HEADER).expect("writing to memory");
+    csv.write_record(header(reviewed))
+        .expect("writing to memory");
     let number = |value: Option<f64>| value.map_or_else(String::new, |v| format!("{v:.4}"));
-    for row in rows(view, reviews) {
-        let share = row.review.and_then(|r| r.share);
-        let bonus = row
-            .review
-            .and_then(|r| r.bonus)
-            .map(|b| if b { "yes" } else { "no" });
-        csv.write_record([
+    for row in rows(view) {
+        let reviews = review_cells(reviewed, row.id)
+            .flat_map(|(share, bonus)| [number(share), bonus.unwrap_or_default().to_string()]);
+        let cells = [
             inert(row.id),
             inert(row.name),
             inert(row.email),
@@ -84,10 +101,9 @@ pub fn csv(view: &ClassView, reviews: &HashMap<String, Tally>) -> Vec<u8> {
             number(row.late_penalty),
             number(row.final_score),
             row.submitted_at.unwrap_or_default().to_string(),
-            number(share),
-            bonus.unwrap_or_default().to_string(),
-        ])
-        .expect("writing to memory");
+        ];
+        csv.write_record(cells.into_iter().chain(reviews))
+            .expect("writing to memory");
     }
     csv.into_inner().expect("writing to memory")
 }
@@ -95,21 +111,21 @@ pub fn csv(view: &ClassView, reviews: &HashMap<String, Tally>) -> Vec<u8> {
 /// The gradebook as XLSX, one sheet `grades` with the CSV's columns: ids, names, emails
 /// and the dates as string cells (never formulas, so they need no `'`), the counts and
 /// scores as numbers.
-pub fn xlsx(view: &ClassView, reviews: &HashMap<String, Tally>) -> Vec<u8> {
-    write_xlsx(view, reviews).expect("a gradebook within Excel's limits, written to memory")
+pub fn xlsx(view: &ClassView, reviewed: &Reviewed) -> Vec<u8> {
+    write_xlsx(view, reviewed).expect("a gradebook within Excel's limits, written to memory")
 }
 
-fn write_xlsx(view: &ClassView, reviews: &HashMap<String, Tally>) -> Result<Vec<u8>, XlsxError> {
+fn write_xlsx(view: &ClassView, reviewed: &Reviewed) -> Result<Vec<u8>, XlsxError> {
     let mut workbook = Workbook::new();
     let sheet = workbook.add_worksheet();
     sheet.set_name("grades")?;
     let bold = Format::new().set_bold();
     let share_format = Format::new().set_num_format("0.0000");
-    for (col, title) in (0..).zip(HEADER) {
+    for (col, title) in (0..).zip(header(reviewed)) {
         sheet.write_string_with_format(0, col, title, &bold)?;
     }
     sheet.set_freeze_panes(1, 0)?;
-    for (row, line) in (1..).zip(rows(view, reviews)) {
+    for (row, line) in (1..).zip(rows(view)) {
         sheet.write_string(row, 0, within_a_cell(line.id))?;
         sheet.write_string(row, 1, within_a_cell(line.name))?;
         sheet.write_string(row, 2, within_a_cell(line.email))?;
@@ -127,11 +143,13 @@ fn write_xlsx(view: &ClassView, reviews: &HashMap<String, Tally>) -> Result<Vec<
         if let Some(at) = line.submitted_at {
             sheet.write_string(row, 8, at)?;
         }
-        if let Some(share) = line.review.and_then(|r| r.share) {
-            sheet.write_number_with_format(row, 9, share, &share_format)?;
-        }
-        if let Some(bonus) = line.review.and_then(|r| r.bonus) {
-            sheet.write_string(row, 10, if bonus { "yes" } else { "no" })?;
+        for ((share, bonus), col) in review_cells(reviewed, line.id).zip((9..).step_by(2)) {
+            if let Some(share) = share {
+                sheet.write_number_with_format(row, col, share, &share_format)?;
+            }
+            if let Some(bonus) = bonus {
+                sheet.write_string(row, col + 1, bonus)?;
+            }
         }
     }
     workbook.save_to_buffer()

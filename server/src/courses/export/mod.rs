@@ -130,8 +130,8 @@ pub fn make(
     };
     let ids: Vec<i64> = view.students.iter().filter_map(exported).collect();
     Ok(Some(match format {
-        Format::Csv => gradebook::csv(&view, &rounds::latest_closed(store, course, lab)?),
-        Format::Xlsx => gradebook::xlsx(&view, &rounds::latest_closed(store, course, lab)?),
+        Format::Csv => gradebook::csv(&view, &rounds::reviewed(store, course, lab)?),
+        Format::Xlsx => gradebook::xlsx(&view, &rounds::reviewed(store, course, lab)?),
         Format::Gradescope | Format::Prairielearn => {
             let mut graded = HashMap::new();
             for id in ids {
