@@ -468,7 +468,11 @@ async fn a_review_round_in_class() {
 
     // Other sets imported meanwhile leave the open round's set alone.
     let imported = app
-        .send(Req::post(QUESTIONS).who(&instructor).json(json!({ "sets": [OTHER_SET] })))
+        .send(
+            Req::post(QUESTIONS)
+                .who(&instructor)
+                .json(json!({ "sets": [OTHER_SET] })),
+        )
         .await;
     assert_eq!(imported.status, StatusCode::OK, "{}", imported.body);
     let mine = app.get_json(&who[0], REVIEWS).await;
