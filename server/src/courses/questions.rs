@@ -196,8 +196,18 @@ fn check_question(index: usize, raw: RawQuestion) -> Result<Question, String> {
         }
         None => format!("q{}", index + 1),
     };
-    let fields = |names: &[(&str, bool)]| -> Result<(), String> {
-        match names.iter().find(|(_, given)| *given) {
+    // The fields only some kinds take, and whether the file gives each.
+    let given = [
+        ("answer", raw.answer.is_some()),
+        ("tolerance", raw.tolerance.is_some()),
+        ("unit", raw.unit.is_some()),
+        ("options", raw.options.is_some()),
+        ("correct", raw.correct.is_some()),
+        ("rows", raw.rows.is_some()),
+        ("columns", raw.columns.is_some()),
+    ];
+    let fields = |taken: &[&str]| -> Result<(), String> {
+        match given.iter().find(|(name, is)| *is && !taken.contains(name)) {
             Some((name, _)) => Err(format!(
                 "{name} is not a field of a question of kind {:?}",
                 raw.kind
@@ -207,24 +217,11 @@ fn check_question(index: usize, raw: RawQuestion) -> Result<Question, String> {
     };
     let kind = match raw.kind.as_str() {
         "text" => {
-            fields(&[
-                ("answer", raw.answer.is_some()),
-                ("tolerance", raw.tolerance.is_some()),
-                ("unit", raw.unit.is_some()),
-                ("options", raw.options.is_some()),
-                ("correct", raw.correct.is_some()),
-                ("rows", raw.rows.is_some()),
-                ("columns", raw.columns.is_some()),
-            ])?;
+            fields(&[])?;
             Kind::Text
         }
         "number" => {
-            fields(&[
-                ("options", raw.options.is_some()),
-                ("correct", raw.correct.is_some()),
-                ("rows", raw.rows.is_some()),
-                ("columns", raw.columns.is_some()),
-            ])?;
+            fields(&["answer", "tolerance", "unit"])?;
             if let Some(answer) = raw.answer
                 && !answer.is_finite()
             {
@@ -246,13 +243,7 @@ fn check_question(index: usize, raw: RawQuestion) -> Result<Question, String> {
             }
         }
         "choice" => {
-            fields(&[
-                ("answer", raw.answer.is_some()),
-                ("tolerance", raw.tolerance.is_some()),
-                ("unit", raw.unit.is_some()),
-                ("rows", raw.rows.is_some()),
-                ("columns", raw.columns.is_some()),
-            ])?;
+            fields(&["options", "correct"])?;
             let options = checked_items("options", raw.options, 2)?;
             let correct = match raw.correct {
                 Some(n) if (1..=options.len()).contains(&n) => Some(n - 1),
@@ -267,13 +258,7 @@ fn check_question(index: usize, raw: RawQuestion) -> Result<Question, String> {
             Kind::Choice { options, correct }
         }
         "table" => {
-            fields(&[
-                ("answer", raw.answer.is_some()),
-                ("tolerance", raw.tolerance.is_some()),
-                ("unit", raw.unit.is_some()),
-                ("options", raw.options.is_some()),
-                ("correct", raw.correct.is_some()),
-            ])?;
+            fields(&["rows", "columns"])?;
             Kind::Table {
                 rows: checked_items("rows", raw.rows, 1)?,
                 columns: checked_items("columns", raw.columns, 1)?,
