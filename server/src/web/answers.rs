@@ -50,6 +50,24 @@ pub struct Written {
     pub cutoff: Option<Timestamp>,
 }
 
+impl Written {
+    /// An assignment's sets in full, as staff read them.
+    fn for_staff(
+        store: &crate::store::Store,
+        course: &str,
+        lab: Exercise,
+    ) -> Result<Written, crate::store::Error> {
+        Ok(Written {
+            lab,
+            staff: true,
+            own: store.questions(course, lab)?.is_none(),
+            sets: questions::of_assignment(store, course, lab)?,
+            answers: Vec::new(),
+            cutoff: None,
+        })
+    }
+}
+
 pub async fn questions(
     State(state): State<Arc<AppState>>,
     viewer: Viewer,
@@ -66,26 +84,17 @@ pub async fn questions(
         if store.assignment(&course, exercise)?.is_none() {
             return Ok(None);
         }
-        let own = store.questions(&course, exercise)?.is_none();
-        let sets = questions::of_assignment(store, &course, exercise)?;
+        let full = Written::for_staff(store, &course, exercise)?;
         Ok(Some(match student {
-            None => Written {
-                lab: exercise,
-                staff: true,
-                own,
-                sets,
-                answers: Vec::new(),
-                cutoff: None,
-            },
+            None => full,
             Some(member) => Written {
-                lab: exercise,
                 staff: false,
-                own,
-                sets: sets.iter().map(QuestionSet::for_students).collect(),
+                sets: full.sets.iter().map(QuestionSet::for_students).collect(),
                 answers: store.answers(member, exercise)?,
                 cutoff: store
                     .policy_for(&course, exercise, member)?
                     .map(|p| p.cutoff),
+                ..full
             },
         }))
     })
@@ -201,16 +210,7 @@ pub async fn import(
         other => other,
     })?;
     let written = blocking(&state, move |store| {
-        let own = store.questions(&at, exercise)?.is_none();
-        let sets = questions::of_assignment(store, &at, exercise)?;
-        Ok(Written {
-            lab: exercise,
-            staff: true,
-            own,
-            sets,
-            answers: Vec::new(),
-            cutoff: None,
-        })
+        Written::for_staff(store, &at, exercise)
     })
     .await?;
     Ok(Json(written).into_response())
