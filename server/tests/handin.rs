@@ -601,3 +601,320 @@ async fn a_review_round_in_class() {
         assert!(audit.contains(logged), "{logged} not in the audit: {audit}");
     }
 }
+
+const REPORT: &str = "/api/courses/el2320/labs/ekf-localization/report";
+const REPORTS: &str = "/api/courses/el2320/labs/ekf-localization/reports";
+
+/// A rubric of the EKF report's six parts: `revise` the ones named, the rest pass.
+fn rubric(handed_in: u32, revise: &[&str]) -> Value {
+    let parts: Vec<Value> = [
+        "o3/sequential",
+        "outliers/sequential",
+        "no-odometry/sequential",
+        "no-odometry/batch",
+        "questions-1",
+        "questions-2",
+    ]
+    .iter()
+    .map(|part| {
+        let verdict = if revise.contains(part) {
+            "revise"
+        } else {
+            "pass"
+        };
+        json!({ "part": part, "verdict": verdict, "comment": format!("on {part}") })
+    })
+    .collect();
+    json!({ "handed_in": handed_in, "parts": parts })
+}
+
+/// A student's report from its draft to accepted through the API: analyses only of its
+/// runs and within their length, no hand-in without a submission, the runs made once on
+/// the server with the student's code and read alike by staff, a hand-in that shuts the
+/// analyses until staff send it back, a rubric that judges every part of the hand-in staff
+/// read (a later hand-in is not judged unread), drafts refused after the cutoff and a
+/// report sent back taken after it; the gradebook's report columns.
+#[tokio::test(flavor = "multi_thread")]
+async fn a_report_from_draft_to_accepted() {
+    let app = App::new();
+    app.open_course("el2320");
+    let a = app.enrol("el2320", "u-a-1001");
+    app.enrol("el2320", "u-l-1003");
+    let assistant = app.staff("el2320", "ta@example.org", Role::Assistant);
+    app.staff("el2320", "teacher@example.org", Role::Instructor);
+    let a = app.signed_in(&a).await;
+    let assistant = app.signed_in(&assistant).await;
+    let post =
+        |who: &Who, path: String, body: Value| app.send(Req::post(&path).who(who).json(body));
+
+    // A draft: the four runs and both sets as parts, nothing handed in, no submission.
+    let draft = app.get_json(&a, REPORT).await;
+    assert_eq!(draft["state"], "draft");
+    assert_eq!(draft["parts"].as_array().unwrap().len(), 6);
+    assert!(draft["submission"].is_null());
+    let runs = app.get_json(&a, &format!("{REPORT}/runs")).await;
+    assert_eq!(runs["state"], "no_submission");
+    let wrong_run = post(
+        &a,
+        format!("{REPORT}/analyses"),
+        json!({ "run": "o4/batch", "text": "x" }),
+    )
+    .await;
+    assert_eq!(
+        wrong_run.status,
+        StatusCode::BAD_REQUEST,
+        "{}",
+        wrong_run.body
+    );
+    assert!(
+        wrong_run.error().contains("field `run`"),
+        "{}",
+        wrong_run.error()
+    );
+    let long = "x".repeat(20_001);
+    let too_long = post(
+        &a,
+        format!("{REPORT}/analyses"),
+        json!({ "run": "o3/sequential", "text": long }),
+    )
+    .await;
+    assert_eq!(
+        too_long.status,
+        StatusCode::BAD_REQUEST,
+        "{}",
+        too_long.body
+    );
+    let saved = post(
+        &a,
+        format!("{REPORT}/analyses"),
+        json!({ "run": "o3/sequential", "text": "small $\\Sigma$" }),
+    )
+    .await;
+    assert_eq!(saved.status, StatusCode::NO_CONTENT, "{}", saved.body);
+    let early = post(&a, format!("{REPORT}/hand-in"), json!({})).await;
+    assert_eq!(early.status, StatusCode::CONFLICT, "{}", early.body);
+    assert!(
+        early.error().contains("submit your code first"),
+        "{}",
+        early.error()
+    );
+
+    // The runs of the latest submission, made once on the server; staff read the same.
+    let (submission, _) = app.submit_graded(&a, &quick_source("report")).await;
+    let runs = wait_for_runs(&app, &a, &format!("{REPORT}/runs")).await;
+    assert_eq!(runs["submission"], submission);
+    let mut names: Vec<&str> = runs["outputs"]["runs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["name"].as_str().unwrap())
+        .collect();
+    names.sort_unstable();
+    assert_eq!(
+        names,
+        [
+            "no-odometry/batch",
+            "no-odometry/sequential",
+            "o3/sequential",
+            "outliers/sequential"
+        ]
+    );
+    // The file lacks the functions the loop calls: each run says so, for the report to show.
+    assert!(
+        runs["outputs"]["runs"][0]["error"]
+            .as_str()
+            .is_some_and(|e| e.contains("is not defined")),
+        "{runs}"
+    );
+    let staff_runs = app
+        .get_json(&assistant, &format!("{REPORTS}/u-a-1001/runs"))
+        .await;
+    assert_eq!(staff_runs, runs);
+
+    // Handed in: the analyses are shut, a second hand-in refused, staff see it waiting.
+    let handed = post(&a, format!("{REPORT}/hand-in"), json!({})).await;
+    assert_eq!(handed.status, StatusCode::OK, "{}", handed.body);
+    assert_eq!(handed.json()["state"], "handed_in");
+    assert_eq!(handed.json()["handed_in"], 1);
+    let shut = post(
+        &a,
+        format!("{REPORT}/analyses"),
+        json!({ "run": "o3/sequential", "text": "more" }),
+    )
+    .await;
+    assert_eq!(shut.status, StatusCode::CONFLICT, "{}", shut.body);
+    assert_eq!(
+        post(&a, format!("{REPORT}/hand-in"), json!({}))
+            .await
+            .status,
+        StatusCode::CONFLICT
+    );
+    let class = app.get_json(&assistant, REPORTS).await;
+    let line = class
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|l| l["student"] == "u-a-1001")
+        .unwrap();
+    assert_eq!(line["state"], "handed_in");
+    assert_eq!(line["lab_passed"], false);
+    let read = app
+        .get_json(&assistant, &format!("{REPORTS}/u-a-1001"))
+        .await;
+    assert_eq!(read["analyses"]["o3/sequential"], "small $\\Sigma$");
+    assert_eq!(read["staff"], true);
+
+    // The rubric: every part, once; the hand-in read; one part sent back.
+    let mut partial = rubric(1, &[]);
+    partial["parts"].as_array_mut().unwrap().pop();
+    let missing = post(&assistant, format!("{REPORTS}/u-a-1001/rubric"), partial).await;
+    assert_eq!(missing.status, StatusCode::BAD_REQUEST, "{}", missing.body);
+    assert!(
+        missing.error().contains("questions-2"),
+        "{}",
+        missing.error()
+    );
+    let nothing = post(
+        &assistant,
+        format!("{REPORTS}/u-l-1003/rubric"),
+        rubric(1, &[]),
+    )
+    .await;
+    assert_eq!(nothing.status, StatusCode::CONFLICT, "{}", nothing.body);
+    let sent_back = post(
+        &assistant,
+        format!("{REPORTS}/u-a-1001/rubric"),
+        rubric(1, &["no-odometry/sequential"]),
+    )
+    .await;
+    assert_eq!(sent_back.status, StatusCode::OK, "{}", sent_back.body);
+    assert_eq!(sent_back.json()["state"], "revise");
+
+    // After the cutoff: a draft is refused, a report sent back is taken.
+    let cutoff = app
+        .store()
+        .assignment("el2320", Exercise::EkfLocalization)
+        .unwrap()
+        .unwrap()
+        .policy
+        .cutoff;
+    app.clock.set(cutoff + SignedDuration::from_secs(1));
+    let a = app
+        .signed_in(&app.store().member("el2320", "u-a-1001").unwrap())
+        .await;
+    // (Sessions have expired by then: everyone signs in again.)
+    let late = app
+        .signed_in(&app.store().member("el2320", "u-l-1003").unwrap())
+        .await;
+    let instructor = app
+        .signed_in(&app.store().member("el2320", "teacher@example.org").unwrap())
+        .await;
+    let too_late = post(
+        &late,
+        format!("{REPORT}/analyses"),
+        json!({ "run": "o3/sequential", "text": "late" }),
+    )
+    .await;
+    assert_eq!(too_late.status, StatusCode::FORBIDDEN, "{}", too_late.body);
+    assert!(too_late.error().contains("cutoff"), "{}", too_late.error());
+    let mine = app.get_json(&a, REPORT).await;
+    assert_eq!(mine["rubric"][2]["verdict"], "revise");
+    assert_eq!(mine["rubric"][2]["comment"], "on no-odometry/sequential");
+    let revised = post(
+        &a,
+        format!("{REPORT}/analyses"),
+        json!({ "run": "no-odometry/sequential", "text": "revised" }),
+    )
+    .await;
+    assert_eq!(revised.status, StatusCode::NO_CONTENT, "{}", revised.body);
+    let again = post(&a, format!("{REPORT}/hand-in"), json!({})).await;
+    assert_eq!(again.status, StatusCode::OK, "{}", again.body);
+    assert_eq!(again.json()["handed_in"], 2);
+
+    // A rubric of the hand-in read before is not taken for the new one.
+    let stale = post(
+        &instructor,
+        format!("{REPORTS}/u-a-1001/rubric"),
+        rubric(1, &[]),
+    )
+    .await;
+    assert_eq!(stale.status, StatusCode::CONFLICT, "{}", stale.body);
+    assert!(stale.error().contains("again"), "{}", stale.error());
+    let accepted = post(
+        &instructor,
+        format!("{REPORTS}/u-a-1001/rubric"),
+        rubric(2, &[]),
+    )
+    .await;
+    assert_eq!(accepted.status, StatusCode::OK, "{}", accepted.body);
+    assert_eq!(accepted.json()["state"], "accepted");
+    // The code does not pass: the lab is not passed, whatever the report.
+    assert_eq!(accepted.json()["lab_passed"], false);
+    assert_eq!(
+        post(
+            &a,
+            format!("{REPORT}/analyses"),
+            json!({ "run": "o3/sequential", "text": "x" })
+        )
+        .await
+        .status,
+        StatusCode::CONFLICT
+    );
+    let audit = app.get_json(&instructor, "/api/courses/el2320/audit").await;
+    assert!(
+        audit
+            .to_string()
+            .contains("u-a-1001's report (hand-in 2) accepted"),
+        "{audit}"
+    );
+
+    // The gradebook: the report's state and whether the lab is passed, per student.
+    let csv = app
+        .send(
+            Req::get("/api/courses/el2320/labs/ekf-localization/export?format=csv")
+                .who(&instructor),
+        )
+        .await;
+    assert_eq!(csv.status, StatusCode::OK, "{}", csv.body);
+    let rows = csv_rows(&csv.body);
+    let header: Vec<&str> = csv.body.lines().next().unwrap().split(',').collect();
+    let column = |name: &str| {
+        header
+            .iter()
+            .position(|c| *c == name)
+            .unwrap_or_else(|| panic!("no {name}: {header:?}"))
+    };
+    let (status, passed) = (column("report_status"), column("lab_passed"));
+    let row = |id: &str| rows.iter().find(|r| r[0] == id).unwrap();
+    assert_eq!(
+        (
+            row("u-a-1001")[status].as_str(),
+            row("u-a-1001")[passed].as_str()
+        ),
+        ("accepted", "no")
+    );
+    assert_eq!(
+        (
+            row("u-l-1003")[status].as_str(),
+            row("u-l-1003")[passed].as_str()
+        ),
+        ("draft", "no")
+    );
+}
+
+/// The runs at `path` once the server has made them.
+async fn wait_for_runs(app: &App, who: &Who, path: &str) -> Value {
+    let started = std::time::Instant::now();
+    loop {
+        let runs = app.get_json(who, path).await;
+        if runs["state"] != "making" {
+            assert_eq!(runs["state"], "made", "{runs}");
+            return runs;
+        }
+        assert!(
+            started.elapsed() < GRADING_BOUND,
+            "the runs were not made within {GRADING_BOUND:?}"
+        );
+        tokio::time::sleep(std::time::Duration::from_millis(100)).await;
+    }
+}

@@ -159,6 +159,22 @@ const OBJECTS: &[Row] = &[
         .own(403).other(403),
     row("POST", "/api/courses/{course}/labs/{lab}/reviews/{round}/{sheet}", "/api/courses/{course}/labs/{lab}/reviews/{round}/1")
         .body(r#"{"marks": [], "submit": false}"#).own(403).other(403),
+    // The report: staff write none of their own; the class's list holds this course's
+    // students only; a student's report, its runs and its rubric, by id: the other
+    // course's is no student of this one (the rubric of a report never handed in is
+    // refused, 409).
+    row("GET", "/api/courses/{course}/labs/{lab}/report", "/api/courses/{course}/labs/{lab}/report").own(403),
+    row("GET", "/api/courses/{course}/labs/{lab}/report/runs", "/api/courses/{course}/labs/{lab}/report/runs").own(403),
+    row("POST", "/api/courses/{course}/labs/{lab}/report/analyses", "/api/courses/{course}/labs/{lab}/report/analyses")
+        .body(r#"{"run": "o3/sequential", "text": "why"}"#).own(403),
+    row("POST", "/api/courses/{course}/labs/{lab}/report/hand-in", "/api/courses/{course}/labs/{lab}/report/hand-in").own(403),
+    row("GET", "/api/courses/{course}/labs/{lab}/reports", "/api/courses/{course}/labs/{lab}/reports"),
+    row("GET", "/api/courses/{course}/labs/{lab}/reports/{student}", "/api/courses/{course}/labs/{lab}/reports/{student}")
+        .other(404),
+    row("GET", "/api/courses/{course}/labs/{lab}/reports/{student}/runs", "/api/courses/{course}/labs/{lab}/reports/{student}/runs")
+        .other(404),
+    row("POST", "/api/courses/{course}/labs/{lab}/reports/{student}/rubric", "/api/courses/{course}/labs/{lab}/reports/{student}/rubric")
+        .body(r#"{"handed_in": 1, "parts": []}"#).own(400).other(404),
     // A student, by id: the other course's is no student of this one; one on both
     // rosters is this course's member, with this course's submissions only.
     row("GET", STUDENT, STUDENT).other(404),
@@ -215,6 +231,7 @@ const OBJECTS: &[Row] = &[
     row("GET", "/courses/{course}", "/courses/{course}"),
     row("GET", "/courses/{course}/{lab}", "/courses/{course}/{lab}"),
     row("GET", "/courses/{course}/{lab}/questions", "/courses/{course}/{lab}/questions"),
+    row("GET", "/courses/{course}/{lab}/report", "/courses/{course}/{lab}/report"),
     row("GET", "/courses/{course}/{lab}/students/{student}", "/courses/{course}/{lab}/students/{student}")
         .other(200),
 ];

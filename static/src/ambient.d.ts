@@ -9,10 +9,16 @@ declare module '*.wasm' {
 }
 
 declare module 'estlab:workbenches' {
-  /** Each exercise's view of its runs (its folder's `web/workbench.js`), by folder. */
+  /**
+   * Each exercise's views of its runs (its folder's `web/workbench.js`), by folder: the
+   * workbench's, and the report's where the exercise asks for a report.
+   */
   const workbenches: Record<
     string,
-    () => Promise<{ runs: import('./workbench/running.js').ExerciseRuns<any> }>
+    () => Promise<{
+      runs: import('./workbench/running.js').ExerciseRuns<any>;
+      report?: import('./report/runs.js').ReportRuns<any>;
+    }>
   >;
   export default workbenches;
 }

@@ -5,6 +5,7 @@
 import katex from 'katex';
 import MarkdownIt from 'markdown-it';
 import texmath from 'markdown-it-texmath';
+import { element } from './results/render.js';
 
 const markdown = new MarkdownIt({ html: false, linkify: false, typographer: false })
   .use(texmath, { engine: katex, delimiters: 'dollars', katexOptions: { throwOnError: false, trust: false, maxSize: 10, maxExpand: 1000 } });
@@ -27,4 +28,16 @@ export function toHtml(text) {
  */
 export function renderInto(node, text) {
   node.innerHTML = toHtml(text);
+}
+
+/**
+ * A block of Markdown: a `div.markdown` of `className` holding `text` rendered.
+ *
+ * @param {string} className
+ * @param {string} text
+ */
+export function markdownBlock(className, text) {
+  const node = element('div', `markdown ${className}`);
+  renderInto(node, text);
+  return node;
 }

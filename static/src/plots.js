@@ -236,6 +236,12 @@ export class Plot {
     return overlay;
   }
 
+  /** Draws what is pending now, in view or not: a page that is to be printed. */
+  drawNow() {
+    this.visible = true;
+    this.flush();
+  }
+
   /** Draws what is pending. */
   flush() {
     for (const [option, how] of this.pending) this.chart.setOption(option, how);

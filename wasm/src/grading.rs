@@ -6,7 +6,7 @@
 
 use super::{exercise, from_json, seed};
 use labs::Language;
-use labs::grading::{self, Plan, Reports};
+use labs::grading::{self, Plan, Reach, Reports};
 use wasm_bindgen::prelude::*;
 
 /// The seed of a student's own variant within a course, as the server computes it.
@@ -28,6 +28,14 @@ impl Grader {
     pub fn new(lab: &str, seed_value: f64) -> Result<Grader, JsError> {
         Ok(Grader {
             plan: Plan::new(exercise(lab)?, seed(seed_value)?, None),
+        })
+    }
+
+    /// The grader of `lab` for the variant `seed_value` whose runs go through the whole
+    /// of each data set, as a student's report shows them.
+    pub fn whole(lab: &str, seed_value: f64) -> Result<Grader, JsError> {
+        Ok(Grader {
+            plan: Plan::reaching(exercise(lab)?, seed(seed_value)?, None, Reach::Whole),
         })
     }
 

@@ -39,6 +39,21 @@ pub struct Declaration {
     /// The written questions an assignment of the exercise starts with, each set a TOML
     /// file of `questions/` (the server's `courses::questions` reads them), in order.
     pub questions: &'static [&'static str],
+    /// The runs of its loop a student's report shows, each run on the whole of its data
+    /// set with the student's code and a box for their analysis beside it, in order (the
+    /// lab's report of four runs); none when the exercise asks for no report.
+    pub report: &'static [ReportRun],
+}
+
+/// A run of the exercise's loop that a student's report shows.
+#[derive(Debug)]
+pub struct ReportRun {
+    /// The run's name in the plan: `o3/sequential`.
+    pub run: &'static str,
+    /// What the report calls it: "o3, sequential update".
+    pub title: &'static str,
+    /// What the student is asked to analyse beside it (Markdown).
+    pub ask: &'static str,
 }
 
 /// An exercise's starter file in each language.

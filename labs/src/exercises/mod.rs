@@ -13,7 +13,7 @@ mod declaration;
 pub mod interface;
 pub mod starter;
 
-pub use declaration::{Declaration, Graded, Runs, Starters, Visit, Workbench};
+pub use declaration::{Declaration, Graded, ReportRun, Runs, Starters, Visit, Workbench};
 
 use crate::grading::{Contract, Shape};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};

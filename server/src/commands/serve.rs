@@ -131,6 +131,7 @@ async fn serve(args: &Args) -> Result<(), Error> {
         behind_https: args.behind_https,
         datasets: Arc::new(datasets),
         trials: Trials::new(parallel),
+        reports: Default::default(),
     }));
     println!(
         "estlab is serving on http://{addr}/ (submissions in {})",

@@ -9,6 +9,7 @@ pub mod deadline;
 pub mod export;
 pub mod ids;
 pub mod questions;
+pub mod report;
 pub mod review;
 pub mod roster;
 pub mod rounds;

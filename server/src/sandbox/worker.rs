@@ -54,6 +54,11 @@ const SPARE: Duration = Duration::from_secs(10);
 /// without using CPU, so it is generous enough for a machine that is very busy.
 const WALL_CLOCK_FACTOR: u32 = 4;
 
+/// How many times the runs' limits a whole run of a student's report is given where the
+/// student's code is interpreted: the whole data sets are some twenty times the prefixes an
+/// interpreter is graded on within its second (`BENCHMARKS.md`, "The report's runs").
+pub const WHOLE_RUN_FACTOR: u32 = 12;
+
 /// What the worker reads on stdin.
 #[derive(Serialize, Deserialize)]
 pub struct WorkerInput {
@@ -263,6 +268,34 @@ impl Sandbox {
         if job.functions.len() + job.runs.len() != 1 {
             return Err(Tried::NoSuchPhase(phase.to_owned()));
         }
+        self.outputs(exercise, code, job)
+    }
+
+    /// The runs `runs` (by name) of the shown job of `seed`, each on the whole of its data
+    /// set, carried out with the student's code: what a student's report draws. An
+    /// interpreted engine (Python, Octave, QuickJS) is given [`WHOLE_RUN_FACTOR`] times the
+    /// runs' limits, which hold V8 to a grading's pace: the report is made once a
+    /// submission, not within a grading's second.
+    pub fn whole_runs(
+        &self,
+        exercise: Exercise,
+        code: Code,
+        seed: u64,
+        runs: &[&str],
+    ) -> Result<Outputs, Tried> {
+        let mut job = Plan::reaching(exercise, seed, None, Reach::Whole).job();
+        job.functions.clear();
+        job.runs.retain(|run| runs.contains(&run.name.as_str()));
+        if let Some(missing) = runs
+            .iter()
+            .find(|name| !job.runs.iter().any(|run| run.name == **name))
+        {
+            return Err(Tried::NoSuchPhase((*missing).to_owned()));
+        }
+        let job = match self.reach(code.language) {
+            Reach::Whole => job,
+            Reach::Prefix => job.with_time_factor(WHOLE_RUN_FACTOR),
+        };
         self.outputs(exercise, code, job)
     }
 

@@ -8,6 +8,7 @@ mod access;
 mod answers;
 mod courses;
 mod regrades;
+mod reports;
 mod reviews;
 mod schema;
 mod staff;
@@ -17,6 +18,7 @@ pub use access::{CodeCheck, FoundCode, TokenInfo};
 pub use answers::SavedAnswer;
 pub use courses::{Assignment, Course, Member, NewMember, Role, RosterChange};
 pub use regrades::{Change, EarlierResult, Regrade, Scope};
+pub use reports::Closed;
 pub use reviews::{Mark, NewRound, Round, SheetAnswer, StoredPair};
 pub use staff::{
     AuditEntry, Extension, Granted, NewExtension, NewWaiver, Rejudged, Waived, Waiver,

@@ -237,6 +237,29 @@ const MIGRATIONS: &[&str] = &[
         number INTEGER NOT NULL,
         PRIMARY KEY (round, reviewer, number)
     );",
+    // 11: the report. A student's analyses of its runs (a JSON object, run name to text);
+    // each hand-in counts up `handed_in` and names the submission whose runs it shows;
+    // staff's rubric (JSON, a verdict and comment per part) judges the hand-in whose count
+    // it keeps in `reviewed`. The runs of a submission's report, once made, are kept (the
+    // harness's outputs, JSON): the same code and seed give the same runs.
+    "CREATE TABLE reports (
+        member INTEGER NOT NULL REFERENCES members (id),
+        lab TEXT NOT NULL,
+        analyses TEXT NOT NULL,
+        saved_at INTEGER NOT NULL,
+        handed_in INTEGER NOT NULL DEFAULT 0,
+        submission INTEGER REFERENCES submissions (id),
+        handed_in_at INTEGER,
+        rubric TEXT,
+        reviewed INTEGER,
+        reviewed_by TEXT,
+        reviewed_at INTEGER,
+        PRIMARY KEY (member, lab)
+    );
+    CREATE TABLE report_runs (
+        submission INTEGER PRIMARY KEY REFERENCES submissions (id),
+        outputs TEXT NOT NULL
+    );",
 ];
 
 /// Brings the schema up to the newest version, one migration per transaction.

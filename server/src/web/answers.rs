@@ -14,7 +14,7 @@ use super::extract::Body;
 use super::pages::{Nav, html};
 use super::setup::change;
 use super::viewer::Viewer;
-use super::{AppState, Error, blocking};
+use super::{AppState, Error, blocking, known_lab};
 use crate::courses::questions::{self, Answer, QuestionSet};
 use crate::store::SavedAnswer;
 use askama::Template;
@@ -26,11 +26,6 @@ use labs::Exercise;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 use ts_rs::TS;
-
-fn known_lab(lab: &str) -> Result<Exercise, Error> {
-    lab.parse()
-        .map_err(|unknown: labs::UnknownExercise| Error::NotFound(unknown.to_string()))
-}
 
 /// What `GET .../questions` answers.
 #[derive(Serialize, TS)]

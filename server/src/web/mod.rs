@@ -15,6 +15,7 @@ mod origin;
 mod pages;
 pub mod phases;
 mod registry;
+pub mod report;
 mod reviews;
 mod setup;
 mod signin;
@@ -66,6 +67,8 @@ pub struct AppState {
     pub datasets: Arc<Datasets>,
     /// The phases askers run on the server (`POST /api/phases`).
     pub trials: phases::Trials,
+    /// The reports' runs being made (`GET .../report/runs`).
+    pub reports: report::Making,
 }
 
 /// The largest sign-in form: a code is 24 characters.
@@ -98,6 +101,7 @@ fn page_route(page: &Page) -> MethodRouter<Arc<AppState>> {
         "dashboard" => get(staff::page),
         "dashboard-student" => get(staff::student_page),
         "questions" => get(answers::page),
+        "report" => get(report::page),
         name => panic!("static/pages.json: no handler serves the page {name:?}"),
     }
 }
@@ -146,6 +150,35 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route(
             "/api/courses/{course}/labs/{lab}/answers",
             post(answers::save),
+        )
+        .route("/api/courses/{course}/labs/{lab}/report", get(report::mine))
+        .route(
+            "/api/courses/{course}/labs/{lab}/report/runs",
+            get(report::my_runs),
+        )
+        .route(
+            "/api/courses/{course}/labs/{lab}/report/analyses",
+            post(report::save_analysis),
+        )
+        .route(
+            "/api/courses/{course}/labs/{lab}/report/hand-in",
+            post(report::hand_in),
+        )
+        .route(
+            "/api/courses/{course}/labs/{lab}/reports",
+            get(report::class),
+        )
+        .route(
+            "/api/courses/{course}/labs/{lab}/reports/{student}",
+            get(report::of_student),
+        )
+        .route(
+            "/api/courses/{course}/labs/{lab}/reports/{student}/runs",
+            get(report::student_runs),
+        )
+        .route(
+            "/api/courses/{course}/labs/{lab}/reports/{student}/rubric",
+            post(report::rubric),
         )
         .route(
             "/api/courses/{course}/labs/{lab}/rounds",
@@ -269,6 +302,12 @@ pub async fn blocking<T: Send + 'static>(
 /// The exercise a request means when it names none (the default of every `lab` field).
 fn default_lab() -> String {
     Exercise::default().name().to_owned()
+}
+
+/// The exercise a route's `{lab}` names; an unknown one is not found.
+fn known_lab(lab: &str) -> Result<Exercise, Error> {
+    lab.parse()
+        .map_err(|unknown: labs::UnknownExercise| Error::NotFound(unknown.to_string()))
 }
 
 /// The exercise a request's `lab` field names; an unknown one is refused, naming the field

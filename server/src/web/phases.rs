@@ -23,7 +23,7 @@ use labs::grading::Outputs;
 use serde::Deserialize;
 use std::collections::{HashMap, VecDeque};
 use std::sync::{Arc, Mutex};
-use tokio::sync::Semaphore;
+use tokio::sync::{OwnedSemaphorePermit, Semaphore};
 
 /// Phases one asker may run in a minute: a whole run of the tests and of the loop, four
 /// times (the CPU they take is held by `--parallel` besides).
@@ -61,6 +61,14 @@ impl Trials {
             recent: Mutex::new(HashMap::new()),
             running: Arc::new(Semaphore::new(parallel.max(1))),
         }
+    }
+
+    /// A place among the phases running at once, held until it is dropped: waits for one.
+    pub async fn slot(&self) -> Result<OwnedSemaphorePermit, Error> {
+        Arc::clone(&self.running)
+            .acquire_owned()
+            .await
+            .map_err(|e| crate::store::Error::Task(e.to_string()).into())
     }
 
     /// Counts a phase of `asker` at `now`, or says when the next one is allowed.
@@ -118,10 +126,7 @@ pub async fn run(
     check_size(&ask.source)
         .map_err(|problem| Error::TooLarge(format!("field `source`: {problem}")))?;
     state.trials.admit(asker, state.clock.now())?;
-    let _running = Arc::clone(&state.trials.running)
-        .acquire_owned()
-        .await
-        .map_err(|e| crate::store::Error::Task(e.to_string()))?;
+    let _running = state.trials.slot().await?;
     let grader = Arc::clone(&state.grader);
     let tried = tokio::task::spawn_blocking(move || {
         let code = Code {

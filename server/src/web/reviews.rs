@@ -12,7 +12,7 @@
 
 use super::extract::Body;
 use super::viewer::Viewer;
-use super::{AppState, Error, blocking};
+use super::{AppState, Error, blocking, known_lab};
 use crate::courses::questions::QuestionSet;
 use crate::courses::review::Pair;
 use crate::courses::rounds::{self, Opening, Tally};
@@ -25,11 +25,6 @@ use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
 use std::sync::Arc;
 use ts_rs::TS;
-
-fn known_lab(lab: &str) -> Result<Exercise, Error> {
-    lab.parse()
-        .map_err(|unknown: labs::UnknownExercise| Error::NotFound(unknown.to_string()))
-}
 
 /// One student in a round, for staff.
 #[derive(Serialize, TS)]

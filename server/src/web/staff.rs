@@ -6,7 +6,7 @@
 use super::extract::{Body, Query};
 use super::pages::{Nav, html};
 use super::viewer::Viewer;
-use super::{AppState, Error, blocking, lab_field};
+use super::{AppState, Error, blocking, known_lab, lab_field};
 use crate::courses::class::{self, ClassView};
 use crate::courses::deadline::{Policy, parse_moment};
 use crate::courses::export::{self, Format};
@@ -22,12 +22,6 @@ use labs::{Exercise, Language};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 use ts_rs::TS;
-
-/// The exercise named in a path, which must be one graded here.
-fn known_lab(lab: &str) -> Result<Exercise, Error> {
-    lab.parse()
-        .map_err(|unknown: labs::UnknownExercise| Error::NotFound(unknown.to_string()))
-}
 
 /// `GET /api/courses/{course}/labs/{lab}/class`.
 #[derive(Serialize, TS)]

@@ -4,7 +4,7 @@
 //! fails when the files there are not what the Rust types make; `ESTLAB_WRITE_TYPES=1
 //! cargo test -p estlab --lib browser_types` writes them anew.
 
-use super::{answers, error, me, registry, reviews, setup, staff, submit};
+use super::{answers, error, me, registry, report, reviews, setup, staff, submit};
 use crate::store;
 use labs::Exercise;
 use labs::exercises::{Graded, Visit};
@@ -80,6 +80,12 @@ pub fn export(dir: &Path) -> Result<(), ExportError> {
     d.visit::<reviews::StudentRound>();
     d.visit::<reviews::SheetView>();
     d.visit::<reviews::MarkRequest>();
+    // The report: a student's, the class's, its runs, what students and staff send.
+    d.visit::<report::ReportView>();
+    d.visit::<report::ReportLine>();
+    d.visit::<report::ReportRuns>();
+    d.visit::<report::AnalysisRequest>();
+    d.visit::<report::RubricRequest>();
     declared.error.map_or(Ok(()), Err)
 }
 

@@ -99,6 +99,7 @@ impl App {
             behind_https: false,
             datasets: Default::default(),
             trials: Trials::new(1),
+            reports: Default::default(),
         });
         let router = estlab::web::router(Arc::clone(&state));
         App {

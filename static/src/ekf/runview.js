@@ -79,7 +79,7 @@ const varianceIds = ['Σₓₓ (m²)', 'Σᵧᵧ (m²)', 'Σθθ (rad²)'];
  * The errors with ±3σ and the covariance diagonal of view `v` over time: the whole option
  * for a new data set (`whole`), only the numbers for another run over the same one.
  */
-function drawOverTime(plots, v, whole) {
+export function drawOverTime(plots, v, whole) {
   errorPlots.forEach(([name, component, unit], i) => {
     const bound = v.std[i].map((s) => 3 * s);
     const series = [
@@ -98,7 +98,7 @@ function drawOverTime(plots, v, whole) {
 }
 
 /** The summary lines of the plots over time. */
-function describeOverTime(plots, v) {
+export function describeOverTime(plots, v) {
   const n = v.t.length;
   const span = `over ${n} steps (t = ${f(v.t[0])} to ${f(v.t[n - 1])} s)`;
   errorPlots.forEach(([name, component, unit], i) => {
@@ -119,7 +119,7 @@ function describeOverTime(plots, v) {
 }
 
 /** The summary line of the map. */
-function describeMap(map, v) {
+export function describeMap(map, v) {
   const n = v.t.length;
   const distance = (path, k) => Math.hypot(path[0][k] - v.truth[0][k], path[1][k] - v.truth[1][k]);
   const gaps = Array.from({ length: n }, (_, k) => distance(v.estimate, k));

@@ -4,7 +4,7 @@
 // until their cutoff; a written answer is shown typeset beside the field. Staff read the
 // sets in full: the model answers and what numbers and choices are checked against. Above
 // the sets, peer review: a student's sheets to review and their own marks; staff's rounds.
-import { renderInto } from '../markdown.js';
+import { markdownBlock, renderInto } from '../markdown.js';
 import { showReviews } from '../questions/reviewing.js';
 import { showRounds } from '../questions/rounds.js';
 import { getJson, postJson } from '../results/http.js';
@@ -27,18 +27,6 @@ const note = /** @type {HTMLElement} */ (document.getElementById('questions-note
 
 /** @param {string} iso */
 const moment = (iso) => new Date(iso).toLocaleString(undefined, { dateStyle: 'medium', timeStyle: 'short' });
-
-/**
- * A block of Markdown.
- *
- * @param {string} className
- * @param {string} text
- */
-function markdownBlock(className, text) {
-  const node = element('div', `markdown ${className}`);
-  renderInto(node, text);
-  return node;
-}
 
 /**
  * Saves one question's answer a moment after the last change, and says how it went.

@@ -2,7 +2,7 @@
 // each sheet handed to them (anonymous, numbered for them) read beside the model answers
 // and marked right or wrong with a comment, saved and then handed in; and, once a round
 // is closed, what their own sheet received.
-import { renderInto } from '../markdown.js';
+import { markdownBlock, renderInto } from '../markdown.js';
 import { getJson, postJson } from '../results/http.js';
 import { element } from '../results/render.js';
 
@@ -16,18 +16,6 @@ import { element } from '../results/render.js';
 const percent = (share) => (share === null || share === undefined ? '–' : `${Math.round(share * 100)} %`);
 
 /**
- * A block of Markdown.
- *
- * @param {string} className
- * @param {string} text
- */
-function markdown(className, text) {
-  const node = element('div', `markdown ${className}`);
-  renderInto(node, text);
-  return node;
-}
-
-/**
  * An answer as its author gave it, read only.
  *
  * @param {Question} question
@@ -37,11 +25,11 @@ export function shownAnswer(question, answer) {
   if (!answer) return element('p', 'unanswered', '(not answered)');
   switch (answer.kind) {
     case 'text':
-      return markdown('given', answer.value || '(empty)');
+      return markdownBlock('given', answer.value || '(empty)');
     case 'number':
       return element('p', 'given', `${answer.value}${question.kind === 'number' && question.unit ? ` ${question.unit}` : ''}`);
     case 'choice':
-      return markdown('given', question.kind === 'choice' ? question.options[answer.value] ?? '' : String(answer.value));
+      return markdownBlock('given', question.kind === 'choice' ? question.options[answer.value] ?? '' : String(answer.value));
     case 'table': {
       const table = element('table', 'answer-table given');
       if (question.kind === 'table') {
@@ -94,9 +82,9 @@ async function openSheet(panel, api, round, number, changed) {
     const named = element('span');
     renderInto(named, question.title);
     title.append(...(named.firstElementChild?.childNodes ?? []));
-    article.append(title, markdown('prompt', question.prompt));
+    article.append(title, markdownBlock('prompt', question.prompt));
     article.append(element('h6', null, 'The answer'), shownAnswer(question, given.answer));
-    if (question.model) article.append(element('h6', null, 'Model answer'), markdown('model', question.model));
+    if (question.model) article.append(element('h6', null, 'Model answer'), markdownBlock('model', question.model));
     const group = element('fieldset', 'mark');
     group.append(element('legend', null, `Your mark for question ${i + 1}`));
     const choice = (value, text) => {

@@ -23,7 +23,7 @@ pub use plan::{Plan, RunSpec, bound, graded_readings, mode_name, run_name, shows
 pub type Case = crate::grading::Case<Call>;
 
 use crate::exercises::interface::MatlabConventions;
-use crate::exercises::{Declaration, Graded, Runs, Starters, Workbench};
+use crate::exercises::{Declaration, Graded, ReportRun, Runs, Starters, Workbench};
 use crate::grading::{Hidden, Reach};
 
 /// The views of a whole run (`static/src/ekf/runview.js` draws them), on the workbench
@@ -89,6 +89,32 @@ impl Graded for EkfLocalization {
         questions: &[
             include_str!("questions/part-1.toml"),
             include_str!("questions/part-2.toml"),
+        ],
+        report: &[
+            ReportRun {
+                run: "o3/sequential",
+                title: "o3, sequential update",
+                ask: "Why do the estimate and its $3\\sigma$ ellipses look as they do on this data set, \
+                      beside the runs on the other two?",
+            },
+            ReportRun {
+                run: "outliers/sequential",
+                title: "Outliers, sequential update",
+                ask: "How do the outliers show in the run, and what does the outlier gate \
+                      $\\Lambda_M$ do with them?",
+            },
+            ReportRun {
+                run: "no-odometry/sequential",
+                title: "No odometry, sequential update",
+                ask: "Without odometry, why does the sequential update go wrong where the batch \
+                      update does not?",
+            },
+            ReportRun {
+                run: "no-odometry/batch",
+                title: "No odometry, batch update",
+                ask: "Why does the batch update cope without odometry, and what do its errors \
+                      and covariance show?",
+            },
         ],
     };
     type Call = Call;

@@ -67,6 +67,7 @@ impl Graded for Odometry {
         harness_loop: include_str!("web/loop.js"),
         matlab: MatlabConventions::NONE,
         questions: &[include_str!("questions/questions.toml")],
+        report: &[],
     };
     type Call = Call;
     type Plan = Plan;

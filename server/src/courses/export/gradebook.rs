@@ -2,8 +2,12 @@
 //! a spreadsheet, where a name is a string cell whatever it starts with).
 
 use crate::courses::class::ClassView;
-use crate::courses::rounds::Reviewed;
+use crate::courses::report::{self, State};
+use crate::courses::rounds::{self, Reviewed};
+use crate::store::{self, Store};
+use labs::Exercise;
 use rust_xlsxwriter::{Format, Workbook, XlsxError};
+use std::collections::HashMap;
 
 const HEADER: [&str; 9] = [
     "id",
@@ -17,18 +21,53 @@ const HEADER: [&str; 9] = [
     "submitted_at",
 ];
 
+/// What the gradebook adds to the code's columns: the closed review rounds, and each
+/// student's report state where the exercise asks for a report.
+pub struct HandIn {
+    pub reviewed: Reviewed,
+    pub reports: Option<HashMap<String, State>>,
+}
+
+impl HandIn {
+    pub fn load(store: &Store, course: &str, lab: Exercise) -> Result<HandIn, store::Error> {
+        Ok(HandIn {
+            reviewed: rounds::reviewed(store, course, lab)?,
+            reports: report::states(store, course, lab)?,
+        })
+    }
+
+    /// A student's report columns: `report_status` and `lab_passed` (yes or no), none
+    /// where the exercise asks for no report.
+    fn report_cells(&self, id: &str, score: Option<f64>) -> Option<[&'static str; 2]> {
+        let reports = self.reports.as_ref()?;
+        let state = reports.get(id).copied().unwrap_or(State::Draft);
+        let passed = if report::lab_passed(score, state) {
+            "yes"
+        } else {
+            "no"
+        };
+        Some([state.name(), passed])
+    }
+}
+
 /// The whole header: `HEADER`, then `review_share_N, review_bonus_N` for each question
-/// set N (from 1) with a closed review round.
-fn header(reviewed: &Reviewed) -> Vec<String> {
+/// set N (from 1) with a closed review round, then `report_status, lab_passed` where the
+/// exercise asks for a report.
+fn header(hand_in: &HandIn) -> Vec<String> {
+    let reports = hand_in
+        .reports
+        .as_ref()
+        .map(|_| ["report_status", "lab_passed"]);
     HEADER
         .iter()
         .map(|h| h.to_string())
-        .chain(reviewed.parts.iter().flat_map(|(part, _)| {
+        .chain(hand_in.reviewed.parts.iter().flat_map(|(part, _)| {
             [
                 format!("review_share_{}", part + 1),
                 format!("review_bonus_{}", part + 1),
             ]
         }))
+        .chain(reports.into_iter().flatten().map(String::from))
         .collect()
 }
 
@@ -81,16 +120,22 @@ fn rows(view: &ClassView) -> impl Iterator<Item = Row<'_>> {
 /// submissions, score (of the submission that counts, in [0, 1]), late_penalty (its share
 /// lost), final_score (score × (1 − late_penalty)), submitted_at (UTC)`; empty for a
 /// student with no graded submission; then, for each question set N with a closed review
-/// round, `review_share_N, review_bonus_N (yes or no)` of its latest (`reviewed`), empty for
-/// a student outside it. Text cells are made inert (`inert`).
-pub fn csv(view: &ClassView, reviewed: &Reviewed) -> Vec<u8> {
+/// round, `review_share_N, review_bonus_N (yes or no)` of its latest, empty for a student
+/// outside it; where the exercise asks for a report, `report_status` (draft, handed_in,
+/// accepted or revise) and `lab_passed` (yes when the score is 1 and the report
+/// accepted). Text cells are made inert (`inert`).
+pub fn csv(view: &ClassView, hand_in: &HandIn) -> Vec<u8> {
     let mut csv = csv::Writer::from_writer(Vec::new());
-    csv.write_record(header(reviewed))
+    csv.write_record(header(hand_in))
         .expect("writing to memory");
     let number = |value: Option<f64>| value.map_or_else(String::new, |v| format!("{v:.4}"));
     for row in rows(view) {
-        let reviews = review_cells(reviewed, row.id)
+        let reviews = review_cells(&hand_in.reviewed, row.id)
             .flat_map(|(share, bonus)| [number(share), bonus.unwrap_or_default().to_string()]);
+        let report = hand_in
+            .report_cells(row.id, row.score)
+            .into_iter()
+            .flatten();
         let cells = [
             inert(row.id),
             inert(row.name),
@@ -102,8 +147,13 @@ pub fn csv(view: &ClassView, reviewed: &Reviewed) -> Vec<u8> {
             number(row.final_score),
             row.submitted_at.unwrap_or_default().to_string(),
         ];
-        csv.write_record(cells.into_iter().chain(reviews))
-            .expect("writing to memory");
+        csv.write_record(
+            cells
+                .into_iter()
+                .chain(reviews)
+                .chain(report.map(String::from)),
+        )
+        .expect("writing to memory");
     }
     csv.into_inner().expect("writing to memory")
 }
@@ -111,17 +161,17 @@ pub fn csv(view: &ClassView, reviewed: &Reviewed) -> Vec<u8> {
 /// The gradebook as XLSX, one sheet `grades` with the CSV's columns: ids, names, emails
 /// and the dates as string cells (never formulas, so they need no `'`), the counts and
 /// scores as numbers.
-pub fn xlsx(view: &ClassView, reviewed: &Reviewed) -> Vec<u8> {
-    write_xlsx(view, reviewed).expect("a gradebook within Excel's limits, written to memory")
+pub fn xlsx(view: &ClassView, hand_in: &HandIn) -> Vec<u8> {
+    write_xlsx(view, hand_in).expect("a gradebook within Excel's limits, written to memory")
 }
 
-fn write_xlsx(view: &ClassView, reviewed: &Reviewed) -> Result<Vec<u8>, XlsxError> {
+fn write_xlsx(view: &ClassView, hand_in: &HandIn) -> Result<Vec<u8>, XlsxError> {
     let mut workbook = Workbook::new();
     let sheet = workbook.add_worksheet();
     sheet.set_name("grades")?;
     let bold = Format::new().set_bold();
     let share_format = Format::new().set_num_format("0.0000");
-    for (col, title) in (0..).zip(header(reviewed)) {
+    for (col, title) in (0..).zip(header(hand_in)) {
         sheet.write_string_with_format(0, col, title, &bold)?;
     }
     sheet.set_freeze_panes(1, 0)?;
@@ -143,13 +193,23 @@ fn write_xlsx(view: &ClassView, reviewed: &Reviewed) -> Result<Vec<u8>, XlsxErro
         if let Some(at) = line.submitted_at {
             sheet.write_string(row, 8, at)?;
         }
-        for ((share, bonus), col) in review_cells(reviewed, line.id).zip((9..).step_by(2)) {
+        let mut col = 9;
+        for (share, bonus) in review_cells(&hand_in.reviewed, line.id) {
             if let Some(share) = share {
                 sheet.write_number_with_format(row, col, share, &share_format)?;
             }
             if let Some(bonus) = bonus {
                 sheet.write_string(row, col + 1, bonus)?;
             }
+            col += 2;
+        }
+        for (cell, col) in hand_in
+            .report_cells(line.id, line.score)
+            .into_iter()
+            .flatten()
+            .zip(col..)
+        {
+            sheet.write_string(row, col, cell)?;
         }
     }
     workbook.save_to_buffer()

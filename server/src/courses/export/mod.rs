@@ -9,10 +9,10 @@ mod gradebook;
 pub use gradebook::inert;
 
 use super::class::{self, ClassView, StudentRow};
-use super::rounds;
 use crate::platforms::{GradescopeResults, PrairieLearnResults};
 use crate::store::{self, Store, Submission};
 use archive::{FileNames, zip_of};
+use gradebook::HandIn;
 use labs::Language;
 use std::collections::HashMap;
 
@@ -130,8 +130,8 @@ pub fn make(
     };
     let ids: Vec<i64> = view.students.iter().filter_map(exported).collect();
     Ok(Some(match format {
-        Format::Csv => gradebook::csv(&view, &rounds::reviewed(store, course, lab)?),
-        Format::Xlsx => gradebook::xlsx(&view, &rounds::reviewed(store, course, lab)?),
+        Format::Csv => gradebook::csv(&view, &HandIn::load(store, course, lab)?),
+        Format::Xlsx => gradebook::xlsx(&view, &HandIn::load(store, course, lab)?),
         Format::Gradescope | Format::Prairielearn => {
             let mut graded = HashMap::new();
             for id in ids {

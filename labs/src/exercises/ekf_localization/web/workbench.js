@@ -3,9 +3,11 @@
 // (static/src/ekf/runview.js), beside what part of the data set grading
 // runs through and a link to the whole of it on the experiment page.
 import { byId } from 'estlab/controls.js';
-import { RunView, collect } from 'estlab/ekf/runview.js';
+import { MapView } from 'estlab/ekf/map.js';
+import { RunView, collect, describeMap, describeOverTime, drawOverTime } from 'estlab/ekf/runview.js';
+import { plotsIn } from 'estlab/plots.js';
 import { fmt } from 'estlab/format.js';
-import { link } from 'estlab/results/render.js';
+import { element, link } from 'estlab/results/render.js';
 
 /**
  * Everything the views need from the student's run `output` of `phase`, taken out of wasm
@@ -53,6 +55,52 @@ class DatasetRunView {
     byId('prefix').replaceChildren(...prefixNote(v));
   }
 }
+
+/** The figures of a run in a report: the whole run at once, no controls. */
+const REPORT_FIGURES = [
+  ['map', 'The map: true (green, solid), estimated (red, dashed) and odometry-only (blue, dotted) paths, 3σ ellipses, rejected readings', 'plot tall wide'],
+  ['errorX', 'Error in x, with ±3σ', 'plot'],
+  ['errorY', 'Error in y, with ±3σ', 'plot'],
+  ['errorTheta', 'Error in θ, with ±3σ', 'plot'],
+  ['covariance', 'The covariance diagonal', 'plot'],
+];
+
+/**
+ * A run of the student's report in `box`: the experiment page's views of the whole run,
+ * still (the map as the run ends, the plots over time), and the printout of `estlab run`.
+ */
+class ReportRunView {
+  constructor(box, name) {
+    const plots = element('div', 'plots');
+    for (const [figureName, caption, className] of REPORT_FIGURES) {
+      const figure = element('figure', className);
+      figure.dataset.name = figureName;
+      figure.append(element('figcaption', null, caption), element('div', 'chart'));
+      plots.append(figure);
+    }
+    this.printout = element('pre', 'printout');
+    box.append(plots, this.printout);
+    this.plots = plotsIn(box, name.replace('/', '-'));
+    this.map = new MapView(this.plots.map);
+  }
+
+  show(v) {
+    this.map.showData(v.landmarks, v.truth, v.odometry);
+    this.map.showRun(v.estimate, v.ellipses, v.rejected);
+    drawOverTime(this.plots, v, true);
+    describeOverTime(this.plots, v);
+    describeMap(this.map, v);
+    this.printout.textContent = v.report;
+    for (const plot of Object.values(this.plots)) plot.drawNow();
+  }
+}
+
+/**
+ * The EKF report's runs: collected as the workbench collects them, drawn still.
+ *
+ * @type {import('estlab/report/runs.js').ReportRuns<ReturnType<typeof collectRun>>}
+ */
+export const report = { collect: collectRun, View: ReportRunView };
 
 /**
  * The EKF workbench's runs: each one's views from the harness's output, and where they are drawn.

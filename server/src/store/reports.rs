@@ -1,0 +1,196 @@
+//! The students' reports: their analyses, their hand-ins and staff's rubric of each
+//! (`courses::report` says what they mean), and the runs of a submission's report, kept
+//! once made.
+
+use super::{Error, Store, timestamp};
+use crate::courses::report::{PartMark, State, Stored};
+use jiff::Timestamp;
+use labs::Exercise;
+use labs::grading::Outputs;
+use rusqlite::{Connection, OptionalExtension, params};
+
+/// Why a change of a report was refused: it is handed in and not sent back.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Closed(pub State);
+
+impl Store {
+    /// A student's report of an exercise, as stored; none before they wrote anything.
+    pub fn report(&self, member: i64, lab: Exercise) -> Result<Option<Stored>, Error> {
+        read_report(&self.connection(), member, lab)
+    }
+
+    /// Keeps `text` as the student's analysis of `run`, unless the report is handed in and
+    /// not sent back for revision (judged under the same lock as the write).
+    pub fn save_analysis(
+        &self,
+        member: i64,
+        lab: Exercise,
+        run: &str,
+        text: &str,
+        now: Timestamp,
+    ) -> Result<Result<(), Closed>, Error> {
+        let mut connection = self.connection();
+        let transaction = connection.transaction()?;
+        let mut report = read_report(&transaction, member, lab)?.unwrap_or_default();
+        if !report.state().open_to_student() {
+            return Ok(Err(Closed(report.state())));
+        }
+        report.analyses.insert(run.to_owned(), text.to_owned());
+        let analyses = serde_json::to_string(&report.analyses).expect("texts serialise");
+        transaction.execute(
+            "INSERT INTO reports (member, lab, analyses, saved_at) VALUES (?1, ?2, ?3, ?4)
+             ON CONFLICT (member, lab) DO UPDATE SET analyses = ?3, saved_at = ?4",
+            params![member, lab.name(), analyses, now.as_second()],
+        )?;
+        transaction.commit()?;
+        Ok(Ok(()))
+    }
+
+    /// Hands the report in with the runs of `submission`, unless it is handed in already
+    /// and not sent back; the new state.
+    pub fn hand_in_report(
+        &self,
+        member: i64,
+        lab: Exercise,
+        submission: i64,
+        now: Timestamp,
+    ) -> Result<Result<Stored, Closed>, Error> {
+        let mut connection = self.connection();
+        let transaction = connection.transaction()?;
+        let report = read_report(&transaction, member, lab)?.unwrap_or_default();
+        if !report.state().open_to_student() {
+            return Ok(Err(Closed(report.state())));
+        }
+        transaction.execute(
+            "INSERT INTO reports (member, lab, analyses, saved_at, handed_in, submission, handed_in_at)
+             VALUES (?1, ?2, '{}', ?4, 1, ?3, ?4)
+             ON CONFLICT (member, lab) DO UPDATE
+             SET handed_in = handed_in + 1, submission = ?3, handed_in_at = ?4",
+            params![member, lab.name(), submission, now.as_second()],
+        )?;
+        let report = read_report(&transaction, member, lab)?.expect("the report just written");
+        transaction.commit()?;
+        Ok(Ok(report))
+    }
+
+    /// Staff's rubric of the hand-in counted `handed_in` (the one they read); refused
+    /// with the state when that is no longer the latest hand-in, or there is none.
+    pub fn review_report(
+        &self,
+        member: i64,
+        lab: Exercise,
+        handed_in: u32,
+        rubric: &[PartMark],
+        (by, now): (&str, Timestamp),
+    ) -> Result<Result<Stored, Closed>, Error> {
+        let mut connection = self.connection();
+        let transaction = connection.transaction()?;
+        let report = read_report(&transaction, member, lab)?.unwrap_or_default();
+        if report.handed_in == 0 || report.handed_in != handed_in {
+            return Ok(Err(Closed(report.state())));
+        }
+        transaction.execute(
+            "UPDATE reports SET rubric = ?3, reviewed = ?4, reviewed_by = ?5, reviewed_at = ?6
+             WHERE member = ?1 AND lab = ?2",
+            params![
+                member,
+                lab.name(),
+                serde_json::to_string(rubric).expect("marks serialise"),
+                handed_in,
+                by,
+                now.as_second()
+            ],
+        )?;
+        let report = read_report(&transaction, member, lab)?.expect("the report just written");
+        transaction.commit()?;
+        Ok(Ok(report))
+    }
+
+    /// The state of every report of a course's exercise that was written, by member.
+    pub fn report_states(&self, course: &str, lab: Exercise) -> Result<Vec<(i64, State)>, Error> {
+        let connection = self.connection();
+        let mut statement = connection.prepare(
+            "SELECT r.member FROM reports r JOIN members m ON m.id = r.member
+             WHERE m.course = ?1 AND r.lab = ?2 ORDER BY r.member",
+        )?;
+        let members = statement
+            .query_map(params![course, lab.name()], |row| row.get::<_, i64>(0))?
+            .collect::<Result<Vec<_>, _>>()?;
+        members
+            .into_iter()
+            .map(|member| {
+                let report = read_report(&connection, member, lab)?.unwrap_or_default();
+                Ok((member, report.state()))
+            })
+            .collect()
+    }
+
+    /// The runs of a submission's report, if they were made.
+    pub fn report_runs(&self, submission: i64) -> Result<Option<Outputs>, Error> {
+        let stored: Option<String> = self
+            .connection()
+            .query_row(
+                "SELECT outputs FROM report_runs WHERE submission = ?1",
+                [submission],
+                |row| row.get(0),
+            )
+            .optional()?;
+        stored
+            .map(|json| serde_json::from_str(&json).map_err(Error::StoredResult))
+            .transpose()
+    }
+
+    /// Keeps the runs of a submission's report (the first made, should two be made at once).
+    pub fn keep_report_runs(&self, submission: i64, outputs: &Outputs) -> Result<(), Error> {
+        let json = serde_json::to_string(outputs).expect("outputs serialise");
+        self.connection().execute(
+            "INSERT OR IGNORE INTO report_runs (submission, outputs) VALUES (?1, ?2)",
+            params![submission, json],
+        )?;
+        Ok(())
+    }
+}
+
+fn read_report(
+    connection: &Connection,
+    member: i64,
+    lab: Exercise,
+) -> Result<Option<Stored>, Error> {
+    let row = connection
+        .query_row(
+            "SELECT analyses, handed_in, submission, handed_in_at, rubric, reviewed, reviewed_by,
+                    reviewed_at
+             FROM reports WHERE member = ?1 AND lab = ?2",
+            params![member, lab.name()],
+            |row| {
+                Ok((
+                    row.get::<_, String>(0)?,
+                    row.get::<_, u32>(1)?,
+                    row.get::<_, Option<i64>>(2)?,
+                    row.get::<_, Option<i64>>(3)?,
+                    row.get::<_, Option<String>>(4)?,
+                    row.get::<_, Option<u32>>(5)?,
+                    row.get::<_, Option<String>>(6)?,
+                    row.get::<_, Option<i64>>(7)?,
+                ))
+            },
+        )
+        .optional()?;
+    let Some((analyses, handed_in, submission, handed_in_at, rubric, reviewed, by, at)) = row
+    else {
+        return Ok(None);
+    };
+    Ok(Some(Stored {
+        analyses: serde_json::from_str(&analyses).map_err(Error::StoredAnswer)?,
+        handed_in,
+        submission,
+        handed_in_at: handed_in_at.map(timestamp),
+        rubric: rubric
+            .map(|json| serde_json::from_str(&json).map_err(Error::StoredAnswer))
+            .transpose()?
+            .unwrap_or_default(),
+        reviewed,
+        reviewed_by: by,
+        reviewed_at: at.map(timestamp),
+    }))
+}

@@ -1,0 +1,642 @@
+//! The report: a student's runs of their own code on the whole data sets, their analyses
+//! beside them and their answers, handed in and judged by staff part by part
+//! (`courses::report`).
+//!
+//! - `GET /courses/{course}/{lab}/report`: the page (a student's own; staff's list of the
+//!   class, and any student's report with `?student=ID`)
+//! - `GET /api/courses/{course}/labs/{lab}/report`, `GET .../report/runs` (students)
+//! - `POST .../report/analyses`, `POST .../report/hand-in` (students)
+//! - `GET /api/courses/{course}/labs/{lab}/reports` (staff: the class)
+//! - `GET .../reports/{student}`, `GET .../reports/{student}/runs`,
+//!   `POST .../reports/{student}/rubric` (staff)
+//!
+//! Anyone outside the course gets the 404 of a course that does not exist.
+
+use super::extract::Body;
+use super::pages::{Nav, html};
+use super::viewer::Viewer;
+use super::{AppState, Error, blocking, known_lab};
+use crate::courses::deadline::Policy;
+use crate::courses::questions::{self, QuestionSet};
+use crate::courses::report::{self, Part, PartMark, State as ReportState, Stored};
+use crate::sandbox::{Code, Tried};
+use crate::store::{Closed, Member, Role, SavedAnswer, Store, SubmissionSummary};
+use askama::Template;
+use axum::Json;
+use axum::extract::{Path, State};
+use axum::response::{IntoResponse, Redirect, Response};
+use jiff::Timestamp;
+use labs::grading::Outputs;
+use labs::{Exercise, Language};
+use serde::{Deserialize, Serialize};
+use std::collections::{BTreeMap, HashMap, HashSet};
+use std::sync::{Arc, Mutex};
+use ts_rs::TS;
+
+/// The submission whose runs a report shows.
+#[derive(Clone, Serialize, TS)]
+pub struct ShownSubmission {
+    pub id: i64,
+    pub language: Language,
+    /// The variant whose data sets it runs on.
+    #[ts(type = "number")]
+    pub seed: u64,
+    pub submitted_at: String,
+    pub score: Option<f64>,
+}
+
+/// What `GET .../report` and `GET .../reports/{student}` answer.
+#[derive(Serialize, TS)]
+pub struct ReportView {
+    pub lab: Exercise,
+    pub student: String,
+    pub name: String,
+    /// Whether staff read it (the sets in full; the rubric theirs to give).
+    pub staff: bool,
+    pub parts: Vec<Part>,
+    /// The assignment's question sets, without what they are checked against for the
+    /// student; in full for staff.
+    pub sets: Vec<QuestionSet>,
+    /// The student's answers as they stand (corrected after the review).
+    pub answers: Vec<SavedAnswer>,
+    /// The student's analysis of each run, by run name.
+    pub analyses: BTreeMap<String, String>,
+    pub state: ReportState,
+    /// How many times it was handed in (the rubric names the hand-in it judges).
+    pub handed_in: u32,
+    #[ts(as = "Option<String>")]
+    pub handed_in_at: Option<Timestamp>,
+    /// Handed in: the submission it was handed in with; else the student's latest.
+    pub submission: Option<ShownSubmission>,
+    /// Staff's last judgement, with the hand-in it judged.
+    pub rubric: Vec<PartMark>,
+    pub reviewed: Option<u32>,
+    pub reviewed_by: Option<String>,
+    #[ts(as = "Option<String>")]
+    pub reviewed_at: Option<Timestamp>,
+    /// Whether the submission that counts passes every test.
+    pub code_passes: bool,
+    /// The code passes and the report is accepted.
+    pub lab_passed: bool,
+    /// The last moment a draft is taken (the student's cutoff, extensions counted); a
+    /// report sent back for revision is taken after it too.
+    #[ts(as = "String")]
+    pub cutoff: Timestamp,
+}
+
+fn shown(summary: &SubmissionSummary, seed: u64) -> ShownSubmission {
+    ShownSubmission {
+        id: summary.id,
+        language: summary.language,
+        seed,
+        submitted_at: summary.submitted_at.clone(),
+        score: summary.score,
+    }
+}
+
+/// The report of `member` (a student of `course`), as `staff` or the student reads it;
+/// none when the course has not opened the exercise.
+fn report_view(
+    store: &Store,
+    member: &Member,
+    lab: Exercise,
+    staff: bool,
+) -> Result<Option<ReportView>, crate::store::Error> {
+    let Some(policy) = store.policy_for(&member.course, lab, member.id)? else {
+        return Ok(None);
+    };
+    let sets = questions::of_assignment(store, &member.course, lab)?;
+    let stored = store.report(member.id, lab)?.unwrap_or_default();
+    let history = store.history(member.id, lab)?;
+    let state = stored.state();
+    let shown_id = match state {
+        ReportState::HandedIn | ReportState::Accepted => stored.submission,
+        ReportState::Draft | ReportState::Revise => history.last().map(|s| s.id),
+    };
+    let submission = match shown_id {
+        Some(id) => store.get(id, false)?.map(|s| shown(&s.summary, s.seed)),
+        None => None,
+    };
+    let code_passes = counting_score(&policy, &history) == Some(1.0);
+    let Stored {
+        analyses,
+        handed_in,
+        handed_in_at,
+        rubric,
+        reviewed,
+        reviewed_by,
+        reviewed_at,
+        ..
+    } = stored;
+    Ok(Some(ReportView {
+        lab,
+        student: member.login.clone(),
+        name: member.name.clone(),
+        staff,
+        parts: report::parts(lab, &sets),
+        sets: if staff {
+            sets
+        } else {
+            sets.iter().map(QuestionSet::for_students).collect()
+        },
+        answers: store.answers(member.id, lab)?,
+        analyses,
+        state,
+        handed_in,
+        handed_in_at,
+        submission,
+        rubric,
+        reviewed,
+        reviewed_by,
+        reviewed_at,
+        code_passes,
+        lab_passed: report::lab_passed(code_passes.then_some(1.0), state),
+        cutoff: policy.cutoff,
+    }))
+}
+
+/// The score of the submission that counts under `policy`, of a student's `history`.
+fn counting_score(policy: &Policy, history: &[SubmissionSummary]) -> Option<f64> {
+    policy
+        .counts
+        .choose(history.iter(), |s| s.final_score)
+        .and_then(|s| s.score)
+}
+
+/// The exercise, when it asks for a report.
+fn reported_lab(lab: &str) -> Result<Exercise, Error> {
+    let exercise = known_lab(lab)?;
+    if exercise.declaration().report.is_empty() {
+        return Err(Error::NotFound(format!(
+            "{} asks for no report",
+            exercise.declaration().title
+        )));
+    }
+    Ok(exercise)
+}
+
+/// The signed-in student of `course`; staff are told that reports are their students';
+/// anyone else gets the 404 of a course that does not exist.
+fn student_of(viewer: &Viewer, course: &str) -> Result<Member, Error> {
+    match viewer.member() {
+        Some(member) if member.course == course && member.role == Role::Student => {
+            Ok(member.clone())
+        }
+        _ if viewer.is_staff_of(course) => Err(Error::Forbidden(
+            "staff write no report: read your students' at .../reports/{student}".into(),
+        )),
+        _ => Err(Error::NotFound(format!("there is no course {course:?}"))),
+    }
+}
+
+/// The student `login` of `course`, for its staff; the 404 of a course that does not
+/// exist for anyone else, and of a student that does not exist for staff.
+fn student_for_staff(
+    store: &Store,
+    course: &str,
+    login: &str,
+) -> Result<Result<Member, Error>, crate::store::Error> {
+    Ok(match store.member(course, login) {
+        Ok(member) if member.role == Role::Student => Ok(member),
+        _ => Err(Error::NotFound(format!(
+            "{course} has no student {login:?}"
+        ))),
+    })
+}
+
+fn not_opened() -> Error {
+    Error::NotFound("the course has not opened this exercise".into())
+}
+
+/// `GET .../report`: the student's own report.
+pub async fn mine(
+    State(state): State<Arc<AppState>>,
+    viewer: Viewer,
+    Path((course, lab)): Path<(String, String)>,
+) -> Result<Response, Error> {
+    let exercise = reported_lab(&lab)?;
+    let member = student_of(&viewer, &course)?;
+    let view = blocking(&state, move |store| {
+        report_view(store, &member, exercise, false)
+    })
+    .await?
+    .ok_or_else(not_opened)?;
+    Ok(Json(view).into_response())
+}
+
+/// `GET .../reports/{student}`: a student's report, for staff.
+pub async fn of_student(
+    State(state): State<Arc<AppState>>,
+    viewer: Viewer,
+    Path((course, lab, student)): Path<(String, String, String)>,
+) -> Result<Response, Error> {
+    viewer.staff_of(&course)?;
+    let exercise = reported_lab(&lab)?;
+    let view = blocking(&state, move |store| {
+        let member = match student_for_staff(store, &course, &student)? {
+            Ok(member) => member,
+            Err(error) => return Ok(Err(error)),
+        };
+        Ok(report_view(store, &member, exercise, true)?.ok_or_else(not_opened))
+    })
+    .await??;
+    Ok(Json(view).into_response())
+}
+
+/// One student's line of the class's reports.
+#[derive(Serialize, TS)]
+pub struct ReportLine {
+    pub student: String,
+    pub name: String,
+    pub dropped: bool,
+    /// The score of the submission that counts.
+    pub score: Option<f64>,
+    pub state: ReportState,
+    pub lab_passed: bool,
+}
+
+/// `GET .../reports`: every student's report state, for staff.
+pub async fn class(
+    State(state): State<Arc<AppState>>,
+    viewer: Viewer,
+    Path((course, lab)): Path<(String, String)>,
+) -> Result<Response, Error> {
+    viewer.staff_of(&course)?;
+    let exercise = reported_lab(&lab)?;
+    let lines = blocking(&state, move |store| {
+        let Some(class) = crate::courses::class::load(store, &course, exercise)? else {
+            return Ok(None);
+        };
+        let states = report::states(store, &course, exercise)?.unwrap_or_default();
+        Ok(Some(
+            class
+                .students
+                .into_iter()
+                .map(|s| {
+                    let state = states.get(&s.id).copied().unwrap_or(ReportState::Draft);
+                    let score = s.counting.and_then(|c| c.score);
+                    ReportLine {
+                        lab_passed: report::lab_passed(score, state),
+                        student: s.id,
+                        name: s.name,
+                        dropped: s.dropped,
+                        score,
+                        state,
+                    }
+                })
+                .collect::<Vec<_>>(),
+        ))
+    })
+    .await?
+    .ok_or_else(not_opened)?;
+    Ok(Json(lines).into_response())
+}
+
+/// The body of `POST .../report/analyses`: the analysis of one run.
+#[derive(Deserialize, TS)]
+#[serde(deny_unknown_fields)]
+pub struct AnalysisRequest {
+    /// The run's name (`o3/sequential`).
+    pub run: String,
+    pub text: String,
+}
+
+/// Why a student may not change a report in `state` at all: handed in and not sent back.
+fn locked(state: ReportState) -> Option<Error> {
+    match state {
+        ReportState::HandedIn => Some(Error::Conflict(
+            "your report is handed in: it changes again only if staff send it back for revision"
+                .into(),
+        )),
+        ReportState::Accepted => Some(Error::Conflict(
+            "your report is accepted: it changes no more".into(),
+        )),
+        ReportState::Draft | ReportState::Revise => None,
+    }
+}
+
+/// Why `member` may not change their report now, if they may not: off the roster, handed
+/// in and not sent back, or a draft past the cutoff (a report sent back is taken after it).
+fn closed_to_student(member: &Member, view: &ReportView, now: Timestamp) -> Option<Error> {
+    if member.dropped {
+        return Some(Error::Forbidden(format!(
+            "you are no longer on the roster of {}: your report is kept as it is",
+            member.course
+        )));
+    }
+    locked(view.state).or_else(|| {
+        (view.state == ReportState::Draft && now > view.cutoff).then(|| {
+            Error::Forbidden(format!(
+                "the cutoff of this exercise was {}: reports are no longer taken",
+                view.cutoff.strftime("%Y-%m-%d %H:%M UTC")
+            ))
+        })
+    })
+}
+
+/// A change the store refused: the report was handed in (or judged) meanwhile.
+fn closed(Closed(state): Closed) -> Error {
+    locked(state)
+        .unwrap_or_else(|| Error::Conflict("the report changed meanwhile: reload it".into()))
+}
+
+/// `POST .../report/analyses`: a student's analysis of one run, kept as typed.
+pub async fn save_analysis(
+    State(state): State<Arc<AppState>>,
+    viewer: Viewer,
+    Path((course, lab)): Path<(String, String)>,
+    body: Body,
+) -> Result<Response, Error> {
+    let exercise = reported_lab(&lab)?;
+    let member = student_of(&viewer, &course)?;
+    let request: AnalysisRequest = body.json(&viewer, "the analysis").await?;
+    let now = state.clock.now();
+    blocking(&state, move |store| {
+        let Some(view) = report_view(store, &member, exercise, false)? else {
+            return Ok(Err(not_opened()));
+        };
+        if let Some(error) = closed_to_student(&member, &view, now) {
+            return Ok(Err(error));
+        }
+        if let Err(problem) = report::check_analysis(&view.parts, &request.run, &request.text) {
+            return Ok(Err(Error::BadRequest(problem)));
+        }
+        Ok(store
+            .save_analysis(member.id, exercise, &request.run, &request.text, now)?
+            .map_err(closed))
+    })
+    .await??;
+    Ok(axum::http::StatusCode::NO_CONTENT.into_response())
+}
+
+/// `POST .../report/hand-in`: hands the report in with the runs of the student's latest
+/// submission.
+pub async fn hand_in(
+    State(state): State<Arc<AppState>>,
+    viewer: Viewer,
+    Path((course, lab)): Path<(String, String)>,
+) -> Result<Response, Error> {
+    let exercise = reported_lab(&lab)?;
+    let member = student_of(&viewer, &course)?;
+    let now = state.clock.now();
+    let view = blocking(&state, move |store| {
+        let Some(view) = report_view(store, &member, exercise, false)? else {
+            return Ok(Err(not_opened()));
+        };
+        if let Some(error) = closed_to_student(&member, &view, now) {
+            return Ok(Err(error));
+        }
+        let Some(submission) = view.submission else {
+            return Ok(Err(Error::Conflict(
+                "submit your code first: the report shows the runs of your latest submission"
+                    .into(),
+            )));
+        };
+        if let Err(closed_now) = store.hand_in_report(member.id, exercise, submission.id, now)? {
+            return Ok(Err(closed(closed_now)));
+        }
+        Ok(report_view(store, &member, exercise, false)?.ok_or_else(not_opened))
+    })
+    .await??;
+    Ok(Json(view).into_response())
+}
+
+/// The body of `POST .../reports/{student}/rubric`.
+#[derive(Deserialize, TS)]
+#[serde(deny_unknown_fields)]
+pub struct RubricRequest {
+    /// The hand-in judged (`ReportView::handed_in` as read): a later one is not judged
+    /// unread.
+    pub handed_in: u32,
+    pub parts: Vec<PartMark>,
+}
+
+/// `POST .../reports/{student}/rubric`: staff judge the hand-in they read, every part
+/// pass or revise with a comment; logged.
+pub async fn rubric(
+    State(state): State<Arc<AppState>>,
+    viewer: Viewer,
+    Path((course, lab, student)): Path<(String, String, String)>,
+    body: Body,
+) -> Result<Response, Error> {
+    viewer.staff_of(&course)?;
+    let exercise = reported_lab(&lab)?;
+    let request: RubricRequest = body.json(&viewer, "the rubric").await?;
+    let actor = viewer.actor();
+    let now = state.clock.now();
+    let view = blocking(&state, move |store| {
+        let member = match student_for_staff(store, &course, &student)? {
+            Ok(member) => member,
+            Err(error) => return Ok(Err(error)),
+        };
+        let Some(view) = report_view(store, &member, exercise, true)? else {
+            return Ok(Err(not_opened()));
+        };
+        let marks = match report::check_rubric(&view.parts, request.parts) {
+            Ok(marks) => marks,
+            Err(problem) => return Ok(Err(Error::BadRequest(problem))),
+        };
+        let judged = (actor.as_str(), now);
+        let reviewed =
+            match store.review_report(member.id, exercise, request.handed_in, &marks, judged)? {
+                Ok(reviewed) => reviewed,
+                Err(Closed(ReportState::Draft)) => {
+                    return Ok(Err(Error::Conflict(format!(
+                        "{student} has not handed in the report: there is nothing to judge"
+                    ))));
+                }
+                Err(_) => {
+                    return Ok(Err(Error::Conflict(format!(
+                        "{student} has handed in the report again since (hand-in {}): read it anew",
+                        view.handed_in
+                    ))));
+                }
+            };
+        store.audit(
+            &course,
+            &actor,
+            "report",
+            &format!(
+                "{exercise}: {student}'s report (hand-in {}) {}",
+                request.handed_in,
+                reviewed.state().name()
+            ),
+            now,
+        )?;
+        Ok(report_view(store, &member, exercise, true)?.ok_or_else(not_opened))
+    })
+    .await??;
+    Ok(Json(view).into_response())
+}
+
+/// The runs of a report, as `GET .../report/runs` answers while they are made and once
+/// they are.
+#[derive(Serialize, TS)]
+#[serde(tag = "state", rename_all = "snake_case")]
+pub enum ReportRuns {
+    /// No submission yet: nothing to run.
+    NoSubmission,
+    /// The server is running the student's code on the whole data sets: ask again.
+    Making { submission: i64 },
+    /// The harness's outputs of every run of the report.
+    Made { submission: i64, outputs: Outputs },
+    /// The server could not run the code (its own fault, or a language it cannot run):
+    /// asking again tries again.
+    Failed { submission: i64, reason: String },
+}
+
+/// The reports' runs being made, and why the last try of a submission's failed.
+#[derive(Default)]
+pub struct Making {
+    running: Mutex<HashSet<i64>>,
+    failed: Mutex<HashMap<i64, String>>,
+}
+
+/// The runs of the report of `member`: made once a submission (in the background, the
+/// first time they are asked for) and kept.
+async fn runs_of(
+    state: &Arc<AppState>,
+    member: Member,
+    lab: Exercise,
+    staff: bool,
+) -> Result<ReportRuns, Error> {
+    let found = blocking(state, move |store| {
+        let Some(view) = report_view(store, &member, lab, staff)? else {
+            return Ok(Err(not_opened()));
+        };
+        let Some(submission) = view.submission else {
+            return Ok(Ok((None, None)));
+        };
+        let made = store.report_runs(submission.id)?;
+        Ok(Ok((Some(submission.id), made)))
+    })
+    .await??;
+    let (Some(submission), made) = found else {
+        return Ok(ReportRuns::NoSubmission);
+    };
+    if let Some(outputs) = made {
+        return Ok(ReportRuns::Made {
+            submission,
+            outputs,
+        });
+    }
+    let making = &state.reports;
+    if let Some(reason) = lock(&making.failed).remove(&submission) {
+        return Ok(ReportRuns::Failed { submission, reason });
+    }
+    if lock(&making.running).insert(submission) {
+        tokio::spawn(make_runs(Arc::clone(state), submission, lab));
+    }
+    Ok(ReportRuns::Making { submission })
+}
+
+fn lock<T>(mutex: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+    mutex.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Runs a submission's code on the whole data sets of its report's runs, as many at once
+/// as the server runs phases for askers (so that grading never waits for reports), and
+/// keeps the outputs; a failure of the server's is kept to be told once.
+async fn make_runs(state: Arc<AppState>, submission: i64, lab: Exercise) {
+    let made = async {
+        let _running = state.trials.slot().await.map_err(|e| e.to_string())?;
+        let stored = blocking(&state, move |store| store.get(submission, true))
+            .await
+            .map_err(|e| e.to_string())?
+            .ok_or("the submission is gone")?;
+        let grader = Arc::clone(&state.grader);
+        let runs: Vec<&str> = lab.declaration().report.iter().map(|r| r.run).collect();
+        let outputs = tokio::task::spawn_blocking(move || {
+            let code = Code {
+                language: stored.summary.language,
+                text: stored.source.as_deref().unwrap_or_default(),
+            };
+            grader.sandbox().whole_runs(lab, code, stored.seed, &runs)
+        })
+        .await
+        .map_err(|e| e.to_string())?
+        .map_err(|tried| match tried {
+            Tried::Unavailable(_) => format!(
+                "files in this language cannot be run on this server: its sandbox for them does not start here ({tried})"
+            ),
+            other => format!("the server's sandbox failed ({other}): not your code's doing"),
+        })?;
+        blocking(&state, move |store| store.keep_report_runs(submission, &outputs))
+            .await
+            .map_err(|e| e.to_string())
+    }
+    .await;
+    if let Err(reason) = made {
+        tracing::warn!(submission, %reason, "a report's runs were not made");
+        lock(&state.reports.failed).insert(submission, reason);
+    }
+    lock(&state.reports.running).remove(&submission);
+}
+
+/// `GET .../report/runs`: the runs of the student's own report.
+pub async fn my_runs(
+    State(state): State<Arc<AppState>>,
+    viewer: Viewer,
+    Path((course, lab)): Path<(String, String)>,
+) -> Result<Response, Error> {
+    let exercise = reported_lab(&lab)?;
+    let member = student_of(&viewer, &course)?;
+    Ok(Json(runs_of(&state, member, exercise, false).await?).into_response())
+}
+
+/// `GET .../reports/{student}/runs`: the runs of a student's report, for staff.
+pub async fn student_runs(
+    State(state): State<Arc<AppState>>,
+    viewer: Viewer,
+    Path((course, lab, student)): Path<(String, String, String)>,
+) -> Result<Response, Error> {
+    viewer.staff_of(&course)?;
+    let exercise = reported_lab(&lab)?;
+    let member = blocking(&state, move |store| {
+        student_for_staff(store, &course, &student)
+    })
+    .await??;
+    Ok(Json(runs_of(&state, member, exercise, true).await?).into_response())
+}
+
+#[derive(Template)]
+#[template(path = "report.html")]
+struct ReportPage<'a> {
+    page: &'a str,
+    assets: super::assets::PageAssets<'a>,
+    nav: Nav,
+    course: String,
+    lab: Exercise,
+    folder: &'static str,
+    title: &'static str,
+    /// Whether staff read it: the class's reports, and any student's.
+    staff: bool,
+}
+
+/// `GET /courses/{course}/{lab}/report`: the report page, for the course's people; anyone
+/// signed out is sent to sign in, anyone else gets the 404 of a course that does not
+/// exist.
+pub async fn page(
+    State(state): State<Arc<AppState>>,
+    viewer: Viewer,
+    Path((course, lab)): Path<(String, String)>,
+) -> Result<Response, Error> {
+    if matches!(viewer, Viewer::Anonymous) {
+        return Ok(Redirect::to("/signin").into_response());
+    }
+    let staff = viewer.is_staff_of(&course);
+    if !staff && !viewer.member().is_some_and(|m| m.course == course) {
+        return Err(Error::NotFound(format!("there is no course {course:?}")));
+    }
+    let exercise = reported_lab(&lab)?;
+    html(&ReportPage {
+        page: "report",
+        assets: state.assets.page("report"),
+        nav: Nav::of(&state, &viewer).await?,
+        course,
+        lab: exercise,
+        folder: exercise.folder(),
+        title: exercise.declaration().title,
+        staff,
+    })
+}
