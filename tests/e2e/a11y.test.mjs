@@ -50,6 +50,8 @@ for (const [name, size] of [['phone', phone], ['laptop', laptop]]) {
       ['/me', teacher], [`/courses/${course}`, teacher], [`/courses/${course}/${LAB}`, teacher],
       [`/courses/${course}/${LAB}/students/${students[0].id}`, teacher],
       [`/courses/${course}/${LAB}/questions`, student], [`/courses/${course}/${LAB}/questions`, teacher],
+      [`/courses/${course}/${LAB}/report`, student], [`/courses/${course}/${LAB}/report`, teacher],
+      [`/courses/${course}/${LAB}/report?student=${students[0].id}`, teacher],
     ];
     const problems = [];
     for (const [path, cookie] of pages) {

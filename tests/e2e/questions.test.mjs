@@ -3,17 +3,35 @@
 // a table, each saved a moment after they stop; the answers are there after a reload and
 // nothing of the answer keys reaches the student's page; staff read the sets with the
 // model answers and the keys, the fields read only; at a phone's size nothing spills over.
-// A round of peer review: the teacher opens it on the same page, each student marks the
-// two sheets handed to them and hands the reviews in, the teacher closes it and each
-// student reads their share of right marks (axe-core finds no serious violation on a
-// sheet, the rounds or the marks).
+// A round of peer review: the teacher gives the assignment a set of their own from a file
+// (a broken one is refused with its set, line, question and field), opens a round on the
+// same page, each student marks the two sheets handed to them and hands the reviews in,
+// the teacher closes it, each student reads their share of right marks and the gradebook
+// has every student's share and bonus (axe-core finds no serious violation on a sheet,
+// the rounds or the marks).
 import assert from 'node:assert/strict';
 import { after, before, test } from 'node:test';
 import {
-  bounded, estlab, launchBrowser, laptop, openIn, phone, setUpCourse, signedInContext, signIn, startServer, violations,
+  bounded, estlab, launchBrowser, laptop, openIn, parseCsv, phone, setUpCourse, signedInContext, signIn, startServer, violations,
 } from './harness.mjs';
 
 const LAB = 'ekf-localization';
+
+/** A question set of the teacher's own, for a review in class. */
+const IN_CLASS = `title = "In class: the gain"
+
+[[question]]
+id = "roles"
+kind = "text"
+prompt = "What does the state $x_t$ hold?"
+model = "The pose $(x, y, \\theta)$."
+
+[[question]]
+id = "weighing"
+kind = "text"
+prompt = "What decides how much a measurement moves the estimate?"
+model = "The Kalman gain $K_t$."
+`;
 let server;
 let browser;
 before(async () => {
@@ -104,6 +122,20 @@ test('a review round in class: opened, reviewed, closed, marks read', bounded, a
     '--data', server.dataDir, '--url', server.url).trim().split('\n').pop();
   const teacher = await signIn(server, link.split('#')[1]);
   const api = `${server.url}/api/courses/${course}/labs/${LAB}`;
+
+  // The teacher gives the assignment a set of their own from a file; one that does not
+  // read is refused with its line, and nothing changes.
+  const staffContext = await signedInContext(browser, server, teacher, laptop);
+  const staff = await openIn(staffContext, `${server.url}/courses/${course}/${LAB}/questions`);
+  const files = staff.getByLabel('Load .toml files');
+  await files.setInputFiles({ name: 'broken.toml', mimeType: 'text/plain', buffer: Buffer.from('title = "x"\n[[question]]\nkind = "essay"\nprompt = "?"\n') });
+  await staff.getByRole('button', { name: 'Save the sets' }).click();
+  await staff.getByRole('status').filter({ hasText: /^Not saved: .*set 1: line 2: question 1: kind "essay"/ }).waitFor();
+  staff.problems.length = 0; // the browser logs the refusal (400) it was meant to get
+  await files.setInputFiles({ name: 'in-class.toml', mimeType: 'text/plain', buffer: Buffer.from(IN_CLASS) });
+  await staff.getByRole('button', { name: 'Save the sets' }).click();
+  await staff.getByRole('status').filter({ hasText: 'Saved: 1 set.' }).waitFor();
+  assert.deepEqual(await staff.locator('.question-set h2').allTextContents(), ['In class: the gain']);
   const cookies = [];
   for (const [i, student] of students.entries()) {
     const cookie = await signIn(server, student.code);
@@ -118,9 +150,9 @@ test('a review round in class: opened, reviewed, closed, marks read', bounded, a
     }
   }
 
-  // The teacher opens a round of Part I, two reviews a sheet.
-  const staffContext = await signedInContext(browser, server, teacher, laptop);
-  const staff = await openIn(staffContext, `${server.url}/courses/${course}/${LAB}/questions`);
+  // The teacher opens a round of the set, two reviews a sheet.
+  await staff.reload();
+  await staff.waitForSelector('body[data-ready=true]');
   await staff.getByLabel('Reviews of each sheet').fill('2');
   await staff.getByRole('button', { name: 'Open a round' }).click();
   await staff.getByRole('status').filter({ hasText: /Round \d+ is open: 3 sheets/ }).waitFor();
@@ -157,6 +189,12 @@ test('a review round in class: opened, reviewed, closed, marks read', bounded, a
   assert.deepEqual(await violations(staff), [], 'the staff\'s rounds');
   assert.deepEqual(staff.problems, []);
   await staffContext.close();
+
+  // The gradebook has each student's share and bonus of the set's review.
+  const csv = await fetch(`${api}/export?format=csv`, { headers: { cookie: teacher } });
+  assert.equal(csv.status, 200);
+  const rows = parseCsv(await csv.text());
+  assert.deepEqual(rows.map((r) => [r.review_share_1, r.review_bonus_1]), [['0.5000', 'yes'], ['0.5000', 'yes'], ['0.5000', 'yes']]);
 
   // A student reads what their sheet received.
   const context = await signedInContext(browser, server, cookies[0], laptop);

@@ -12,7 +12,7 @@ import { readdirSync, readFileSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { after, before, test } from 'node:test';
 import {
-  bounded, correct, estlab, getJson, launchBrowser, laptop, openIn, parseCsv, setUpCourse, signedInContext,
+  bounded, correct, estlab, getJson, launchBrowser, laptop, openIn, parseCsv, phone, setUpCourse, signedInContext,
   signIn, startServer, submit, tempDir, violations, waitFor,
 } from './harness.mjs';
 
@@ -65,6 +65,13 @@ test('a report: four runs of the student\'s code, printed, handed in, judged', b
   }
   assert.equal(await page.locator('.report-set').count(), 2);
   assert.deepEqual(await violations(page), [], 'the student\'s report');
+  // At a phone's size, nothing is wider than the screen.
+  const phoneContext = await signedInContext(browser, server, cookie, phone);
+  const small = await openIn(phoneContext, `${server.url}/courses/${course}/${LAB}/report`);
+  await runsDrawn(small);
+  const overflow = await small.evaluate(() => document.documentElement.scrollWidth - window.innerWidth);
+  assert.ok(overflow <= 0, `the report is ${overflow} px wider than a phone`);
+  await phoneContext.close();
 
   // An analysis, typeset as it is typed, saved, there after a reload.
   const analysis = 'The ellipses stay small: $\\Sigma_t$ shrinks with every reading of the 17 landmarks.';

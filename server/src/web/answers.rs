@@ -37,6 +37,10 @@ pub struct Written {
     pub own: bool,
     /// For staff in full; for a student without what they are checked against.
     pub sets: Vec<QuestionSet>,
+    /// For staff, the sets as written (TOML), to edit; none for a student.
+    pub sources: Vec<String>,
+    /// Whether the reader may give the assignment other sets (its instructors).
+    pub instructor: bool,
     /// The student's answers (none for staff).
     pub answers: Vec<SavedAnswer>,
     /// The last moment a student's answers are taken (their cutoff, extensions counted);
@@ -46,17 +50,21 @@ pub struct Written {
 }
 
 impl Written {
-    /// An assignment's sets in full, as staff read them.
+    /// An assignment's sets in full and as written, as staff read them (`instructor`: one
+    /// who may change them).
     fn for_staff(
         store: &crate::store::Store,
         course: &str,
         lab: Exercise,
+        instructor: bool,
     ) -> Result<Written, crate::store::Error> {
         Ok(Written {
             lab,
             staff: true,
             own: store.questions(course, lab)?.is_none(),
             sets: questions::of_assignment(store, course, lab)?,
+            sources: questions::sources(store, course, lab)?,
+            instructor,
             answers: Vec::new(),
             cutoff: None,
         })
@@ -70,6 +78,7 @@ pub async fn questions(
 ) -> Result<Response, Error> {
     let exercise = known_lab(&lab)?;
     let staff = viewer.is_staff_of(&course);
+    let instructor = viewer.instructor_of(&course).is_ok();
     let student = match viewer.member() {
         Some(member) if !staff && member.course == course => Some(member.id),
         _ if staff => None,
@@ -79,12 +88,13 @@ pub async fn questions(
         if store.assignment(&course, exercise)?.is_none() {
             return Ok(None);
         }
-        let full = Written::for_staff(store, &course, exercise)?;
+        let full = Written::for_staff(store, &course, exercise, instructor)?;
         Ok(Some(match student {
             None => full,
             Some(member) => Written {
                 staff: false,
                 sets: full.sets.iter().map(QuestionSet::for_students).collect(),
+                sources: Vec::new(),
                 answers: store.answers(member, exercise)?,
                 cutoff: store
                     .policy_for(&course, exercise, member)?
@@ -205,7 +215,7 @@ pub async fn import(
         other => other,
     })?;
     let written = blocking(&state, move |store| {
-        Written::for_staff(store, &at, exercise)
+        Written::for_staff(store, &at, exercise, true)
     })
     .await?;
     Ok(Json(written).into_response())

@@ -17,8 +17,10 @@ use super::pages::{Nav, html};
 use super::viewer::Viewer;
 use super::{AppState, Error, blocking, known_lab};
 use crate::courses::deadline::Policy;
+use crate::courses::export::HandIn;
 use crate::courses::questions::{self, QuestionSet};
 use crate::courses::report::{self, Part, PartMark, State as ReportState, Stored};
+use crate::courses::rounds::Tally;
 use crate::sandbox::{Code, Tried};
 use crate::store::{Closed, Member, Role, SavedAnswer, Store, SubmissionSummary};
 use askama::Template;
@@ -251,8 +253,20 @@ pub struct ReportLine {
     pub dropped: bool,
     /// The score of the submission that counts.
     pub score: Option<f64>,
+    /// Their sheet's tally in the latest closed review round of each set that has one.
+    pub reviews: Vec<SetReview>,
     pub state: ReportState,
     pub lab_passed: bool,
+}
+
+/// A student's tally in the review of a question set.
+#[derive(Serialize, TS)]
+pub struct SetReview {
+    /// The set's place in the assignment, from 0.
+    #[ts(type = "number")]
+    pub part: usize,
+    /// None when their sheet was not in the round.
+    pub tally: Option<Tally>,
 }
 
 /// `GET .../reports`: every student's report state, for staff.
@@ -267,25 +281,31 @@ pub async fn class(
         let Some(class) = crate::courses::class::load(store, &course, exercise)? else {
             return Ok(None);
         };
-        let states = report::states(store, &course, exercise)?.unwrap_or_default();
-        Ok(Some(
-            class
-                .students
-                .into_iter()
-                .map(|s| {
-                    let state = states.get(&s.id).copied().unwrap_or(ReportState::Draft);
-                    let score = s.counting.and_then(|c| c.score);
-                    ReportLine {
-                        lab_passed: report::lab_passed(score, state),
-                        student: s.id,
-                        name: s.name,
-                        dropped: s.dropped,
-                        score,
-                        state,
-                    }
+        let hand_in = HandIn::load(store, &course, exercise)?;
+        let states = hand_in.reports.unwrap_or_default();
+        let lines = class.students.into_iter().map(|s| {
+            let state = states.get(&s.id).copied().unwrap_or(ReportState::Draft);
+            let score = s.counting.and_then(|c| c.score);
+            let reviews = hand_in
+                .reviewed
+                .parts
+                .iter()
+                .map(|(part, tallies)| SetReview {
+                    part: *part,
+                    tally: tallies.get(&s.id).cloned(),
                 })
-                .collect::<Vec<_>>(),
-        ))
+                .collect();
+            ReportLine {
+                lab_passed: report::lab_passed(score, state),
+                student: s.id,
+                name: s.name,
+                dropped: s.dropped,
+                score,
+                reviews,
+                state,
+            }
+        });
+        Ok(Some(lines.collect::<Vec<_>>()))
     })
     .await?
     .ok_or_else(not_opened)?;

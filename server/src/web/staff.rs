@@ -473,6 +473,8 @@ struct Dashboard<'a> {
     lab: String,
     /// A student's page when set.
     student: Option<String>,
+    /// Whether the exercise asks for a report (the class's and each student's linked).
+    report: bool,
 }
 
 impl Dashboard<'_> {
@@ -493,7 +495,7 @@ async fn dashboard_page(
         return Ok(Redirect::to("/signin").into_response());
     }
     viewer.staff_of(&course)?;
-    known_lab(&lab)?;
+    let exercise = known_lab(&lab)?;
     html(&Dashboard {
         page: "dashboard",
         assets: state.assets.page("dashboard"),
@@ -501,6 +503,7 @@ async fn dashboard_page(
         course,
         lab,
         student,
+        report: !exercise.declaration().report.is_empty(),
     })
 }
 

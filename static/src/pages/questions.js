@@ -2,11 +2,13 @@
 // answers each question in the field its kind takes (words with math, a number, a
 // choice, a table) and every answer is saved as they type, a moment after they stop,
 // until their cutoff; a written answer is shown typeset beside the field. Staff read the
-// sets in full: the model answers and what numbers and choices are checked against. Above
-// the sets, peer review: a student's sheets to review and their own marks; staff's rounds.
+// sets in full: the model answers and what numbers and choices are checked against, and
+// their instructors edit the sets' TOML here. Above the sets, peer review: a student's
+// sheets to review and their own marks; staff's rounds.
 import { markdownBlock, renderInto } from '../markdown.js';
 import { showReviews } from '../questions/reviewing.js';
 import { showRounds } from '../questions/rounds.js';
+import { showSets } from '../questions/sets.js';
 import { getJson, postJson } from '../results/http.js';
 import { element } from '../results/render.js';
 
@@ -263,6 +265,12 @@ async function load() {
     show(written);
     const review = /** @type {HTMLElement} */ (document.getElementById('peer-review'));
     if (written.staff) {
+      const sources = /** @type {HTMLElement} */ (document.getElementById('question-sources'));
+      sources.hidden = false;
+      showSets(sources, api, written, (changed) => {
+        show(changed);
+        showRounds(review, api, changed.sets);
+      });
       review.hidden = false;
       await showRounds(review, api, written.sets);
     } else {

@@ -332,16 +332,20 @@ function showClass(lines) {
   body.hidden = true;
   const table = element('table', 'report-class');
   const head = element('tr');
-  for (const title of ['Student', 'Code score', 'Report', 'Lab']) head.append(element('th', null, title));
-  table.append(element('caption', null, 'Each student’s report: open one to read it and judge it.'), head);
+  const reviewed = lines[0]?.reviews.map((r) => `Review of set ${r.part + 1}`) ?? [];
+  for (const title of ['Student', 'Code score', ...reviewed, 'Report', 'Lab']) head.append(element('th', null, title));
+  table.append(element('caption', null, 'Each student’s code, review of their answers and report: open a report to read it and judge it.'), head);
   for (const line of lines) {
     const row = element('tr');
     const who = element('td');
     who.append(link(`?student=${encodeURIComponent(line.student)}`, `${line.name} (${line.student})`));
     if (line.dropped) who.append(' (dropped)');
+    const reviews = line.reviews.map(({ tally }) => element('td', null, tally?.share == null ? '—'
+      : `${Math.round(tally.share * 100)} %${tally.bonus ? ', bonus' : ''}`));
     row.append(
       who,
       element('td', null, line.score === null ? '—' : `${Math.round(line.score * 100)} %`),
+      ...reviews,
       element('td', `state ${line.state}`, STATES[line.state]),
       element('td', null, line.lab_passed ? 'passed' : '—'),
     );

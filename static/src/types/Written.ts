@@ -19,6 +19,14 @@ own: boolean,
  */
 sets: Array<QuestionSet>, 
 /**
+ * For staff, the sets as written (TOML), to edit; none for a student.
+ */
+sources: Array<string>, 
+/**
+ * Whether the reader may give the assignment other sets (its instructors).
+ */
+instructor: boolean, 
+/**
  * The student's answers (none for staff).
  */
 answers: Array<SavedAnswer>, 

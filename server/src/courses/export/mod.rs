@@ -6,13 +6,12 @@
 mod archive;
 mod gradebook;
 
-pub use gradebook::inert;
+pub use gradebook::{HandIn, inert};
 
 use super::class::{self, ClassView, StudentRow};
 use crate::platforms::{GradescopeResults, PrairieLearnResults};
 use crate::store::{self, Store, Submission};
 use archive::{FileNames, zip_of};
-use gradebook::HandIn;
 use labs::Language;
 use std::collections::HashMap;
 
