@@ -645,7 +645,8 @@ pub async fn page(
         return Ok(Redirect::to("/signin").into_response());
     }
     let staff = viewer.is_staff_of(&course);
-    if !staff && !viewer.member().is_some_and(|m| m.course == course) {
+    let of_course = staff || viewer.member().is_some_and(|m| m.course == course);
+    if !of_course {
         return Err(Error::NotFound(format!("there is no course {course:?}")));
     }
     let exercise = reported_lab(&lab)?;
