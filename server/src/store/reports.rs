@@ -125,13 +125,13 @@ impl Store {
             .collect()
     }
 
-    /// The runs of a submission's report, if they were made.
-    pub fn report_runs(&self, submission: i64) -> Result<Option<Outputs>, Error> {
+    /// The runs of a submission's report, if `grader` made them.
+    pub fn report_runs(&self, submission: i64, grader: &str) -> Result<Option<Outputs>, Error> {
         let stored: Option<String> = self
             .connection()
             .query_row(
-                "SELECT outputs FROM report_runs WHERE submission = ?1",
-                [submission],
+                "SELECT outputs FROM report_runs WHERE submission = ?1 AND grader = ?2",
+                params![submission, grader],
                 |row| row.get(0),
             )
             .optional()?;
@@ -140,12 +140,19 @@ impl Store {
             .transpose()
     }
 
-    /// Keeps the runs of a submission's report (the first made, should two be made at once).
-    pub fn keep_report_runs(&self, submission: i64, outputs: &Outputs) -> Result<(), Error> {
+    /// Keeps the runs `grader` made of a submission's report, in place of another
+    /// grader's.
+    pub fn keep_report_runs(
+        &self,
+        submission: i64,
+        grader: &str,
+        outputs: &Outputs,
+    ) -> Result<(), Error> {
         let json = serde_json::to_string(outputs).expect("outputs serialise");
         self.connection().execute(
-            "INSERT OR IGNORE INTO report_runs (submission, outputs) VALUES (?1, ?2)",
-            params![submission, json],
+            "INSERT INTO report_runs (submission, grader, outputs) VALUES (?1, ?2, ?3)
+             ON CONFLICT (submission) DO UPDATE SET grader = ?2, outputs = ?3",
+            params![submission, grader, json],
         )?;
         Ok(())
     }

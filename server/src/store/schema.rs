@@ -241,7 +241,8 @@ const MIGRATIONS: &[&str] = &[
     // each hand-in counts up `handed_in` and names the submission whose runs it shows;
     // staff's rubric (JSON, a verdict and comment per part) judges the hand-in whose count
     // it keeps in `reviewed`. The runs of a submission's report, once made, are kept (the
-    // harness's outputs, JSON): the same code and seed give the same runs.
+    // harness's outputs, JSON) with the grader that made them: the same code, seed and
+    // grader give the same runs, and another grader's data sets are not these.
     "CREATE TABLE reports (
         member INTEGER NOT NULL REFERENCES members (id),
         lab TEXT NOT NULL,
@@ -258,6 +259,7 @@ const MIGRATIONS: &[&str] = &[
     );
     CREATE TABLE report_runs (
         submission INTEGER PRIMARY KEY REFERENCES submissions (id),
+        grader TEXT NOT NULL,
         outputs TEXT NOT NULL
     );",
 ];

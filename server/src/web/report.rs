@@ -520,6 +520,7 @@ async fn runs_of(
     lab: Exercise,
     staff: bool,
 ) -> Result<ReportRuns, Error> {
+    let grader = state.grader.version(lab).to_owned();
     let found = blocking(state, move |store| {
         let Some(view) = report_view(store, &member, lab, staff)? else {
             return Ok(Err(not_opened()));
@@ -527,7 +528,7 @@ async fn runs_of(
         let Some(submission) = view.submission else {
             return Ok(Ok((None, None)));
         };
-        let made = store.report_runs(submission.id)?;
+        let made = store.report_runs(submission.id, &grader)?;
         Ok(Ok((Some(submission.id), made)))
     })
     .await??;
@@ -581,7 +582,10 @@ async fn make_runs(state: Arc<AppState>, submission: i64, lab: Exercise) {
             ),
             other => format!("the server's sandbox failed ({other}): not your code's doing"),
         })?;
-        blocking(&state, move |store| store.keep_report_runs(submission, &outputs))
+        let made_by = state.grader.version(lab).to_owned();
+        blocking(&state, move |store| {
+            store.keep_report_runs(submission, &made_by, &outputs)
+        })
             .await
             .map_err(|e| e.to_string())
     }
