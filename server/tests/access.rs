@@ -144,13 +144,13 @@ const MATRIX: &[(&str, &str, [u16; 9])] = &[
     // The report: the page for the course's people (staff read the class's); each
     // student's own through `report` (staff are told theirs is `reports/{student}`), which
     // only its staff read and judge. Sent without a body: the 400 of a body checked after
-    // who asks. A student's hand-in is taken (each has a graded submission).
+    // who asks.
     ("GET",  "/courses/el2320/ekf-localization/report",                    [303, 200, 200, 200, 200, 404, 200, 401, 401]),
     ("GET",  "/courses/other/ekf-localization/report",                     [303, 404, 404, 404, 404, 200, 404, 401, 401]),
     ("GET",  "/api/courses/el2320/labs/ekf-localization/report",           [404, 200, 200, 403, 403, 404, 403, 401, 401]),
     ("GET",  "/api/courses/el2320/labs/ekf-localization/report/runs",      [404, 200, 200, 403, 403, 404, 403, 401, 401]),
     ("POST", "/api/courses/el2320/labs/ekf-localization/report/analyses",  [404, 400, 400, 403, 403, 404, 403, 401, 401]),
-    ("POST", "/api/courses/el2320/labs/ekf-localization/report/hand-in",   [404, 200, 200, 403, 403, 404, 403, 401, 401]),
+    ("POST", "/api/courses/el2320/labs/ekf-localization/report/hand-in",   [404, 400, 400, 403, 403, 404, 403, 401, 401]),
     ("GET",  "/api/courses/el2320/labs/ekf-localization/reports",          [404, 404, 404, 200, 200, 404, 200, 401, 401]),
     ("GET",  "/api/courses/other/labs/ekf-localization/reports",           [404, 404, 404, 404, 404, 200, 404, 401, 401]),
     ("GET",  "/api/courses/el2320/labs/ekf-localization/reports/{A_ID}",   [404, 404, 404, 200, 200, 404, 200, 401, 401]),

@@ -691,7 +691,7 @@ async fn a_report_from_draft_to_accepted() {
     )
     .await;
     assert_eq!(saved.status, StatusCode::NO_CONTENT, "{}", saved.body);
-    let early = post(&a, format!("{REPORT}/hand-in"), json!({})).await;
+    let early = post(&a, format!("{REPORT}/hand-in"), json!({ "submission": 1 })).await;
     assert_eq!(early.status, StatusCode::CONFLICT, "{}", early.body);
     assert!(
         early.error().contains("submit your code first"),
@@ -731,8 +731,27 @@ async fn a_report_from_draft_to_accepted() {
         .await;
     assert_eq!(staff_runs, runs);
 
-    // Handed in: the analyses are shut, a second hand-in refused, staff see it waiting.
-    let handed = post(&a, format!("{REPORT}/hand-in"), json!({})).await;
+    // Handed in with the submission read (another is refused, naming the field): the
+    // analyses are shut, a second hand-in refused, staff see it waiting, and read it as it
+    // was handed in, whatever answer changes later.
+    let unread = post(
+        &a,
+        format!("{REPORT}/hand-in"),
+        json!({ "submission": submission + 1 }),
+    )
+    .await;
+    assert_eq!(unread.status, StatusCode::CONFLICT, "{}", unread.body);
+    assert!(
+        unread.error().contains("field `submission`"),
+        "{}",
+        unread.error()
+    );
+    let handed = post(
+        &a,
+        format!("{REPORT}/hand-in"),
+        json!({ "submission": submission }),
+    )
+    .await;
     assert_eq!(handed.status, StatusCode::OK, "{}", handed.body);
     assert_eq!(handed.json()["state"], "handed_in");
     assert_eq!(handed.json()["handed_in"], 1);
@@ -744,10 +763,23 @@ async fn a_report_from_draft_to_accepted() {
     .await;
     assert_eq!(shut.status, StatusCode::CONFLICT, "{}", shut.body);
     assert_eq!(
-        post(&a, format!("{REPORT}/hand-in"), json!({}))
-            .await
-            .status,
+        post(
+            &a,
+            format!("{REPORT}/hand-in"),
+            json!({ "submission": submission })
+        )
+        .await
+        .status,
         StatusCode::CONFLICT
+    );
+    let later = answer(
+        0,
+        "roles",
+        json!({"kind": "text", "value": "written after the hand-in"}),
+    );
+    assert_eq!(
+        post(&a, ANSWERS.to_string(), later).await.status,
+        StatusCode::OK
     );
     let class = app.get_json(&assistant, REPORTS).await;
     let line = class
@@ -763,6 +795,11 @@ async fn a_report_from_draft_to_accepted() {
         .await;
     assert_eq!(read["analyses"]["o3/sequential"], "small $\\Sigma$");
     assert_eq!(read["staff"], true);
+    assert!(
+        !read["answers"].to_string().contains("after the hand-in"),
+        "{}",
+        read["answers"]
+    );
 
     // The rubric: every part, once; the hand-in read; one part sent back.
     let mut partial = rubric(1, &[]);
@@ -773,6 +810,18 @@ async fn a_report_from_draft_to_accepted() {
         missing.error().contains("questions-2"),
         "{}",
         missing.error()
+    );
+    let unknown = post(
+        &assistant,
+        format!("{REPORTS}/u-a-1001/rubric"),
+        rubric(5, &[]),
+    )
+    .await;
+    assert_eq!(unknown.status, StatusCode::BAD_REQUEST, "{}", unknown.body);
+    assert!(
+        unknown.error().contains("field `handed_in`"),
+        "{}",
+        unknown.error()
     );
     let nothing = post(
         &assistant,
@@ -827,9 +876,42 @@ async fn a_report_from_draft_to_accepted() {
     )
     .await;
     assert_eq!(revised.status, StatusCode::NO_CONTENT, "{}", revised.body);
-    let again = post(&a, format!("{REPORT}/hand-in"), json!({})).await;
+    // Its answers too, after the cutoff; not the draft's.
+    let corrected = answer(0, "roles", json!({"kind": "text", "value": "corrected"}));
+    let taken = post(&a, ANSWERS.to_string(), corrected.clone()).await;
+    assert_eq!(taken.status, StatusCode::OK, "{}", taken.body);
+    assert_eq!(app.get_json(&a, QUESTIONS).await["open"], true);
+    assert_eq!(
+        post(&late, ANSWERS.to_string(), corrected).await.status,
+        StatusCode::FORBIDDEN
+    );
+    assert_eq!(app.get_json(&late, QUESTIONS).await["open"], false);
+    assert_eq!(app.get_json(&late, REPORT).await["may_change"], false);
+    // Staff read the first hand-in until the next.
+    let first = app
+        .get_json(&instructor, &format!("{REPORTS}/u-a-1001"))
+        .await;
+    assert!(
+        first["analyses"].get("no-odometry/sequential").is_none(),
+        "{first}"
+    );
+    let again = post(
+        &a,
+        format!("{REPORT}/hand-in"),
+        json!({ "submission": submission }),
+    )
+    .await;
     assert_eq!(again.status, StatusCode::OK, "{}", again.body);
     assert_eq!(again.json()["handed_in"], 2);
+    let second = app
+        .get_json(&instructor, &format!("{REPORTS}/u-a-1001"))
+        .await;
+    assert_eq!(second["analyses"]["no-odometry/sequential"], "revised");
+    assert!(
+        second["answers"].to_string().contains("corrected"),
+        "{}",
+        second["answers"]
+    );
 
     // A rubric of the hand-in read before is not taken for the new one.
     let stale = post(

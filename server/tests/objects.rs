@@ -161,8 +161,7 @@ const OBJECTS: &[Row] = &[
         .body(r#"{"marks": [], "submit": false}"#).own(403).other(403),
     // The report: staff write none of their own; the class's list holds this course's
     // students only; a student's report, its runs and its rubric, by id: the other
-    // course's is no student of this one (the rubric of a report never handed in is
-    // refused, 409).
+    // course's is no student of this one (a rubric judging no part is refused, 400).
     row("GET", "/api/courses/{course}/labs/{lab}/report", "/api/courses/{course}/labs/{lab}/report").own(403),
     row("GET", "/api/courses/{course}/labs/{lab}/report/runs", "/api/courses/{course}/labs/{lab}/report/runs").own(403),
     row("POST", "/api/courses/{course}/labs/{lab}/report/analyses", "/api/courses/{course}/labs/{lab}/report/analyses")

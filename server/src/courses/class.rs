@@ -85,6 +85,15 @@ pub struct ClassView {
     pub challenge: Option<ClassChallenge>,
 }
 
+/// The submission that counts under `policy` among a student's submissions (oldest
+/// first): the best or the last of those graded, by the final score.
+pub fn counting<'a>(
+    policy: &Policy,
+    history: impl IntoIterator<Item = &'a SubmissionSummary>,
+) -> Option<&'a SubmissionSummary> {
+    policy.counts.choose(history, |s| s.final_score)
+}
+
 /// The class from its people, their submissions to the exercise (any order), the
 /// extensions, and the stored results of the counting submissions (`results(ids)`).
 pub fn class_view<E>(
@@ -114,10 +123,7 @@ pub fn class_view<E>(
                 email: m.email.clone(),
                 dropped: m.dropped,
                 submissions: own.len(),
-                counting: policy
-                    .counts
-                    .choose(own.iter().copied(), |s| s.final_score)
-                    .map(Shown::of),
+                counting: counting(policy, own.iter().copied()).map(Shown::of),
                 latest: own.last().map(|s| Shown::of(s)),
                 extension: extensions.remove(&m.login),
                 tests: BTreeMap::new(),

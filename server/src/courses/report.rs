@@ -6,7 +6,7 @@
 //! store keeps it (`store::reports`), the web serves it (`web::report`).
 
 use super::questions::QuestionSet;
-use crate::store::{self, Store};
+use crate::store::{self, SavedAnswer, Store};
 use jiff::Timestamp;
 use labs::Exercise;
 use serde::{Deserialize, Serialize};
@@ -109,6 +109,9 @@ pub struct Stored {
     /// The submission whose runs the last hand-in shows.
     pub submission: Option<i64>,
     pub handed_in_at: Option<Timestamp>,
+    /// The analyses and the answers as the last hand-in had them: what staff judge.
+    pub handed_analyses: BTreeMap<String, String>,
+    pub handed_answers: Vec<SavedAnswer>,
     /// The last judgement, of the hand-in counted `reviewed`.
     pub rubric: Vec<PartMark>,
     pub reviewed: Option<u32>,
@@ -156,10 +159,15 @@ pub fn states(
     ))
 }
 
-/// Whether a student passed the lab: their code passes every test (the submission that
-/// counts scores 1) and their report is accepted.
+/// Whether a student's code passes: the submission that counts (its `score`) passes
+/// every test.
+pub fn code_passes(score: Option<f64>) -> bool {
+    score == Some(1.0)
+}
+
+/// Whether a student passed the lab: their code passes and their report is accepted.
 pub fn lab_passed(score: Option<f64>, state: State) -> bool {
-    score == Some(1.0) && state == State::Accepted
+    code_passes(score) && state == State::Accepted
 }
 
 /// Checks a student's analysis of `run` of a report with `parts`: a run of the report, and

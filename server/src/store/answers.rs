@@ -8,7 +8,7 @@ use labs::Exercise;
 use rusqlite::{OptionalExtension, params};
 
 /// A student's answer to one question, as last saved.
-#[derive(Clone, Debug, PartialEq, serde::Serialize, ts_rs::TS)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize, ts_rs::TS)]
 pub struct SavedAnswer {
     /// The question set's place in the assignment, from 0.
     #[ts(type = "number")]

@@ -2,6 +2,7 @@
 //! (`courses::report` says what they mean), and the runs of a submission's report, kept
 //! once made.
 
+use super::SavedAnswer;
 use super::{Error, Store, timestamp};
 use crate::courses::report::{PartMark, State, Stored};
 use jiff::Timestamp;
@@ -46,13 +47,14 @@ impl Store {
         Ok(Ok(()))
     }
 
-    /// Hands the report in with the runs of `submission`, unless it is handed in already
-    /// and not sent back; the new state.
+    /// Hands the report in with the runs of `submission` and the student's `answers` as
+    /// they stand, keeping its analyses as they are, unless it is handed in already and
+    /// not sent back; the new state.
     pub fn hand_in_report(
         &self,
         member: i64,
         lab: Exercise,
-        submission: i64,
+        (submission, answers): (i64, &[SavedAnswer]),
         now: Timestamp,
     ) -> Result<Result<Stored, Closed>, Error> {
         let mut connection = self.connection();
@@ -61,12 +63,23 @@ impl Store {
         if !report.state().open_to_student() {
             return Ok(Err(Closed(report.state())));
         }
+        let analyses = serde_json::to_string(&report.analyses).expect("texts serialise");
+        let answers = serde_json::to_string(answers).expect("answers serialise");
         transaction.execute(
-            "INSERT INTO reports (member, lab, analyses, saved_at, handed_in, submission, handed_in_at)
-             VALUES (?1, ?2, '{}', ?4, 1, ?3, ?4)
+            "INSERT INTO reports (member, lab, analyses, saved_at, handed_in, submission,
+                                  handed_in_at, handed_analyses, handed_answers)
+             VALUES (?1, ?2, ?5, ?4, 1, ?3, ?4, ?5, ?6)
              ON CONFLICT (member, lab) DO UPDATE
-             SET handed_in = handed_in + 1, submission = ?3, handed_in_at = ?4",
-            params![member, lab.name(), submission, now.as_second()],
+             SET handed_in = handed_in + 1, submission = ?3, handed_in_at = ?4,
+                 handed_analyses = ?5, handed_answers = ?6",
+            params![
+                member,
+                lab.name(),
+                submission,
+                now.as_second(),
+                analyses,
+                answers
+            ],
         )?;
         let report = read_report(&transaction, member, lab)?.expect("the report just written");
         transaction.commit()?;
@@ -79,8 +92,7 @@ impl Store {
         &self,
         member: i64,
         lab: Exercise,
-        handed_in: u32,
-        rubric: &[PartMark],
+        (handed_in, rubric): (u32, &[PartMark]),
         (by, now): (&str, Timestamp),
     ) -> Result<Result<Stored, Closed>, Error> {
         let mut connection = self.connection();
@@ -166,7 +178,7 @@ fn read_report(
     let row = connection
         .query_row(
             "SELECT analyses, handed_in, submission, handed_in_at, rubric, reviewed, reviewed_by,
-                    reviewed_at
+                    reviewed_at, handed_analyses, handed_answers
              FROM reports WHERE member = ?1 AND lab = ?2",
             params![member, lab.name()],
             |row| {
@@ -179,11 +191,14 @@ fn read_report(
                     row.get::<_, Option<u32>>(5)?,
                     row.get::<_, Option<String>>(6)?,
                     row.get::<_, Option<i64>>(7)?,
+                    row.get::<_, Option<String>>(8)?,
+                    row.get::<_, Option<String>>(9)?,
                 ))
             },
         )
         .optional()?;
-    let Some((analyses, handed_in, submission, handed_in_at, rubric, reviewed, by, at)) = row
+    let Some((analyses, handed_in, submission, handed_in_at, rubric, reviewed, by, at, ha, hs)) =
+        row
     else {
         return Ok(None);
     };
@@ -192,12 +207,18 @@ fn read_report(
         handed_in,
         submission,
         handed_in_at: handed_in_at.map(timestamp),
-        rubric: rubric
-            .map(|json| serde_json::from_str(&json).map_err(Error::StoredAnswer))
-            .transpose()?
-            .unwrap_or_default(),
+        handed_analyses: stored_json(ha)?,
+        handed_answers: stored_json(hs)?,
+        rubric: stored_json(rubric)?,
         reviewed,
         reviewed_by: by,
         reviewed_at: at.map(timestamp),
     }))
+}
+
+/// A JSON column read as `T`; its default when empty.
+fn stored_json<T: serde::de::DeserializeOwned + Default>(json: Option<String>) -> Result<T, Error> {
+    json.map(|json| serde_json::from_str(&json).map_err(Error::StoredAnswer))
+        .transpose()
+        .map(Option::unwrap_or_default)
 }

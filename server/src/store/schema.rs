@@ -238,7 +238,9 @@ const MIGRATIONS: &[&str] = &[
         PRIMARY KEY (round, reviewer, number)
     );",
     // 11: the report. A student's analyses of its runs (a JSON object, run name to text);
-    // each hand-in counts up `handed_in` and names the submission whose runs it shows;
+    // each hand-in counts up `handed_in`, names the submission whose runs it shows and
+    // keeps the analyses and answers as they were (`handed_analyses`, `handed_answers`,
+    // JSON), which staff read and judge whatever changes later;
     // staff's rubric (JSON, a verdict and comment per part) judges the hand-in whose count
     // it keeps in `reviewed`. The runs of a submission's report, once made, are kept (the
     // harness's outputs, JSON) with the grader that made them: the same code, seed and
@@ -251,6 +253,8 @@ const MIGRATIONS: &[&str] = &[
         handed_in INTEGER NOT NULL DEFAULT 0,
         submission INTEGER REFERENCES submissions (id),
         handed_in_at INTEGER,
+        handed_analyses TEXT,
+        handed_answers TEXT,
         rubric TEXT,
         reviewed INTEGER,
         reviewed_by TEXT,

@@ -16,6 +16,7 @@ use super::setup::change;
 use super::viewer::Viewer;
 use super::{AppState, Error, blocking, known_lab};
 use crate::courses::questions::{self, Answer, QuestionSet};
+use crate::courses::report;
 use crate::store::SavedAnswer;
 use askama::Template;
 use axum::Json;
@@ -47,6 +48,9 @@ pub struct Written {
     /// none for staff.
     #[ts(as = "Option<String>")]
     pub cutoff: Option<Timestamp>,
+    /// Whether the student's answers are taken now: before their cutoff, or after it
+    /// while staff have sent their report back for revision. False for staff.
+    pub open: bool,
 }
 
 impl Written {
@@ -67,6 +71,7 @@ impl Written {
             instructor,
             answers: Vec::new(),
             cutoff: None,
+            open: false,
         })
     }
 }
@@ -80,10 +85,11 @@ pub async fn questions(
     let staff = viewer.is_staff_of(&course);
     let instructor = viewer.instructor_of(&course).is_ok();
     let student = match viewer.member() {
-        Some(member) if !staff && member.course == course => Some(member.id),
+        Some(member) if !staff && member.course == course => Some((member.id, member.dropped)),
         _ if staff => None,
         _ => return Err(Error::NotFound(format!("there is no course {course:?}"))),
     };
+    let now = state.clock.now();
     let written = blocking(&state, move |store| {
         if store.assignment(&course, exercise)?.is_none() {
             return Ok(None);
@@ -91,21 +97,37 @@ pub async fn questions(
         let full = Written::for_staff(store, &course, exercise, instructor)?;
         Ok(Some(match student {
             None => full,
-            Some(member) => Written {
-                staff: false,
-                sets: full.sets.iter().map(QuestionSet::for_students).collect(),
-                sources: Vec::new(),
-                answers: store.answers(member, exercise)?,
-                cutoff: store
+            Some((member, dropped)) => {
+                let cutoff = store
                     .policy_for(&course, exercise, member)?
-                    .map(|p| p.cutoff),
-                ..full
-            },
+                    .map(|p| p.cutoff);
+                let in_time = cutoff.is_some_and(|c| now <= c);
+                Written {
+                    staff: false,
+                    sets: full.sets.iter().map(QuestionSet::for_students).collect(),
+                    sources: Vec::new(),
+                    answers: store.answers(member, exercise)?,
+                    open: !dropped && (in_time || revising(store, member, exercise)?),
+                    cutoff,
+                    ..full
+                }
+            }
         }))
     })
     .await?
     .ok_or_else(|| Error::NotFound("the course has not opened this exercise".into()))?;
     Ok(Json(written).into_response())
+}
+
+/// Whether staff have sent the student's report back for revision (their answers are
+/// part of it, and taken after the cutoff then).
+fn revising(
+    store: &crate::store::Store,
+    member: i64,
+    lab: Exercise,
+) -> Result<bool, crate::store::Error> {
+    let report = store.report(member, lab)?;
+    Ok(report.is_some_and(|r| r.state() == report::State::Revise))
 }
 
 /// The body of `POST .../answers`: one answer.
@@ -151,7 +173,8 @@ pub async fn save(
                 "the course has not opened this exercise".into(),
             )));
         };
-        if now > policy.cutoff {
+        // After the cutoff, only to revise a report staff sent back.
+        if now > policy.cutoff && !revising(store, member.id, exercise)? {
             return Ok(Err(Error::Forbidden(format!(
                 "the cutoff of this exercise was {}: answers are no longer taken",
                 policy.cutoff.strftime("%Y-%m-%d %H:%M UTC")

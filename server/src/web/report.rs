@@ -16,7 +16,7 @@ use super::extract::Body;
 use super::pages::{Nav, html};
 use super::viewer::Viewer;
 use super::{AppState, Error, blocking, known_lab};
-use crate::courses::deadline::Policy;
+use crate::courses::class::counting;
 use crate::courses::export::HandIn;
 use crate::courses::questions::{self, QuestionSet};
 use crate::courses::report::{self, Part, PartMark, State as ReportState, Stored};
@@ -33,6 +33,7 @@ use labs::{Exercise, Language};
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, HashMap, HashSet};
 use std::sync::{Arc, Mutex};
+use tokio::sync::Semaphore;
 use ts_rs::TS;
 
 /// The submission whose runs a report shows.
@@ -59,10 +60,13 @@ pub struct ReportView {
     /// The assignment's question sets, without what they are checked against for the
     /// student; in full for staff.
     pub sets: Vec<QuestionSet>,
-    /// The student's answers as they stand (corrected after the review).
+    /// The student's answers: as they stand (corrected after the review) while the
+    /// student writes; as handed in once it is, and for staff.
     pub answers: Vec<SavedAnswer>,
-    /// The student's analysis of each run, by run name.
+    /// The student's analysis of each run, by run name: the same.
     pub analyses: BTreeMap<String, String>,
+    /// Whether the student may change it now (write, hand in).
+    pub may_change: bool,
     pub state: ReportState,
     /// How many times it was handed in (the rubric names the hand-in it judges).
     pub handed_in: u32,
@@ -76,6 +80,8 @@ pub struct ReportView {
     pub reviewed_by: Option<String>,
     #[ts(as = "Option<String>")]
     pub reviewed_at: Option<Timestamp>,
+    /// The score of the submission that counts (best or last, by the assignment).
+    pub counting_score: Option<f64>,
     /// Whether the submission that counts passes every test.
     pub code_passes: bool,
     /// The code passes and the report is accepted.
@@ -96,13 +102,14 @@ fn shown(summary: &SubmissionSummary, seed: u64) -> ShownSubmission {
     }
 }
 
-/// The report of `member` (a student of `course`), as `staff` or the student reads it;
-/// none when the course has not opened the exercise.
+/// The report of `member` (a student of their course) at `now`, as `staff` or the
+/// student reads it; none when the course has not opened the exercise.
 fn report_view(
     store: &Store,
     member: &Member,
     lab: Exercise,
     staff: bool,
+    now: Timestamp,
 ) -> Result<Option<ReportView>, crate::store::Error> {
     let Some(policy) = store.policy_for(&member.course, lab, member.id)? else {
         return Ok(None);
@@ -119,18 +126,23 @@ fn report_view(
         Some(id) => store.get(id, false)?.map(|s| shown(&s.summary, s.seed)),
         None => None,
     };
-    let code_passes = counting_score(&policy, &history) == Some(1.0);
+    let counting_score = counting(&policy, &history).and_then(|s| s.score);
+    // What was handed in, for staff and for a report not open to its student; else the
+    // student's own as they write.
+    let handed = stored.handed_in > 0 && (staff || !state.open_to_student());
     let Stored {
         analyses,
         handed_in,
         handed_in_at,
+        handed_analyses,
+        handed_answers,
         rubric,
         reviewed,
         reviewed_by,
         reviewed_at,
         ..
     } = stored;
-    Ok(Some(ReportView {
+    let mut view = ReportView {
         lab,
         student: member.login.clone(),
         name: member.name.clone(),
@@ -141,8 +153,13 @@ fn report_view(
         } else {
             sets.iter().map(QuestionSet::for_students).collect()
         },
-        answers: store.answers(member.id, lab)?,
-        analyses,
+        answers: if handed {
+            handed_answers
+        } else {
+            store.answers(member.id, lab)?
+        },
+        analyses: if handed { handed_analyses } else { analyses },
+        may_change: false,
         state,
         handed_in,
         handed_in_at,
@@ -151,18 +168,13 @@ fn report_view(
         reviewed,
         reviewed_by,
         reviewed_at,
-        code_passes,
-        lab_passed: report::lab_passed(code_passes.then_some(1.0), state),
+        counting_score,
+        code_passes: report::code_passes(counting_score),
+        lab_passed: report::lab_passed(counting_score, state),
         cutoff: policy.cutoff,
-    }))
-}
-
-/// The score of the submission that counts under `policy`, of a student's `history`.
-fn counting_score(policy: &Policy, history: &[SubmissionSummary]) -> Option<f64> {
-    policy
-        .counts
-        .choose(history.iter(), |s| s.final_score)
-        .and_then(|s| s.score)
+    };
+    view.may_change = !staff && closed_to_student(member, &view, now).is_none();
+    Ok(Some(view))
 }
 
 /// The exercise, when it asks for a report.
@@ -198,12 +210,12 @@ fn student_for_staff(
     course: &str,
     login: &str,
 ) -> Result<Result<Member, Error>, crate::store::Error> {
-    Ok(match store.member(course, login) {
-        Ok(member) if member.role == Role::Student => Ok(member),
-        _ => Err(Error::NotFound(format!(
-            "{course} has no student {login:?}"
-        ))),
-    })
+    let missing = || Error::NotFound(format!("{course} has no student {login:?}"));
+    match store.member(course, login) {
+        Ok(member) if member.role == Role::Student => Ok(Ok(member)),
+        Ok(_) | Err(crate::store::Error::UnknownMember { .. }) => Ok(Err(missing())),
+        Err(error) => Err(error),
+    }
 }
 
 fn not_opened() -> Error {
@@ -218,8 +230,9 @@ pub async fn mine(
 ) -> Result<Response, Error> {
     let exercise = reported_lab(&lab)?;
     let member = student_of(&viewer, &course)?;
+    let now = state.clock.now();
     let view = blocking(&state, move |store| {
-        report_view(store, &member, exercise, false)
+        report_view(store, &member, exercise, false, now)
     })
     .await?
     .ok_or_else(not_opened)?;
@@ -234,12 +247,13 @@ pub async fn of_student(
 ) -> Result<Response, Error> {
     viewer.staff_of(&course)?;
     let exercise = reported_lab(&lab)?;
+    let now = state.clock.now();
     let view = blocking(&state, move |store| {
         let member = match student_for_staff(store, &course, &student)? {
             Ok(member) => member,
             Err(error) => return Ok(Err(error)),
         };
-        Ok(report_view(store, &member, exercise, true)?.ok_or_else(not_opened))
+        Ok(report_view(store, &member, exercise, true, now)?.ok_or_else(not_opened))
     })
     .await??;
     Ok(Json(view).into_response())
@@ -282,10 +296,11 @@ pub async fn class(
             return Ok(None);
         };
         let hand_in = HandIn::load(store, &course, exercise)?;
-        let states = hand_in.reports.unwrap_or_default();
         let lines = class.students.into_iter().map(|s| {
-            let state = states.get(&s.id).copied().unwrap_or(ReportState::Draft);
             let score = s.counting.and_then(|c| c.score);
+            let (state, lab_passed) = hand_in
+                .report(&s.id, score)
+                .unwrap_or((ReportState::Draft, false));
             let reviews = hand_in
                 .reviewed
                 .parts
@@ -296,7 +311,7 @@ pub async fn class(
                 })
                 .collect();
             ReportLine {
-                lab_passed: report::lab_passed(score, state),
+                lab_passed,
                 student: s.id,
                 name: s.name,
                 dropped: s.dropped,
@@ -372,7 +387,7 @@ pub async fn save_analysis(
     let request: AnalysisRequest = body.json(&viewer, "the analysis").await?;
     let now = state.clock.now();
     blocking(&state, move |store| {
-        let Some(view) = report_view(store, &member, exercise, false)? else {
+        let Some(view) = report_view(store, &member, exercise, false, now)? else {
             return Ok(Err(not_opened()));
         };
         if let Some(error) = closed_to_student(&member, &view, now) {
@@ -389,18 +404,29 @@ pub async fn save_analysis(
     Ok(axum::http::StatusCode::NO_CONTENT.into_response())
 }
 
+/// The body of `POST .../report/hand-in`.
+#[derive(Deserialize, TS)]
+#[serde(deny_unknown_fields)]
+pub struct HandInRequest {
+    /// The submission whose runs the student read (`ReportView::submission`): a later one
+    /// is not handed in unread.
+    pub submission: i64,
+}
+
 /// `POST .../report/hand-in`: hands the report in with the runs of the student's latest
-/// submission.
+/// submission (the one they read), its analyses and their answers as they are now.
 pub async fn hand_in(
     State(state): State<Arc<AppState>>,
     viewer: Viewer,
     Path((course, lab)): Path<(String, String)>,
+    body: Body,
 ) -> Result<Response, Error> {
     let exercise = reported_lab(&lab)?;
     let member = student_of(&viewer, &course)?;
+    let request: HandInRequest = body.json(&viewer, "the hand-in").await?;
     let now = state.clock.now();
     let view = blocking(&state, move |store| {
-        let Some(view) = report_view(store, &member, exercise, false)? else {
+        let Some(view) = report_view(store, &member, exercise, false, now)? else {
             return Ok(Err(not_opened()));
         };
         if let Some(error) = closed_to_student(&member, &view, now) {
@@ -412,10 +438,18 @@ pub async fn hand_in(
                     .into(),
             )));
         };
-        if let Err(closed_now) = store.hand_in_report(member.id, exercise, submission.id, now)? {
+        if submission.id != request.submission {
+            return Ok(Err(Error::Conflict(format!(
+                "field `submission`: your latest submission is {}, not {}: read its runs, then hand in",
+                submission.id, request.submission
+            ))));
+        }
+        let answers = store.answers(member.id, exercise)?;
+        let handed = (submission.id, answers.as_slice());
+        if let Err(closed_now) = store.hand_in_report(member.id, exercise, handed, now)? {
             return Ok(Err(closed(closed_now)));
         }
-        Ok(report_view(store, &member, exercise, false)?.ok_or_else(not_opened))
+        Ok(report_view(store, &member, exercise, false, now)?.ok_or_else(not_opened))
     })
     .await??;
     Ok(Json(view).into_response())
@@ -449,7 +483,7 @@ pub async fn rubric(
             Ok(member) => member,
             Err(error) => return Ok(Err(error)),
         };
-        let Some(view) = report_view(store, &member, exercise, true)? else {
+        let Some(view) = report_view(store, &member, exercise, true, now)? else {
             return Ok(Err(not_opened()));
         };
         let marks = match report::check_rubric(&view.parts, request.parts) {
@@ -457,21 +491,27 @@ pub async fn rubric(
             Err(problem) => return Ok(Err(Error::BadRequest(problem))),
         };
         let judged = (actor.as_str(), now);
-        let reviewed =
-            match store.review_report(member.id, exercise, request.handed_in, &marks, judged)? {
-                Ok(reviewed) => reviewed,
-                Err(Closed(ReportState::Draft)) => {
-                    return Ok(Err(Error::Conflict(format!(
-                        "{student} has not handed in the report: there is nothing to judge"
-                    ))));
-                }
-                Err(_) => {
-                    return Ok(Err(Error::Conflict(format!(
-                        "{student} has handed in the report again since (hand-in {}): read it anew",
-                        view.handed_in
-                    ))));
-                }
-            };
+        let judging = (request.handed_in, marks.as_slice());
+        let reviewed = match store.review_report(member.id, exercise, judging, judged)? {
+            Ok(reviewed) => reviewed,
+            Err(Closed(ReportState::Draft)) => {
+                return Ok(Err(Error::Conflict(format!(
+                    "{student} has not handed in the report: there is nothing to judge"
+                ))));
+            }
+            Err(_) if request.handed_in < view.handed_in => {
+                return Ok(Err(Error::Conflict(format!(
+                    "field `handed_in`: {student} has handed in the report again since (hand-in {}, not {}): read it anew",
+                    view.handed_in, request.handed_in
+                ))));
+            }
+            Err(_) => {
+                return Ok(Err(Error::BadRequest(format!(
+                    "field `handed_in`: {} is not a hand-in of {student}'s, whose latest is {}",
+                    request.handed_in, view.handed_in
+                ))));
+            }
+        };
         store.audit(
             &course,
             &actor,
@@ -483,7 +523,7 @@ pub async fn rubric(
             ),
             now,
         )?;
-        Ok(report_view(store, &member, exercise, true)?.ok_or_else(not_opened))
+        Ok(report_view(store, &member, exercise, true, now)?.ok_or_else(not_opened))
     })
     .await??;
     Ok(Json(view).into_response())
@@ -505,11 +545,23 @@ pub enum ReportRuns {
     Failed { submission: i64, reason: String },
 }
 
-/// The reports' runs being made, and why the last try of a submission's failed.
-#[derive(Default)]
+/// The reports' runs being made, one submission's at a time (a place of its own, so that
+/// neither gradings nor the askers' phases wait for a report), and why the last try of a
+/// submission's failed.
 pub struct Making {
+    slot: Semaphore,
     running: Mutex<HashSet<i64>>,
     failed: Mutex<HashMap<i64, String>>,
+}
+
+impl Default for Making {
+    fn default() -> Making {
+        Making {
+            slot: Semaphore::new(1),
+            running: Mutex::default(),
+            failed: Mutex::default(),
+        }
+    }
 }
 
 /// The runs of the report of `member`: made once a submission (in the background, the
@@ -521,8 +573,9 @@ async fn runs_of(
     staff: bool,
 ) -> Result<ReportRuns, Error> {
     let grader = state.grader.version(lab).to_owned();
+    let now = state.clock.now();
     let found = blocking(state, move |store| {
-        let Some(view) = report_view(store, &member, lab, staff)? else {
+        let Some(view) = report_view(store, &member, lab, staff, now)? else {
             return Ok(Err(not_opened()));
         };
         let Some(submission) = view.submission else {
@@ -555,44 +608,65 @@ fn lock<T>(mutex: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
     mutex.lock().unwrap_or_else(|e| e.into_inner())
 }
 
-/// Runs a submission's code on the whole data sets of its report's runs, as many at once
-/// as the server runs phases for askers (so that grading never waits for reports), and
-/// keeps the outputs; a failure of the server's is kept to be told once.
+/// Why a report's runs are not made on a server where the submission's language does not run.
+const UNAVAILABLE: &str =
+    "files in this language cannot be run on this server: its sandbox for them does not start here";
+
+/// Runs a submission's code on the whole data sets of its report's runs, one submission
+/// at a time, and keeps the outputs (unless another ask made them meanwhile); a failure
+/// of the server's is kept to be told once, in words for the student (the log has the
+/// detail).
 async fn make_runs(state: Arc<AppState>, submission: i64, lab: Exercise) {
+    let grader = state.grader.version(lab).to_owned();
     let made = async {
-        let _running = state.trials.slot().await.map_err(|e| e.to_string())?;
-        let stored = blocking(&state, move |store| store.get(submission, true))
+        let _slot = state
+            .reports
+            .slot
+            .acquire()
             .await
-            .map_err(|e| e.to_string())?
-            .ok_or("the submission is gone")?;
-        let grader = Arc::clone(&state.grader);
+            .map_err(|e| e.to_string())?;
+        let made_by = grader.clone();
+        let stored = blocking(&state, move |store| {
+            if store.report_runs(submission, &made_by)?.is_some() {
+                return Ok(None);
+            }
+            store.get(submission, true)
+        })
+        .await
+        .map_err(|e| e.to_string())?;
+        let Some(stored) = stored else {
+            return Ok(());
+        };
+        let sandbox = Arc::clone(&state.grader);
         let runs: Vec<&str> = lab.declaration().report.iter().map(|r| r.run).collect();
         let outputs = tokio::task::spawn_blocking(move || {
             let code = Code {
                 language: stored.summary.language,
                 text: stored.source.as_deref().unwrap_or_default(),
             };
-            grader.sandbox().whole_runs(lab, code, stored.seed, &runs)
+            sandbox.sandbox().whole_runs(lab, code, stored.seed, &runs)
         })
         .await
         .map_err(|e| e.to_string())?
         .map_err(|tried| match tried {
-            Tried::Unavailable(_) => format!(
-                "files in this language cannot be run on this server: its sandbox for them does not start here ({tried})"
-            ),
-            other => format!("the server's sandbox failed ({other}): not your code's doing"),
+            Tried::Unavailable(_) => format!("{UNAVAILABLE}: {tried}"),
+            other => other.to_string(),
         })?;
-        let made_by = state.grader.version(lab).to_owned();
         blocking(&state, move |store| {
-            store.keep_report_runs(submission, &made_by, &outputs)
+            store.keep_report_runs(submission, &grader, &outputs)
         })
-            .await
-            .map_err(|e| e.to_string())
+        .await
+        .map_err(|e| e.to_string())
     }
     .await;
-    if let Err(reason) = made {
-        tracing::warn!(submission, %reason, "a report's runs were not made");
-        lock(&state.reports.failed).insert(submission, reason);
+    if let Err(detail) = made {
+        tracing::warn!(submission, %detail, "a report's runs were not made");
+        let reason = if detail.starts_with(UNAVAILABLE) {
+            UNAVAILABLE
+        } else {
+            "the server could not run the code this time (its sandbox failed: not the code's doing)"
+        };
+        lock(&state.reports.failed).insert(submission, reason.to_owned());
     }
     lock(&state.reports.running).remove(&submission);
 }

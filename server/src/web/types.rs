@@ -85,6 +85,7 @@ pub fn export(dir: &Path) -> Result<(), ExportError> {
     d.visit::<report::ReportLine>();
     d.visit::<report::ReportRuns>();
     d.visit::<report::AnalysisRequest>();
+    d.visit::<report::HandInRequest>();
     d.visit::<report::RubricRequest>();
     declared.error.map_or(Ok(()), Err)
 }

@@ -207,11 +207,13 @@ function key(question) {
  * @param {Written} written
  */
 function show(written) {
-  const closed = !written.staff && written.cutoff !== null && Date.now() > new Date(written.cutoff).getTime();
+  const closed = !written.staff && !written.open;
   if (written.staff) {
     note.textContent = `You read the questions as staff: with the model answers and what numbers and choices are checked against${written.own ? ' (the exercise\'s own sets)' : ''}. Students answer here, and their answers are saved as they type.`;
   } else if (closed) {
-    note.textContent = `The cutoff was ${moment(written.cutoff ?? '')}: your answers are kept as they were.`;
+    note.textContent = written.cutoff && Date.now() > new Date(written.cutoff).getTime()
+      ? `The cutoff was ${moment(written.cutoff)}: your answers are kept as they were.`
+      : 'Your answers are kept as they are: no more are taken from you.';
   } else {
     note.replaceChildren(
       `Your answers are saved as you type, until the cutoff${written.cutoff ? `, ${moment(written.cutoff)}` : ''}. Write math between $ signs: `,

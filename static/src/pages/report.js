@@ -28,6 +28,7 @@ const status = /** @type {HTMLElement} */ (document.getElementById('report-statu
 const errorBox = /** @type {HTMLElement} */ (document.getElementById('report-error'));
 const body = /** @type {HTMLElement} */ (document.getElementById('report-body'));
 const classBox = /** @type {HTMLElement} */ (document.getElementById('report-class'));
+const runsStatus = /** @type {HTMLElement} */ (document.getElementById('report-runs-status'));
 
 /** @param {unknown} error */
 const message = (error) => (error instanceof Error ? error.message : String(error));
@@ -65,7 +66,8 @@ function facts(view) {
       ? `submission ${view.submission.id} in ${view.submission.language}, ${moment(view.submission.submitted_at)}` +
         (view.submission.score === null ? '' : `, score ${Math.round(view.submission.score * 100)} %`)
       : 'no submission yet'],
-    ['Lab', view.lab_passed ? 'passed' : `not passed yet (code ${view.code_passes ? 'passes' : 'does not pass every test yet'}; report ${STATES[view.state]})`],
+    ['Lab', view.lab_passed ? 'passed' : `not passed yet (the submission that counts ${view.code_passes ? 'passes every test'
+      : view.counting_score === null ? 'is none yet' : `scores ${Math.round(view.counting_score * 100)} %, not every test`}; report ${STATES[view.state]})`],
   ];
   if (view.reviewed_by && view.reviewed_at) rows.push(['Judged', `by ${view.reviewed_by}, ${moment(view.reviewed_at)}`]);
   for (const [term, value] of rows) list.append(element('dt', null, term), element('dd', null, value));
@@ -124,8 +126,17 @@ function rubricField(part, mark, marks) {
 }
 
 /**
+ * The saves of analyses not sent yet or not answered yet, by run: each a function that
+ * sends the field's text now (if it is waiting) and resolves once every save of it is
+ * answered. Hand-in waits for them all.
+ *
+ * @type {Map<string, () => Promise<void>>}
+ */
+const pending = new Map();
+
+/**
  * The student's analysis of a run: a field saved as they type (while the report is theirs
- * to change), typeset beneath, which is what prints.
+ * to change), one save after another, typeset beneath, which is what prints.
  *
  * @param {ReportView} view
  * @param {Part} part
@@ -134,7 +145,7 @@ function analysis(view, part) {
   const box = element('div', 'analysis');
   const text = view.analyses[part.id] ?? '';
   const typeset = markdownBlock('analysis-text', text || '(no analysis yet)');
-  if (view.staff || !['draft', 'revise'].includes(view.state)) {
+  if (!view.may_change) {
     box.append(element('h3', null, 'Analysis'), typeset);
     return box;
   }
@@ -147,20 +158,35 @@ function analysis(view, part) {
   said.setAttribute('role', 'status');
   /** @type {ReturnType<typeof setTimeout> | undefined} */
   let timer;
+  let waiting = false;
+  /** The saves sent so far, one after another. */
+  let saving = Promise.resolve();
+  const send = () => {
+    clearTimeout(timer);
+    if (waiting) {
+      waiting = false;
+      const value = field.value;
+      saving = saving.then(async () => {
+        try {
+          await postJson(`${api}/report/analyses`, { run: part.id, text: value });
+          said.textContent = `Saved ${moment(new Date().toISOString())}.`;
+          said.classList.remove('error');
+        } catch (error) {
+          said.textContent = `Not saved: ${message(error)}`;
+          said.classList.add('error');
+          throw error;
+        }
+      });
+    }
+    return saving;
+  };
+  pending.set(part.id, send);
   field.addEventListener('input', () => {
     renderInto(typeset, field.value || '(no analysis yet)');
     said.textContent = 'Not saved yet…';
+    waiting = true;
     clearTimeout(timer);
-    timer = setTimeout(async () => {
-      try {
-        await postJson(`${api}/report/analyses`, { run: part.id, text: field.value });
-        said.textContent = `Saved ${moment(new Date().toISOString())}.`;
-        said.classList.remove('error');
-      } catch (error) {
-        said.textContent = `Not saved: ${message(error)}`;
-        said.classList.add('error');
-      }
-    }, SAVE_AFTER);
+    timer = setTimeout(() => send().catch(() => {}), SAVE_AFTER);
   });
   box.append(label, said, element('h3', 'print-only', 'Analysis'), typeset);
   return box;
@@ -190,36 +216,40 @@ function answersOf(view, index) {
   return box;
 }
 
+/** The button that prints the report: on once its runs are drawn (or cannot be). */
+const print = element('button', 'no-print', 'Print or save as PDF');
+print.type = 'button';
+print.addEventListener('click', () => window.print());
+
 /**
- * The student's buttons: print, and hand in (while the report is theirs to change).
+ * The buttons: print, and for the student hand in (while the report is theirs to change).
  *
  * @param {ReportView} view
  */
-function studentTools(view) {
-  const tools = element('div', 'report-tools no-print');
-  const print = element('button', null, 'Print or save as PDF');
-  print.type = 'button';
-  print.addEventListener('click', () => window.print());
-  tools.append(print);
-  if (view.staff) return tools;
-  if (['draft', 'revise'].includes(view.state)) {
-    const handIn = element('button', 'primary', view.state === 'revise' ? 'Hand in the revised report' : 'Hand in the report');
-    handIn.type = 'button';
-    handIn.disabled = !view.submission;
-    handIn.addEventListener('click', async () => {
-      if (!confirm('Hand in the report? It shows the runs of your latest submission, and it cannot be changed until staff have read it.')) return;
-      try {
-        show(await postJson(`${api}/report/hand-in`, {}));
-        status.textContent = 'Your report is handed in.';
-      } catch (error) {
-        fail(`Not handed in: ${message(error)}`);
-      }
-    });
-    tools.append(handIn);
-    if (!view.submission) tools.append(element('p', 'note', 'Submit your code first: the report shows the runs of your latest submission.'));
-    else tools.append(element('p', 'note', `Analyses are taken until the cutoff, ${moment(view.cutoff)}${view.state === 'revise' ? ' (a report sent back is taken after it too)' : ''}.`));
-  }
-  return tools;
+function tools(view) {
+  const box = element('div', 'report-tools no-print');
+  box.append(print);
+  if (view.staff || !view.may_change) return box;
+  const handIn = element('button', 'primary', view.state === 'revise' ? 'Hand in the revised report' : 'Hand in the report');
+  handIn.type = 'button';
+  const submission = view.submission;
+  handIn.disabled = !submission;
+  handIn.addEventListener('click', async () => {
+    if (!submission) return;
+    if (!confirm(`Hand in the report? It shows the runs of submission ${submission.id}, and it cannot be changed until staff have read it.`)) return;
+    try {
+      await Promise.all([...pending.values()].map((send) => send()));
+      show(await postJson(`${api}/report/hand-in`, { submission: submission.id }));
+      status.textContent = 'Your report is handed in.';
+    } catch (error) {
+      fail(`Not handed in: ${message(error)}`);
+    }
+  });
+  box.append(handIn);
+  box.append(element('p', 'note', submission
+    ? `Analyses are taken until the cutoff, ${moment(view.cutoff)}${view.state === 'revise' ? ' (a report sent back is taken after it too)' : ''}.`
+    : 'Submit your code first: the report shows the runs of your latest submission.'));
+  return box;
 }
 
 /**
@@ -260,6 +290,7 @@ function show(view) {
   classBox.hidden = true;
   body.hidden = false;
   const marks = new Map();
+  pending.clear();
   const byPart = new Map(view.rubric.map((m) => [m.part, m]));
   const heading = element('h2', 'report-title', `Report of ${view.name}`);
   /** @type {Map<string, HTMLElement>} */
@@ -271,8 +302,12 @@ function show(view) {
     section.setAttribute('aria-labelledby', title.id);
     section.append(title);
     if (part.ask) {
-      const runBox = element('div', 'run-views');
-      runBox.append(element('p', 'note', view.submission ? 'The run is being made…' : 'No submission yet: nothing to run.'));
+      // The runs of the same submission drawn already stay as they are.
+      let runBox = drawn?.submission === view.submission?.id ? drawn?.boxes.get(part.id) : undefined;
+      if (!runBox) {
+        runBox = element('div', 'run-views');
+        runBox.append(element('p', 'note', view.submission ? 'The run is being made…' : 'No submission yet: nothing to run.'));
+      }
       boxes.set(part.id, runBox);
       section.append(runBox, markdownBlock('ask', part.ask), analysis(view, part));
     } else {
@@ -280,45 +315,68 @@ function show(view) {
     }
     const mark = byPart.get(part.id);
     if (view.staff) section.append(rubricField(part, mark, marks));
-    else if (view.reviewed === view.handed_in || view.state === 'revise') {
+    else if (view.reviewed === view.handed_in) {
       const shown = shownMark(mark);
       if (shown) section.append(shown);
     }
     return section;
   });
-  body.replaceChildren(heading, facts(view), studentTools(view), ...sections);
+  body.replaceChildren(heading, facts(view), tools(view), ...sections);
   if (view.staff) body.append(rubricTools(view, marks));
   if (view.staff) {
     body.prepend(link(location.pathname, '← the class’s reports'));
   }
   document.title = `Report of ${view.name} · ${course}`;
-  drawReportRuns(view, boxes);
+  const submission = view.submission?.id ?? null;
+  if (drawn?.submission === submission) {
+    drawn.boxes = boxes;
+    return;
+  }
+  drawn = { submission, boxes };
+  drawReportRuns(view, drawn);
 }
 
 /**
- * The runs, once the server has made them.
+ * The runs drawn, or being drawn, and the submission they are of: a report shown again
+ * after a hand-in or a judgement keeps them.
+ *
+ * @type {{ submission: number | null, boxes: Map<string, HTMLElement> } | null}
+ */
+let drawn = null;
+
+/**
+ * The runs, once the server has made them, into the boxes of `target` (which a later
+ * showing of the report may take over), saying how it goes in the runs' own status line.
  *
  * @param {ReportView} view
- * @param {Map<string, HTMLElement>} boxes
+ * @param {{ submission: number | null, boxes: Map<string, HTMLElement> }} target
  */
-async function drawReportRuns(view, boxes) {
+async function drawReportRuns(view, target) {
   const submission = view.submission;
+  print.disabled = Boolean(submission);
   if (!submission) {
     document.body.dataset.ready = 'true';
     return;
   }
   const url = view.staff ? `${api}/reports/${encodeURIComponent(view.student)}/runs` : `${api}/report/runs`;
+  /** @param {string} text */
+  const notMade = (text) => {
+    for (const box of target.boxes.values()) box.replaceChildren(element('p', 'note', text));
+  };
   try {
-    const runs = await madeRuns(url, status);
+    const runs = await madeRuns(url, runsStatus);
     if (runs.state === 'made') {
-      await drawRuns({ lab, folder, seed: submission.seed, outputs: runs.outputs.runs, boxes });
-      status.textContent = `The runs of submission ${runs.submission} on the whole data sets.`;
+      await drawRuns({ lab, folder, seed: submission.seed, outputs: runs.outputs.runs, boxes: target.boxes });
+      runsStatus.textContent = `The runs of submission ${runs.submission} on the whole data sets.`;
     } else if (runs.state === 'failed') {
-      fail(`The runs could not be made: ${runs.reason} Reload the page to try again.`);
+      notMade('The run was not made.');
+      runsStatus.textContent = `The runs could not be made: ${runs.reason}. Reload the page to try again.`;
     }
   } catch (error) {
-    fail(`The runs could not be read: ${message(error)}`);
+    notMade('The run could not be read.');
+    runsStatus.textContent = `The runs could not be read: ${message(error)}`;
   }
+  print.disabled = false;
   document.body.dataset.ready = 'true';
 }
 

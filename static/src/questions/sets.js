@@ -26,7 +26,7 @@ function setField(text, editable) {
   label.append(field);
   box.append(label);
   if (editable) {
-    const remove = element('button', null, 'Remove this set');
+    const remove = element('button', null, 'Remove the set');
     remove.type = 'button';
     remove.addEventListener('click', () => {
       const list = box.parentElement;
@@ -47,6 +47,8 @@ function number(list) {
   [...list.querySelectorAll('.set-source')].forEach((box, i) => {
     const label = box.querySelector('label');
     if (label?.firstChild) label.firstChild.textContent = `Set ${i + 1} (TOML) `;
+    const remove = box.querySelector('button');
+    if (remove) remove.textContent = `Remove set ${i + 1}`;
   });
 }
 
@@ -88,10 +90,18 @@ export function showSets(section, api, written, saved) {
   files.accept = '.toml,text/plain';
   files.multiple = true;
   filesLabel.append(files);
+  /** The sets as the fields hold them. */
+  const fields = () => [...list.querySelectorAll('textarea')].map((field) => field.value);
+  /** What the fields held when last loaded or saved. */
+  let kept = fields().join('\u0000');
   files.addEventListener('change', async () => {
     const texts = await Promise.all([...(files.files ?? [])].map((file) => file.text()));
+    files.value = '';
+    if (texts.length === 0) return;
+    if (fields().join('\u0000') !== kept && !confirm('Replace the sets in the fields, edited and not saved, with the files?')) return;
     list.replaceChildren(...texts.map((text) => setField(text, true)));
     number(list);
+    kept = fields().join('\u0000');
     said.textContent = `${texts.length} file${texts.length === 1 ? '' : 's'} loaded: save to give them to the assignment.`;
   });
   const send = async (/** @type {string[] | null} */ sets, /** @type {string} */ done) => {
@@ -100,6 +110,7 @@ export function showSets(section, api, written, saved) {
       const written = await postJson(`${api}/questions`, { sets });
       list.replaceChildren(...written.sources.map((text) => setField(text, true)));
       number(list);
+      kept = fields().join('\u0000');
       saved(written);
       said.textContent = done;
     } catch (error) {
@@ -109,7 +120,7 @@ export function showSets(section, api, written, saved) {
   const save = element('button', 'primary', 'Save the sets');
   save.type = 'button';
   save.addEventListener('click', () => {
-    const sets = [...list.querySelectorAll('textarea')].map((field) => field.value);
+    const sets = fields();
     send(sets, `Saved: ${sets.length} set${sets.length === 1 ? '' : 's'}.`);
   });
   const own = element('button', null, 'The exercise’s own sets');

@@ -20,13 +20,18 @@ staff: boolean, parts: Array<ReportPart>,
  */
 sets: Array<QuestionSet>, 
 /**
- * The student's answers as they stand (corrected after the review).
+ * The student's answers: as they stand (corrected after the review) while the
+ * student writes; as handed in once it is, and for staff.
  */
 answers: Array<SavedAnswer>, 
 /**
- * The student's analysis of each run, by run name.
+ * The student's analysis of each run, by run name: the same.
  */
-analyses: { [key in string]: string }, state: ReportState, 
+analyses: { [key in string]: string }, 
+/**
+ * Whether the student may change it now (write, hand in).
+ */
+may_change: boolean, state: ReportState, 
 /**
  * How many times it was handed in (the rubric names the hand-in it judges).
  */
@@ -39,6 +44,10 @@ submission: ShownSubmission | null,
  * Staff's last judgement, with the hand-in it judged.
  */
 rubric: Array<PartMark>, reviewed: number | null, reviewed_by: string | null, reviewed_at: string | null, 
+/**
+ * The score of the submission that counts (best or last, by the assignment).
+ */
+counting_score: number | null, 
 /**
  * Whether the submission that counts passes every test.
  */

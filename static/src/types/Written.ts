@@ -34,4 +34,9 @@ answers: Array<SavedAnswer>,
  * The last moment a student's answers are taken (their cutoff, extensions counted);
  * none for staff.
  */
-cutoff: string | null, };
+cutoff: string | null, 
+/**
+ * Whether the student's answers are taken now: before their cutoff, or after it
+ * while staff have sent their report back for revision. False for staff.
+ */
+open: boolean, };

@@ -36,17 +36,22 @@ impl HandIn {
         })
     }
 
-    /// A student's report columns: `report_status` and `lab_passed` (yes or no), none
-    /// where the exercise asks for no report.
+    /// A student's report state (a draft when they never wrote one) and whether they
+    /// passed the lab with the code's `score`; none where the exercise asks for no report.
+    pub fn report(&self, id: &str, score: Option<f64>) -> Option<(State, bool)> {
+        let state = self
+            .reports
+            .as_ref()?
+            .get(id)
+            .copied()
+            .unwrap_or(State::Draft);
+        Some((state, report::lab_passed(score, state)))
+    }
+
+    /// A student's report columns: `report_status` and `lab_passed` (yes or no).
     fn report_cells(&self, id: &str, score: Option<f64>) -> Option<[&'static str; 2]> {
-        let reports = self.reports.as_ref()?;
-        let state = reports.get(id).copied().unwrap_or(State::Draft);
-        let passed = if report::lab_passed(score, state) {
-            "yes"
-        } else {
-            "no"
-        };
-        Some([state.name(), passed])
+        self.report(id, score)
+            .map(|(state, passed)| [state.name(), if passed { "yes" } else { "no" }])
     }
 }
 
