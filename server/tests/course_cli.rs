@@ -295,7 +295,9 @@ fn a_course_is_set_up_from_scratch_and_re_imports_change_only_what_changed() {
             "score",
             "late_penalty",
             "final_score",
-            "submitted_at"
+            "submitted_at",
+            "report_status",
+            "lab_passed"
         ]
     );
     let rows: Vec<Vec<String>> = reader

@@ -159,7 +159,9 @@ async fn the_xlsx_gradebook_holds_the_names_as_strings() {
             "score",
             "late_penalty",
             "final_score",
-            "submitted_at"
+            "submitted_at",
+            "report_status",
+            "lab_passed"
         ]
     );
     assert_eq!(rows.len(), 1 + STORED.len());

@@ -404,7 +404,8 @@ test('the gradebook CSV downloaded from the export link matches the class', boun
   assert.equal(download.suggestedFilename(), `${COURSE}-${LAB}-grades.csv`);
   const text = readFileSync(await download.path(), 'utf8');
   const rows = parseCsv(text);
-  assert.deepEqual(Object.keys(rows[0]), ['id', 'name', 'email', 'status', 'submissions', 'score', 'late_penalty', 'final_score', 'submitted_at']);
+  assert.deepEqual(Object.keys(rows[0]), ['id', 'name', 'email', 'status', 'submissions', 'score', 'late_penalty', 'final_score', 'submitted_at',
+    'report_status', 'lab_passed']);
   const answer = await staffGet(CLASS_API);
   assert.deepEqual(rows.map((r) => r.id), answer.students.map((s) => s.id));
   const number = (field) => (field === '' ? null : Number(field));

@@ -9,6 +9,7 @@ use jiff::Timestamp;
 use labs::Exercise;
 use labs::grading::Outputs;
 use rusqlite::{Connection, OptionalExtension, params};
+use serde_json::value::RawValue;
 
 /// Why a change of a report was refused: it is handed in and not sent back.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -137,8 +138,13 @@ impl Store {
             .collect()
     }
 
-    /// The runs of a submission's report, if `grader` made them.
-    pub fn report_runs(&self, submission: i64, grader: &str) -> Result<Option<Outputs>, Error> {
+    /// The runs of a submission's report, if `grader` made them: the outputs' JSON as
+    /// kept, to be sent as it is.
+    pub fn report_runs(
+        &self,
+        submission: i64,
+        grader: &str,
+    ) -> Result<Option<Box<RawValue>>, Error> {
         let stored: Option<String> = self
             .connection()
             .query_row(
@@ -148,7 +154,7 @@ impl Store {
             )
             .optional()?;
         stored
-            .map(|json| serde_json::from_str(&json).map_err(Error::StoredResult))
+            .map(|json| RawValue::from_string(json).map_err(Error::StoredResult))
             .transpose()
     }
 

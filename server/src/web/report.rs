@@ -31,7 +31,9 @@ use jiff::Timestamp;
 use labs::grading::Outputs;
 use labs::{Exercise, Language};
 use serde::{Deserialize, Serialize};
-use std::collections::{BTreeMap, HashMap, HashSet};
+use serde_json::value::RawValue;
+use std::collections::hash_map::Entry;
+use std::collections::{BTreeMap, HashMap};
 use std::sync::{Arc, Mutex};
 use tokio::sync::Semaphore;
 use ts_rs::TS;
@@ -538,19 +540,24 @@ pub enum ReportRuns {
     NoSubmission,
     /// The server is running the student's code on the whole data sets: ask again.
     Making { submission: i64 },
-    /// The harness's outputs of every run of the report.
-    Made { submission: i64, outputs: Outputs },
+    /// The harness's outputs of every run of the report (sent as they were kept).
+    Made {
+        submission: i64,
+        #[ts(as = "Outputs")]
+        outputs: Box<RawValue>,
+    },
     /// The server could not run the code (its own fault, or a language it cannot run):
     /// asking again tries again.
     Failed { submission: i64, reason: String },
 }
 
 /// The reports' runs being made, one submission's at a time (a place of its own, so that
-/// neither gradings nor the askers' phases wait for a report), and why the last try of a
+/// neither gradings nor the askers' phases wait for a report) and one a student (by
+/// member: the submission asked for, waiting or being made), and why the last try of a
 /// submission's failed.
 pub struct Making {
     slot: Semaphore,
-    running: Mutex<HashSet<i64>>,
+    running: Mutex<HashMap<i64, i64>>,
     failed: Mutex<HashMap<i64, String>>,
 }
 
@@ -574,6 +581,7 @@ async fn runs_of(
 ) -> Result<ReportRuns, Error> {
     let grader = state.grader.version(lab).to_owned();
     let now = state.clock.now();
+    let student = member.id;
     let found = blocking(state, move |store| {
         let Some(view) = report_view(store, &member, lab, staff, now)? else {
             return Ok(Err(not_opened()));
@@ -598,8 +606,10 @@ async fn runs_of(
     if let Some(reason) = lock(&making.failed).remove(&submission) {
         return Ok(ReportRuns::Failed { submission, reason });
     }
-    if lock(&making.running).insert(submission) {
-        tokio::spawn(make_runs(Arc::clone(state), submission, lab));
+    // A student's next submission waits until their last is made (asked again then).
+    if let Entry::Vacant(entry) = lock(&making.running).entry(student) {
+        entry.insert(submission);
+        tokio::spawn(make_runs(Arc::clone(state), (student, submission), lab));
     }
     Ok(ReportRuns::Making { submission })
 }
@@ -616,7 +626,7 @@ const UNAVAILABLE: &str =
 /// at a time, and keeps the outputs (unless another ask made them meanwhile); a failure
 /// of the server's is kept to be told once, in words for the student (the log has the
 /// detail).
-async fn make_runs(state: Arc<AppState>, submission: i64, lab: Exercise) {
+async fn make_runs(state: Arc<AppState>, (student, submission): (i64, i64), lab: Exercise) {
     let grader = state.grader.version(lab).to_owned();
     let made = async {
         let _slot = state
@@ -668,7 +678,7 @@ async fn make_runs(state: Arc<AppState>, submission: i64, lab: Exercise) {
         };
         lock(&state.reports.failed).insert(submission, reason.to_owned());
     }
-    lock(&state.reports.running).remove(&submission);
+    lock(&state.reports.running).remove(&student);
 }
 
 /// `GET .../report/runs`: the runs of the student's own report.
