@@ -267,9 +267,7 @@ pub async fn page(
     if matches!(viewer, Viewer::Anonymous) {
         return Ok(Redirect::to("/signin").into_response());
     }
-    let of_course =
-        viewer.is_staff_of(&course) || viewer.member().is_some_and(|m| m.course == course);
-    if !of_course {
+    if !viewer.of_course(&course) {
         return Err(Error::NotFound(format!("there is no course {course:?}")));
     }
     let exercise = known_lab(&lab)?;

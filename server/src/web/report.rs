@@ -30,6 +30,7 @@ use axum::response::{IntoResponse, Redirect, Response};
 use jiff::Timestamp;
 use labs::grading::Outputs;
 use labs::{Exercise, Language};
+use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use serde_json::value::RawValue;
 use std::collections::hash_map::Entry;
@@ -377,32 +378,62 @@ fn closed(Closed(state): Closed) -> Error {
         .unwrap_or_else(|| Error::Conflict("the report changed meanwhile: reload it".into()))
 }
 
-/// `POST .../report/analyses`: a student's analysis of one run, kept as typed.
-pub async fn save_analysis(
-    State(state): State<Arc<AppState>>,
-    viewer: Viewer,
-    Path((course, lab)): Path<(String, String)>,
-    body: Body,
-) -> Result<Response, Error> {
+/// A change of a student's own report: who asks and what they send (`what`, read as `T`)
+/// checked, and whether they may change it now; `change` then runs on the store with the
+/// report as it stands.
+async fn student_change<T, R>(
+    state: &Arc<AppState>,
+    viewer: &Viewer,
+    (course, lab): (String, String),
+    (body, what): (Body, &str),
+    change: impl FnOnce(&Store, &Member, ReportView, T, Timestamp) -> Changed<R> + Send + 'static,
+) -> Result<R, Error>
+where
+    T: DeserializeOwned + Send + 'static,
+    R: Send + 'static,
+{
     let exercise = reported_lab(&lab)?;
-    let member = student_of(&viewer, &course)?;
-    let request: AnalysisRequest = body.json(&viewer, "the analysis").await?;
+    let member = student_of(viewer, &course)?;
+    let request: T = body.json(viewer, what).await?;
     let now = state.clock.now();
-    blocking(&state, move |store| {
+    blocking(state, move |store| {
         let Some(view) = report_view(store, &member, exercise, false, now)? else {
             return Ok(Err(not_opened()));
         };
         if let Some(error) = closed_to_student(&member, &view, now) {
             return Ok(Err(error));
         }
-        if let Err(problem) = report::check_analysis(&view.parts, &request.run, &request.text) {
-            return Ok(Err(Error::BadRequest(problem)));
-        }
-        Ok(store
-            .save_analysis(member.id, exercise, &request.run, &request.text, now)?
-            .map_err(closed))
+        change(store, &member, view, request, now)
     })
-    .await??;
+    .await?
+}
+
+/// What a change of a report comes to: done, refused, or a fault of the store's.
+type Changed<R> = Result<Result<R, Error>, crate::store::Error>;
+
+/// `POST .../report/analyses`: a student's analysis of one run, kept as typed.
+pub async fn save_analysis(
+    State(state): State<Arc<AppState>>,
+    viewer: Viewer,
+    Path(place): Path<(String, String)>,
+    body: Body,
+) -> Result<Response, Error> {
+    let what = (body, "the analysis");
+    student_change(
+        &state,
+        &viewer,
+        place,
+        what,
+        |store, member, view, request: AnalysisRequest, now| {
+            if let Err(problem) = report::check_analysis(&view.parts, &request.run, &request.text) {
+                return Ok(Err(Error::BadRequest(problem)));
+            }
+            let saved =
+                store.save_analysis(member.id, view.lab, &request.run, &request.text, now)?;
+            Ok(saved.map_err(closed))
+        },
+    )
+    .await?;
     Ok(axum::http::StatusCode::NO_CONTENT.into_response())
 }
 
@@ -420,20 +451,11 @@ pub struct HandInRequest {
 pub async fn hand_in(
     State(state): State<Arc<AppState>>,
     viewer: Viewer,
-    Path((course, lab)): Path<(String, String)>,
+    Path(place): Path<(String, String)>,
     body: Body,
 ) -> Result<Response, Error> {
-    let exercise = reported_lab(&lab)?;
-    let member = student_of(&viewer, &course)?;
-    let request: HandInRequest = body.json(&viewer, "the hand-in").await?;
-    let now = state.clock.now();
-    let view = blocking(&state, move |store| {
-        let Some(view) = report_view(store, &member, exercise, false, now)? else {
-            return Ok(Err(not_opened()));
-        };
-        if let Some(error) = closed_to_student(&member, &view, now) {
-            return Ok(Err(error));
-        }
+    let what = (body, "the hand-in");
+    let view = student_change(&state, &viewer, place, what, |store, member, view, request: HandInRequest, now| {
         let Some(submission) = view.submission else {
             return Ok(Err(Error::Conflict(
                 "submit your code first: the report shows the runs of your latest submission"
@@ -446,14 +468,14 @@ pub async fn hand_in(
                 submission.id, request.submission
             ))));
         }
-        let answers = store.answers(member.id, exercise)?;
+        let answers = store.answers(member.id, view.lab)?;
         let handed = (submission.id, answers.as_slice());
-        if let Err(closed_now) = store.hand_in_report(member.id, exercise, handed, now)? {
+        if let Err(closed_now) = store.hand_in_report(member.id, view.lab, handed, now)? {
             return Ok(Err(closed(closed_now)));
         }
-        Ok(report_view(store, &member, exercise, false, now)?.ok_or_else(not_opened))
+        Ok(report_view(store, member, view.lab, false, now)?.ok_or_else(not_opened))
     })
-    .await??;
+    .await?;
     Ok(Json(view).into_response())
 }
 
@@ -732,12 +754,11 @@ pub async fn page(
     if matches!(viewer, Viewer::Anonymous) {
         return Ok(Redirect::to("/signin").into_response());
     }
-    let staff = viewer.is_staff_of(&course);
-    let of_course = staff || viewer.member().is_some_and(|m| m.course == course);
-    if !of_course {
+    if !viewer.of_course(&course) {
         return Err(Error::NotFound(format!("there is no course {course:?}")));
     }
     let exercise = reported_lab(&lab)?;
+    let staff = viewer.is_staff_of(&course);
     html(&ReportPage {
         page: "report",
         assets: state.assets.page("report"),

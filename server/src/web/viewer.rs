@@ -36,6 +36,12 @@ impl Viewer {
         }
     }
 
+    /// Whether the viewer is one of `course`'s people: its staff (or a token of it), or a
+    /// member of it.
+    pub fn of_course(&self, course: &str) -> bool {
+        self.is_staff_of(course) || self.member().is_some_and(|m| m.course == course)
+    }
+
     /// Nothing, for the staff of `course`; for anyone else the answer a course that does
     /// not exist gets, so that nobody learns which courses exist.
     pub fn staff_of(&self, course: &str) -> Result<(), Error> {
