@@ -368,6 +368,12 @@ impl Store {
         })
     }
 
+    /// The student `login` of `course`; none for nobody of that login, and for staff.
+    pub fn student(&self, course: &str, login: &str) -> Result<Option<Member>, Error> {
+        let member = find_member(&self.connection(), course, login)?;
+        Ok(member.filter(|m| m.role == Role::Student))
+    }
+
     pub(super) fn member_by_id(connection: &Connection, id: i64) -> rusqlite::Result<Member> {
         connection.query_row(
             &format!("SELECT {MEMBER_COLUMNS} FROM members WHERE id = ?1"),

@@ -105,6 +105,15 @@ fn shown(summary: &SubmissionSummary, seed: u64) -> ShownSubmission {
     }
 }
 
+/// The submission whose runs a report shows: the one handed in while staff read it or
+/// have accepted it; else the student's latest (`history`, oldest first).
+fn shown_submission(stored: &Stored, history: &[SubmissionSummary]) -> Option<i64> {
+    match stored.state() {
+        ReportState::HandedIn | ReportState::Accepted => stored.submission,
+        ReportState::Draft | ReportState::Revise => history.last().map(|s| s.id),
+    }
+}
+
 /// The report of `member` (a student of their course) at `now`, as `staff` or the
 /// student reads it; none when the course has not opened the exercise.
 fn report_view(
@@ -121,11 +130,7 @@ fn report_view(
     let stored = store.report(member.id, lab)?.unwrap_or_default();
     let history = store.history(member.id, lab)?;
     let state = stored.state();
-    let shown_id = match state {
-        ReportState::HandedIn | ReportState::Accepted => stored.submission,
-        ReportState::Draft | ReportState::Revise => history.last().map(|s| s.id),
-    };
-    let submission = match shown_id {
+    let submission = match shown_submission(&stored, &history) {
         Some(id) => store.get(id, false)?.map(|s| shown(&s.summary, s.seed)),
         None => None,
     };
@@ -213,12 +218,8 @@ fn student_for_staff(
     course: &str,
     login: &str,
 ) -> Result<Result<Member, Error>, crate::store::Error> {
-    let missing = || Error::NotFound(format!("{course} has no student {login:?}"));
-    match store.member(course, login) {
-        Ok(member) if member.role == Role::Student => Ok(Ok(member)),
-        Ok(_) | Err(crate::store::Error::UnknownMember { .. }) => Ok(Err(missing())),
-        Err(error) => Err(error),
-    }
+    let student = store.student(course, login)?;
+    Ok(student.ok_or_else(|| Error::NotFound(format!("{course} has no student {login:?}"))))
 }
 
 fn not_opened() -> Error {
@@ -599,20 +600,20 @@ async fn runs_of(
     state: &Arc<AppState>,
     member: Member,
     lab: Exercise,
-    staff: bool,
 ) -> Result<ReportRuns, Error> {
     let grader = state.grader.version(lab).to_owned();
-    let now = state.clock.now();
     let student = member.id;
     let found = blocking(state, move |store| {
-        let Some(view) = report_view(store, &member, lab, staff, now)? else {
+        if store.policy_for(&member.course, lab, member.id)?.is_none() {
             return Ok(Err(not_opened()));
-        };
-        let Some(submission) = view.submission else {
+        }
+        let stored = store.report(member.id, lab)?.unwrap_or_default();
+        let history = store.history(member.id, lab)?;
+        let Some(submission) = shown_submission(&stored, &history) else {
             return Ok(Ok((None, None)));
         };
-        let made = store.report_runs(submission.id, &grader)?;
-        Ok(Ok((Some(submission.id), made)))
+        let made = store.report_runs(submission, &grader)?;
+        Ok(Ok((Some(submission), made)))
     })
     .await??;
     let (Some(submission), made) = found else {
@@ -711,7 +712,7 @@ pub async fn my_runs(
 ) -> Result<Response, Error> {
     let exercise = reported_lab(&lab)?;
     let member = student_of(&viewer, &course)?;
-    Ok(Json(runs_of(&state, member, exercise, false).await?).into_response())
+    Ok(Json(runs_of(&state, member, exercise).await?).into_response())
 }
 
 /// `GET .../reports/{student}/runs`: the runs of a student's report, for staff.
@@ -726,7 +727,7 @@ pub async fn student_runs(
         student_for_staff(store, &course, &student)
     })
     .await??;
-    Ok(Json(runs_of(&state, member, exercise, true).await?).into_response())
+    Ok(Json(runs_of(&state, member, exercise).await?).into_response())
 }
 
 #[derive(Template)]
