@@ -220,7 +220,10 @@ fn build(dir: &Path) -> Store {
             )
             .unwrap();
     }
-    let bytes = std::fs::metadata(store.path()).map_or(0, |m| m.len());
+    let bytes = match store.place() {
+        estlab::store::Place::File(path) => std::fs::metadata(path).map_or(0, |m| m.len()),
+        estlab::store::Place::Server(_) => 0,
+    };
     eprintln!(
         "class bench: {} files graded in {:.1} s; {STUDENTS} students, {} submissions stored in {:.1} s; database {:.0} MB; stored results {}",
         files.len(),

@@ -875,6 +875,29 @@ async fn secrets_are_not_stored_in_clear() {
     }
 
     let mut files = Vec::new();
+    if app.url.is_some() {
+        // PostgreSQL's files belong to its server: every row of every table, as text.
+        let database = app.database();
+        let tables: Vec<String> = database
+            .query_map(
+                "SELECT CAST(table_name AS TEXT) FROM information_schema.tables WHERE table_schema = 'public'",
+                (),
+                |row| row.get(0),
+            )
+            .unwrap();
+        let mut rows = String::new();
+        for table in tables {
+            let texts: Vec<String> = database
+                .query_map(
+                    &format!("SELECT CAST(t AS TEXT) FROM {table} t"),
+                    (),
+                    |row| row.get(0),
+                )
+                .unwrap();
+            rows.push_str(&texts.join("\n"));
+        }
+        files.push((estlab::store::FILE.to_string(), rows.into_bytes()));
+    }
     for entry in std::fs::read_dir(app.dir.path()).unwrap() {
         let path = entry.unwrap().path();
         let name = path.file_name().unwrap().to_string_lossy().into_owned();

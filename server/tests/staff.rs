@@ -155,8 +155,7 @@ async fn a_regrade_lists_every_changed_score_and_keeps_the_replaced_results() {
     } = class().await;
     let (_, s2, s2_submission) = &students[1];
     // As if an older grader had graded s2's submission 0.5.
-    let database = rusqlite::Connection::open(app.database()).unwrap();
-    database
+    app.database()
         .execute(
             "UPDATE submissions SET score = 0.5, grader = 'estlab 0.0.1 plan old' WHERE id = ?1",
             [s2_submission],

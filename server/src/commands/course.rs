@@ -1,6 +1,7 @@
 //! `estlab course`: setting up and running a course from the server's machine. Each
-//! command works on the database in the data directory, also while the server runs.
+//! command works on the server's database (`--data`, `--database`), also while it runs.
 
+use super::data::Data;
 use super::{file_name, print, read};
 use crate::courses::check_course_name;
 use crate::courses::deadline::{Counts, Policy, parse_moment, parse_penalty};
@@ -21,14 +22,8 @@ use std::str::FromStr;
 pub struct Args {
     #[command(subcommand)]
     command: Command,
-    /// The server's data directory.
-    #[arg(
-        long = "data",
-        value_name = "DIR",
-        default_value = "data",
-        global = true
-    )]
-    data_dir: PathBuf,
+    #[command(flatten)]
+    data: Data,
     /// The address people reach the server at, for sign-in links (default: the one the
     /// server last started with).
     #[arg(long, value_name = "URL", global = true)]
@@ -165,7 +160,7 @@ impl From<setup::Error> for Error {
 }
 
 pub fn run(args: &Args) -> Result<(), Error> {
-    let store = Store::open(&args.data_dir)?;
+    let store = args.data.open()?;
     let actor = actor();
     let url = || -> Result<String, Error> {
         Ok(match &args.url {

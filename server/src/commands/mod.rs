@@ -5,6 +5,7 @@ pub mod backup;
 pub mod car;
 pub mod cases;
 pub mod course;
+pub mod data;
 pub mod fusion;
 pub mod grade;
 pub mod grade_class;

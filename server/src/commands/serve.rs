@@ -1,11 +1,11 @@
 //! `estlab serve`: the web application.
 
+use super::data::Data;
 use crate::clock::{Clock, SystemClock};
 use crate::datasets::Datasets;
 use crate::error::Error;
 use crate::grading::{Grader, Secret};
 use crate::sandbox::{JavaScript, Sandbox, cores};
-use crate::store::Store;
 use crate::web::connections::{self, Limits, raise_descriptor_limit};
 use crate::web::phases::Trials;
 use crate::web::{self, AppState, Assets, SignInLimiter};
@@ -23,9 +23,9 @@ pub struct Args {
     /// The built browser assets (scripts/build-web writes them to target/web/dist).
     #[arg(long = "static", value_name = "DIR", default_value = DEFAULT_STATIC_DIR)]
     static_dir: PathBuf,
-    /// Where the submissions database lives; created at start if missing.
-    #[arg(long = "data", value_name = "DIR", default_value = "data")]
-    data_dir: PathBuf,
+    /// The data directory (created at start if missing) and the database.
+    #[command(flatten)]
+    data: Data,
     /// How many submissions are graded at once (each in a worker process of its own);
     /// at most one per core. The cores are shared out between them, so that no more
     /// engines run at once than there are cores.
@@ -74,8 +74,8 @@ async fn serve(args: &Args) -> Result<(), Error> {
         Some(dir) => Datasets::load(dir)?,
         None => Datasets::default(),
     };
-    let store = Store::open(&args.data_dir)?;
-    let secret = Secret::load_or_create(&args.data_dir)?;
+    let store = args.data.open()?;
+    let secret = Secret::load_or_create(&args.data.dir)?;
     let parallel = args.parallel.clamp(1, cores());
     let sandbox = Sandbox::current(cores() / parallel)
         .map_err(Error::io("the estlab executable"))?
@@ -116,6 +116,7 @@ async fn serve(args: &Args) -> Result<(), Error> {
         public_url.trim_end_matches('/'),
     )?;
     let clock: Arc<dyn Clock> = Arc::new(SystemClock);
+    let store_place = store.place().to_string();
     let grader = Grader::new(store, sandbox, secret, parallel, Arc::clone(&clock));
     let resumed = grader.resume()?;
     if resumed > 0 {
@@ -135,7 +136,7 @@ async fn serve(args: &Args) -> Result<(), Error> {
     }));
     println!(
         "estlab is serving on http://{addr}/ (submissions in {})",
-        args.data_dir.display()
+        store_place
     );
     let limits = Limits::for_server(raise_descriptor_limit(), args.behind_https);
     connections::serve(listener, app, limits, stop_asked()).await;

@@ -2,10 +2,10 @@
 //! tokens (SHA-256 hashes). Nothing here is ever stored in clear.
 
 use super::courses::Role;
+use super::db::{self, OptionalExtension, params};
 use super::{Error, Member, Store};
 use crate::courses::codes::{self, NewCode, TypedCode};
 use jiff::Timestamp;
-use rusqlite::{OptionalExtension, params};
 use serde::Serialize;
 use ts_rs::TS;
 
@@ -50,10 +50,10 @@ impl Store {
         expires_at: Option<Timestamp>,
         now: Timestamp,
     ) -> Result<(), Error> {
-        let mut connection = self.connection();
+        let connection = self.connection();
         let transaction = connection.transaction()?;
-        transaction.execute("DELETE FROM codes WHERE member = ?1", [member])?;
-        transaction.execute("DELETE FROM sessions WHERE member = ?1", [member])?;
+        transaction.execute("DELETE FROM codes WHERE member = ?1", params![member])?;
+        transaction.execute("DELETE FROM sessions WHERE member = ?1", params![member])?;
         transaction.execute(
             "INSERT INTO codes (selector, member, hash, once, expires_at, created_at)
              VALUES (?1, ?2, ?3, ?4, ?5, ?6)",
@@ -177,16 +177,14 @@ impl Store {
         }
         let token = codes::new_token("estlab_");
         let connection = self.connection();
-        connection.execute(
-            "INSERT INTO tokens (course, role, hash, created_at) VALUES (?1, ?2, ?3, ?4)",
+        Ok((connection.query_row(
+"INSERT INTO tokens (course, role, hash, created_at) VALUES (?1, ?2, ?3, ?4) RETURNING id",
             params![
                 course,
                 role.as_str(),
                 codes::token_hash(&token),
                 now.as_second()
-            ],
-        )?;
-        Ok((connection.last_insert_rowid(), token))
+            ], |row| row.get(0))?, token))
     }
 
     /// The course and role an API token stands for, unless it was revoked.
@@ -204,13 +202,12 @@ impl Store {
 
     pub fn tokens(&self, course: &str) -> Result<Vec<TokenInfo>, Error> {
         let connection = self.connection();
-        let mut statement = connection.prepare(
+        let tokens = connection.query_map(
             "SELECT id, course, role, created_at, revoked_at IS NOT NULL FROM tokens
              WHERE course = ?1 ORDER BY id",
+            params![course],
+            token_info,
         )?;
-        let tokens = statement
-            .query_map([course], token_info)?
-            .collect::<Result<_, _>>()?;
         Ok(tokens)
     }
 
@@ -224,7 +221,7 @@ impl Store {
     }
 }
 
-fn token_info(row: &rusqlite::Row) -> rusqlite::Result<TokenInfo> {
+fn token_info(row: &db::Row) -> db::Result<TokenInfo> {
     Ok(TokenInfo {
         id: row.get(0)?,
         course: row.get(1)?,

@@ -1,11 +1,11 @@
 //! The written hand-in: an assignment's question sets as its instructors imported them,
 //! and each student's answers (the latest to each question; saved as they type).
 
+use super::db::{OptionalExtension, params};
 use super::{Error, Store, timestamp};
 use crate::courses::questions::Answer;
 use jiff::Timestamp;
 use labs::Exercise;
-use rusqlite::{OptionalExtension, params};
 
 /// A student's answer to one question, as last saved.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize, ts_rs::TS)]
@@ -84,20 +84,19 @@ impl Store {
     /// A student's answers to an assignment's questions, set by set.
     pub fn answers(&self, member: i64, lab: Exercise) -> Result<Vec<SavedAnswer>, Error> {
         let connection = self.connection();
-        let mut statement = connection.prepare(
+        let rows = connection.query_map(
             "SELECT part, question, answer, saved_at FROM answers
              WHERE member = ?1 AND lab = ?2 ORDER BY part, question",
-        )?;
-        let rows = statement
-            .query_map(params![member, lab.name()], |row| {
+            params![member, lab.name()],
+            |row| {
                 Ok((
                     row.get::<_, i64>(0)?,
                     row.get::<_, String>(1)?,
                     row.get::<_, String>(2)?,
                     row.get::<_, i64>(3)?,
                 ))
-            })?
-            .collect::<Result<Vec<_>, _>>()?;
+            },
+        )?;
         rows.into_iter()
             .map(|(part, question, json, saved_at)| {
                 Ok(SavedAnswer {

@@ -1,12 +1,12 @@
 //! Courses, their people (students of the roster and staff) and their assignments.
 
+use super::db::{self, Connection, OptionalExtension, Row, params};
 use super::timestamp;
 use super::{Error, Store, exercise, known_exercises};
 use crate::courses::deadline::{Counts, Policy};
 use crate::courses::roster;
 use jiff::Timestamp;
 use labs::{Exercise, Language};
-use rusqlite::{Connection, OptionalExtension, Row, params};
 use serde::{Deserialize, Serialize};
 use ts_rs::TS;
 
@@ -101,7 +101,7 @@ pub struct Assignment {
 
 const MEMBER_COLUMNS: &str = "id, course, login, name, email, role, dropped";
 
-fn member(row: &Row) -> rusqlite::Result<Member> {
+fn member(row: &Row) -> db::Result<Member> {
     Ok(Member {
         id: row.get(0)?,
         course: row.get(1)?,
@@ -112,7 +112,7 @@ fn member(row: &Row) -> rusqlite::Result<Member> {
         dropped: row.get(6)?,
     })
 }
-fn assignment(row: &Row) -> rusqlite::Result<Assignment> {
+fn assignment(row: &Row) -> db::Result<Assignment> {
     Ok(Assignment {
         course: row.get(0)?,
         lab: exercise(row, 1)?,
@@ -146,7 +146,7 @@ fn languages(stored: Option<String>) -> Vec<Language> {
 /// a.counts, e.due, e.cutoff` from `first` on (an assignment and, left-joined, the
 /// student's extension): the assignment's policy with the extension's dates when there
 /// is one; `None` when no assignment was joined.
-pub(super) fn policy_in_force(row: &Row, first: usize) -> rusqlite::Result<Option<Policy>> {
+pub(super) fn policy_in_force(row: &Row, first: usize) -> db::Result<Option<Policy>> {
     let Some(due) = row.get::<_, Option<i64>>(first)? else {
         return Ok(None);
     };
@@ -167,11 +167,7 @@ pub(super) fn policy_in_force(row: &Row, first: usize) -> rusqlite::Result<Optio
     }))
 }
 
-fn find_member(
-    connection: &Connection,
-    course: &str,
-    login: &str,
-) -> rusqlite::Result<Option<Member>> {
+fn find_member(connection: &Connection, course: &str, login: &str) -> db::Result<Option<Member>> {
     connection
         .query_row(
             &format!("SELECT {MEMBER_COLUMNS} FROM members WHERE course = ?1 AND login = ?2"),
@@ -186,7 +182,7 @@ impl Store {
     pub fn any_course(&self) -> Result<bool, Error> {
         Ok(self
             .connection()
-            .query_row("SELECT EXISTS (SELECT 1 FROM courses)", [], |row| {
+            .query_row("SELECT EXISTS (SELECT 1 FROM courses)", (), |row| {
                 row.get(0)
             })?)
     }
@@ -209,15 +205,13 @@ impl Store {
 
     pub fn courses(&self) -> Result<Vec<Course>, Error> {
         let connection = self.connection();
-        let mut statement = connection.prepare("SELECT name, title FROM courses ORDER BY name")?;
-        let courses = statement
-            .query_map([], |row| {
+        let courses =
+            connection.query_map("SELECT name, title FROM courses ORDER BY name", (), |row| {
                 Ok(Course {
                     name: row.get(0)?,
                     title: row.get(1)?,
                 })
-            })?
-            .collect::<Result<_, _>>()?;
+            })?;
         Ok(courses)
     }
 
@@ -287,7 +281,7 @@ impl Store {
         students: &[roster::Student],
         apply: bool,
     ) -> Result<RosterChange, Error> {
-        let mut connection = self.connection();
+        let connection = self.connection();
         let transaction = connection.transaction()?;
         let mut change = RosterChange::default();
         for student in students {
@@ -328,16 +322,12 @@ impl Store {
         let listed: std::collections::HashSet<&str> =
             students.iter().map(|s| s.id.as_str()).collect();
         let current: Vec<(i64, String)> = {
-            let mut statement = transaction.prepare(
-                "SELECT id, login FROM members WHERE course = ?1 AND role = 'student' AND dropped = 0",
-            )?;
-            statement
-                .query_map([course], |row| Ok((row.get(0)?, row.get(1)?)))?
-                .collect::<Result<_, _>>()?
+            transaction.query_map(
+                "SELECT id, login FROM members WHERE course = ?1 AND role = 'student' AND dropped = 0", params![course], |row| Ok((row.get(0)?, row.get(1)?)))?
         };
         for (id, login) in current {
             if !listed.contains(login.as_str()) {
-                transaction.execute("UPDATE members SET dropped = 1 WHERE id = ?1", [id])?;
+                transaction.execute("UPDATE members SET dropped = 1 WHERE id = ?1", params![id])?;
                 change.dropped.push(login);
             }
         }
@@ -350,13 +340,14 @@ impl Store {
     /// Everyone in a course: staff first, then students by id.
     pub fn members(&self, course: &str) -> Result<Vec<Member>, Error> {
         let connection = self.connection();
-        let mut statement = connection.prepare(&format!(
-            "SELECT {MEMBER_COLUMNS} FROM members WHERE course = ?1
+        let members = connection.query_map(
+            &format!(
+                "SELECT {MEMBER_COLUMNS} FROM members WHERE course = ?1
              ORDER BY role = 'student', login"
-        ))?;
-        let members = statement
-            .query_map([course], member)?
-            .collect::<Result<_, _>>()?;
+            ),
+            params![course],
+            member,
+        )?;
         Ok(members)
     }
 
@@ -374,7 +365,7 @@ impl Store {
         Ok(member.filter(|m| m.role == Role::Student))
     }
 
-    pub(super) fn member_by_id(connection: &Connection, id: i64) -> rusqlite::Result<Member> {
+    pub(super) fn member_by_id(connection: &Connection, id: i64) -> db::Result<Member> {
         connection.query_row(
             &format!("SELECT {MEMBER_COLUMNS} FROM members WHERE id = ?1"),
             [id],
@@ -434,13 +425,14 @@ impl Store {
     /// release may hold others, which are left out), by due date.
     pub fn assignments(&self, course: &str) -> Result<Vec<Assignment>, Error> {
         let connection = self.connection();
-        let mut statement = connection.prepare(&format!(
-            "SELECT {ASSIGNMENT_COLUMNS} FROM assignments
+        let assignments = connection.query_map(
+            &format!(
+                "SELECT {ASSIGNMENT_COLUMNS} FROM assignments
              WHERE course = ?1 AND lab IN (SELECT value FROM json_each(?2)) ORDER BY due, lab"
-        ))?;
-        let assignments = statement
-            .query_map(params![course, known_exercises()], assignment)?
-            .collect::<Result<_, _>>()?;
+            ),
+            params![course, known_exercises()],
+            assignment,
+        )?;
         Ok(assignments)
     }
 
@@ -461,9 +453,11 @@ impl Store {
     pub fn setting(&self, key: &str) -> Result<Option<String>, Error> {
         Ok(self
             .connection()
-            .query_row("SELECT value FROM settings WHERE key = ?1", [key], |row| {
-                row.get(0)
-            })
+            .query_row(
+                "SELECT value FROM settings WHERE key = ?1",
+                params![key],
+                |row| row.get(0),
+            )
             .optional()?)
     }
 

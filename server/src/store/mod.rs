@@ -1,12 +1,14 @@
-//! The database: one SQLite file in the data directory (WAL, a busy timeout, the schema
-//! migrated forward at every open). It holds the submissions and their results, the
-//! courses with their people and assignments, and what signs people in (hashes only).
-//! Every call is short and synchronous: the web handlers make them on blocking threads,
-//! never on the async executor.
+//! The database: by default one SQLite file in the data directory (WAL, a busy timeout),
+//! or a PostgreSQL database that several web and grader processes share (`--database
+//! postgres://...`); on either, the schema is migrated forward at every open. It holds the
+//! submissions and their results, the courses with their people and assignments, and what
+//! signs people in (hashes only). Every call is short and synchronous: the web handlers
+//! make them on blocking threads, never on the async executor.
 
 mod access;
 mod answers;
 mod courses;
+pub mod db;
 mod regrades;
 mod reports;
 mod reviews;
@@ -25,7 +27,7 @@ pub use staff::{
 };
 pub use submissions::{NewSubmission, Status, Submission, SubmissionSummary, ToGrade, Unfinished};
 
-use rusqlite::Connection;
+use db::Connection;
 use std::path::{Path, PathBuf};
 use std::sync::{Mutex, MutexGuard};
 use std::time::Duration;
@@ -45,13 +47,10 @@ pub enum Error {
         path: PathBuf,
         source: std::io::Error,
     },
-    #[error("the database {}: {source}", path.display())]
-    Database {
-        path: PathBuf,
-        source: rusqlite::Error,
-    },
+    #[error("the database {place}: {source}")]
+    Database { place: String, source: db::Error },
     #[error("the database: {0}")]
-    Sql(#[from] rusqlite::Error),
+    Sql(#[from] db::Error),
     #[error("a stored result is unreadable: {0}")]
     StoredResult(serde_json::Error),
     #[error("a stored answer or question set is unreadable: {0}")]
@@ -115,25 +114,40 @@ fn known_exercises() -> String {
 }
 
 /// The exercise a row's column names (`lab`).
-fn exercise(row: &rusqlite::Row, column: usize) -> rusqlite::Result<labs::Exercise> {
+fn exercise(row: &db::Row, column: usize) -> db::Result<labs::Exercise> {
     named(row, column)
 }
 
 /// A value stored by its name (an exercise, a language).
-fn named<T>(row: &rusqlite::Row, column: usize) -> rusqlite::Result<T>
+fn named<T>(row: &db::Row, column: usize) -> db::Result<T>
 where
     T: std::str::FromStr,
-    T::Err: std::error::Error + Send + Sync + 'static,
+    T::Err: std::fmt::Display,
 {
     let name: String = row.get(column)?;
-    name.parse().map_err(|e| {
-        rusqlite::Error::FromSqlConversionFailure(column, rusqlite::types::Type::Text, Box::new(e))
+    name.parse().map_err(|e: T::Err| db::Error::Column {
+        column,
+        reason: e.to_string(),
     })
 }
 
 /// A moment stored as whole seconds since 1970 (as `Timestamp::as_second` wrote it).
 fn timestamp(seconds: i64) -> jiff::Timestamp {
     jiff::Timestamp::from_second(seconds).unwrap_or(jiff::Timestamp::UNIX_EPOCH)
+}
+
+/// A PostgreSQL database as its URL names it, without the password: `user@host:port/name`.
+fn server_name(config: &postgres::Config) -> String {
+    let host = match config.get_hosts().first() {
+        Some(postgres::config::Host::Tcp(name)) => name.clone(),
+        #[cfg(unix)]
+        Some(postgres::config::Host::Unix(dir)) => dir.display().to_string(),
+        None => "localhost".into(),
+    };
+    let port = config.get_ports().first().copied().unwrap_or(5432);
+    let user = config.get_user().unwrap_or("");
+    let name = config.get_dbname().unwrap_or(user);
+    format!("postgres://{user}@{host}:{port}/{name}")
 }
 
 fn known_courses(known: &[String]) -> String {
@@ -145,16 +159,37 @@ fn known_courses(known: &[String]) -> String {
 }
 
 impl Error {
-    fn database(path: &Path) -> impl FnOnce(rusqlite::Error) -> Error {
-        let path = path.to_path_buf();
-        move |source| Error::Database { path, source }
+    fn database<E: Into<db::Error>>(place: &Place) -> impl FnOnce(E) -> Error {
+        let place = place.to_string();
+        move |source| Error::Database {
+            place,
+            source: source.into(),
+        }
+    }
+}
+
+/// Where a store's data lives.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Place {
+    /// A SQLite file.
+    File(PathBuf),
+    /// A PostgreSQL database, named without its password.
+    Server(String),
+}
+
+impl std::fmt::Display for Place {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Place::File(path) => write!(f, "{}", path.display()),
+            Place::Server(name) => f.write_str(name),
+        }
     }
 }
 
 /// The database, one connection shared behind a lock (every statement is short).
 pub struct Store {
     connection: Mutex<Connection>,
-    path: PathBuf,
+    place: Place,
 }
 
 impl Store {
@@ -166,19 +201,38 @@ impl Store {
             source,
         })?;
         let path = dir.join(FILE);
-        let connection = Connection::open(&path).map_err(Error::database(&path))?;
+        let place = Place::File(path.clone());
+        let connection = rusqlite::Connection::open(&path).map_err(Error::database(&place))?;
         connection
             .busy_timeout(BUSY_TIMEOUT)
-            .map_err(Error::database(&path))?;
+            .map_err(Error::database(&place))?;
         connection
             .execute_batch(
                 "PRAGMA journal_mode = WAL; PRAGMA synchronous = NORMAL; PRAGMA foreign_keys = ON;",
             )
-            .map_err(Error::database(&path))?;
-        schema::migrate(&connection).map_err(Error::database(&path))?;
+            .map_err(Error::database(&place))?;
+        Store::over(Connection::Sqlite(connection), place)
+    }
+
+    /// Connects to the PostgreSQL database a URL names (`postgres://user@host/name`, or
+    /// `postgresql:///name?host=/run/postgresql` over a Unix socket), creating the schema
+    /// as needed and migrating an older one forward.
+    pub fn connect(url: &str) -> Result<Store, Error> {
+        let config: postgres::Config = url.parse().map_err(|e: postgres::Error| {
+            Error::Conflict(format!(
+                "the database URL {url:?} is not one PostgreSQL reads: {e}"
+            ))
+        })?;
+        let place = Place::Server(server_name(&config));
+        let server = db::Postgres::connect(config).map_err(Error::database(&place))?;
+        Store::over(Connection::Postgres(server), place)
+    }
+
+    fn over(connection: Connection, place: Place) -> Result<Store, Error> {
+        schema::migrate(&connection).map_err(Error::database(&place))?;
         Ok(Store {
             connection: Mutex::new(connection),
-            path,
+            place,
         })
     }
 
@@ -191,27 +245,32 @@ impl Store {
     /// while others go on reading and writing.
     pub fn backup(&self, target: &Path) -> Result<(), Error> {
         let connection = self.connection();
+        let Connection::Sqlite(connection) = &*connection else {
+            return Err(Error::Conflict(format!(
+                "{} is a PostgreSQL database: back it up with PostgreSQL's pg_dump",
+                self.place
+            )));
+        };
         connection
             .backup(
                 rusqlite::MAIN_DB,
                 target,
                 None::<fn(rusqlite::backup::Progress)>,
             )
-            .map_err(|source| Error::Database {
-                path: target.to_path_buf(),
-                source,
-            })
+            .map_err(Error::database(&Place::File(target.to_path_buf())))
     }
 
     /// Checks a copy of the database (read only): SQLite's integrity check passes, and
     /// it holds this many submissions.
     pub fn check_copy(path: &Path) -> Result<i64, Error> {
-        let failed = Error::database(path);
-        let copy = Connection::open_with_flags(path, rusqlite::OpenFlags::SQLITE_OPEN_READ_ONLY)
-            .map_err(Error::database(path))?;
+        let place = Place::File(path.to_path_buf());
+        let failed = Error::database::<rusqlite::Error>(&place);
+        let copy =
+            rusqlite::Connection::open_with_flags(path, rusqlite::OpenFlags::SQLITE_OPEN_READ_ONLY)
+                .map_err(Error::database(&place))?;
         let verdict: String = copy
             .query_row("PRAGMA integrity_check", [], |row| row.get(0))
-            .map_err(Error::database(path))?;
+            .map_err(Error::database(&place))?;
         if verdict != "ok" {
             return Err(Error::Conflict(format!(
                 "the copy {} fails SQLite's integrity check: {verdict}",
@@ -222,8 +281,19 @@ impl Store {
             .map_err(failed)
     }
 
-    /// The database's file.
-    pub fn path(&self) -> &Path {
-        &self.path
+    /// Where the data lives.
+    pub fn place(&self) -> &Place {
+        &self.place
+    }
+}
+
+/// A store for a unit test: in `dir` on SQLite, or in a new database of the test server
+/// when the tests run on PostgreSQL (`ESTLAB_TEST_DATABASE=postgres`).
+#[cfg(test)]
+pub(crate) fn test_store(dir: &Path) -> Store {
+    if pgtest::wanted() {
+        Store::connect(&pgtest::database()).unwrap()
+    } else {
+        Store::open(dir).unwrap()
     }
 }

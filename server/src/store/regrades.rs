@@ -2,13 +2,15 @@
 //! each result replacing the current one while the replaced one is kept, so that nobody's
 //! score changes silently and a stop resumes the job where it was.
 
-use super::submissions::{SUMMARY_COLUMNS, SUMMARY_FROM, SUMMARY_WIDTH, challenge_figure, summary};
+use super::db::{OptionalExtension, Value, params};
+use super::submissions::{
+    SUMMARY_COLUMNS, SUMMARY_FROM, SUMMARY_WIDTH, challenge_figure, moment, summary,
+};
 use super::timestamp;
 use super::{Error, Store, exercise, known_exercises};
 use jiff::Timestamp;
 use labs::Exercise;
 use labs::grading::GradeResult;
-use rusqlite::{OptionalExtension, params};
 use serde::{Deserialize, Serialize};
 use ts_rs::TS;
 
@@ -113,26 +115,31 @@ impl Store {
         grader: &str,
         now: Timestamp,
     ) -> Result<(i64, usize), Error> {
-        let mut connection = self.connection();
+        let connection = self.connection();
         let transaction = connection.transaction()?;
-        let (filter, value): (&str, rusqlite::types::Value) = match scope {
-            Scope::Submission(id) => ("AND s.id = ?3", (*id).into()),
-            Scope::Student(login) => ("AND m.login = ?3", login.clone().into()),
-            Scope::Students(logins) => (
-                "AND m.login IN (SELECT value FROM json_each(?3))",
-                serde_json::to_string(logins).expect("ids serialise").into(),
-            ),
-            Scope::Assignment => ("AND ?3 IS NULL", rusqlite::types::Value::Null),
+        let listed;
+        let (filter, value) = match scope {
+            Scope::Submission(id) => ("AND s.id = ?3", Value::Integer(*id)),
+            Scope::Student(login) => ("AND m.login = ?3", Value::Text(login)),
+            Scope::Students(logins) => {
+                listed = serde_json::to_string(logins).expect("ids serialise");
+                (
+                    "AND m.login IN (SELECT value FROM json_each(?3))",
+                    Value::Text(&listed),
+                )
+            }
+            Scope::Assignment => ("AND CAST(?3 AS TEXT) IS NULL", Value::Null),
         };
         let ids: Vec<i64> = {
-            let mut statement = transaction.prepare(&format!(
-                "SELECT s.id FROM submissions s JOIN members m ON m.id = s.member
+            transaction.query_map(
+                &format!(
+                    "SELECT s.id FROM submissions s JOIN members m ON m.id = s.member
                  WHERE m.course = ?1 AND s.lab = ?2 AND s.status = 'graded' {filter}
                  ORDER BY s.id"
-            ))?;
-            statement
-                .query_map(params![course, lab.name(), value], |row| row.get(0))?
-                .collect::<Result<_, _>>()?
+                ),
+                params![course, lab.name(), value],
+                |row| row.get(0),
+            )?
         };
         if ids.is_empty() {
             return Err(Error::Conflict(format!(
@@ -140,9 +147,9 @@ impl Store {
                 scope.describe()
             )));
         }
-        transaction.execute(
+        let regrade = transaction.query_row(
             "INSERT INTO regrades (course, lab, scope, requested_by, grader, created_at)
-             VALUES (?1, ?2, ?3, ?4, ?5, ?6)",
+             VALUES (?1, ?2, ?3, ?4, ?5, ?6) RETURNING id",
             params![
                 course,
                 lab.name(),
@@ -151,8 +158,8 @@ impl Store {
                 grader,
                 now.as_second()
             ],
+            |row| row.get(0),
         )?;
-        let regrade = transaction.last_insert_rowid();
         for id in &ids {
             transaction.execute(
                 "INSERT INTO regrade_items (regrade, submission, old_score)
@@ -171,7 +178,7 @@ impl Store {
             .query_row(
                 "SELECT regrade, submission FROM regrade_items WHERE done = 0
                  ORDER BY regrade, submission LIMIT 1",
-                [],
+                (),
                 |row| Ok((row.get(0)?, row.get(1)?)),
             )
             .optional()?)
@@ -190,7 +197,7 @@ impl Store {
     ) -> Result<(), Error> {
         let text = serde_json::to_string(result).expect("results serialise");
         let score = result.gradable.then_some(result.score);
-        let mut connection = self.connection();
+        let connection = self.connection();
         let transaction = connection.transaction()?;
         let waiting: bool = transaction.query_row(
             "SELECT EXISTS (SELECT 1 FROM regrade_items
@@ -208,8 +215,15 @@ impl Store {
         )?;
         transaction.execute(
             "UPDATE submissions SET result = ?2, score = ?3, grader = ?4, challenge = ?5,
-             graded_at = strftime('%Y-%m-%dT%H:%M:%fZ', 'now') WHERE id = ?1",
-            params![submission, text, score, grader, challenge_figure(result)],
+             graded_at = ?6 WHERE id = ?1",
+            params![
+                submission,
+                text,
+                score,
+                grader,
+                challenge_figure(result),
+                moment(Timestamp::now())
+            ],
         )?;
         transaction.execute(
             "UPDATE regrade_items SET done = 1, new_score = ?3 WHERE regrade = ?1 AND submission = ?2",
@@ -228,13 +242,12 @@ impl Store {
     pub fn regrades(&self, course: &str) -> Result<Vec<Regrade>, Error> {
         let ids: Vec<i64> = {
             let connection = self.connection();
-            let mut statement = connection.prepare(
+            connection.query_map(
                 "SELECT id FROM regrades WHERE course = ?1
                  AND lab IN (SELECT value FROM json_each(?2)) ORDER BY id DESC",
-            )?;
-            statement
-                .query_map(params![course, known_exercises()], |row| row.get(0))?
-                .collect::<Result<_, _>>()?
+                params![course, known_exercises()],
+                |row| row.get(0),
+            )?
         };
         ids.into_iter()
             .map(|id| self.regrade(course, id))
@@ -248,7 +261,7 @@ impl Store {
         let Some(mut regrade) = connection
             .query_row(
                 "SELECT r.id, r.course, r.lab, r.scope, r.requested_by, r.grader, r.created_at,
-                        r.finished_at, count(i.submission), coalesce(sum(i.done), 0)
+                        r.finished_at, count(i.submission), CAST(coalesce(sum(i.done), 0) AS BIGINT)
                  FROM regrades r LEFT JOIN regrade_items i ON i.regrade = r.id
                  WHERE r.id = ?1 AND r.course = ?2 GROUP BY r.id",
                 params![id, course],
@@ -274,35 +287,35 @@ impl Store {
         };
         // The finals with the penalty as it is judged now (by the dates in force and any
         // waiver), which a regrade leaves alone.
-        let mut statement = connection.prepare(&format!(
-            "SELECT {SUMMARY_COLUMNS}, i.old_score, i.new_score
+        regrade.changed = connection
+            .query_map(
+                &format!(
+                    "SELECT {SUMMARY_COLUMNS}, i.old_score, i.new_score
              FROM {SUMMARY_FROM} JOIN regrade_items i ON i.submission = s.id
              WHERE i.regrade = ?1 AND i.done = 1 ORDER BY s.student, s.id"
-        ))?;
-        regrade.changed = statement
-            .query_map([id], |row| {
-                let (old_score, new_score): (Option<f64>, Option<f64>) =
-                    (row.get(SUMMARY_WIDTH)?, row.get(SUMMARY_WIDTH + 1)?);
-                let submission = summary(row)?;
-                let kept = 1.0 - submission.penalty;
-                Ok(Change {
-                    submission: submission.id,
-                    student: submission.student,
-                    old_score,
-                    new_score,
-                    old_final: old_score.map(|s| s * kept),
-                    new_final: new_score.map(|s| s * kept),
-                })
-            })?
-            .filter(|change| {
-                change
-                    .as_ref()
-                    .map_or(true, |c| match (c.old_score, c.new_score) {
-                        (Some(old), Some(new)) => (old - new).abs() > SAME,
-                        (old, new) => old.is_some() != new.is_some(),
+                ),
+                params![id],
+                |row| {
+                    let (old_score, new_score): (Option<f64>, Option<f64>) =
+                        (row.get(SUMMARY_WIDTH)?, row.get(SUMMARY_WIDTH + 1)?);
+                    let submission = summary(row)?;
+                    let kept = 1.0 - submission.penalty;
+                    Ok(Change {
+                        submission: submission.id,
+                        student: submission.student,
+                        old_score,
+                        new_score,
+                        old_final: old_score.map(|s| s * kept),
+                        new_final: new_score.map(|s| s * kept),
                     })
+                },
+            )?
+            .into_iter()
+            .filter(|c| match (c.old_score, c.new_score) {
+                (Some(old), Some(new)) => (old - new).abs() > SAME,
+                (old, new) => old.is_some() != new.is_some(),
             })
-            .collect::<Result<_, _>>()?;
+            .collect();
         Ok(Some(regrade))
     }
 
@@ -310,14 +323,13 @@ impl Store {
     pub fn earlier_results(&self, submission: i64) -> Result<Vec<EarlierResult>, Error> {
         let rows: Vec<EarlierRow> = {
             let connection = self.connection();
-            let mut statement = connection.prepare(
+            connection.query_map(
                 "SELECT r.grader, r.score, r.graded_at, r.replaced_by, g.created_at,
                         g.requested_by, r.result
                  FROM results r LEFT JOIN regrades g ON g.id = r.replaced_by
                  WHERE r.submission = ?1 ORDER BY r.id",
-            )?;
-            statement
-                .query_map([submission], |row| {
+                params![submission],
+                |row| {
                     Ok((
                         Replaced {
                             grader: row.get(0)?,
@@ -329,8 +341,8 @@ impl Store {
                         },
                         row.get(6)?,
                     ))
-                })?
-                .collect::<Result<_, _>>()?
+                },
+            )?
         };
         rows.into_iter()
             .map(|(about, text)| {

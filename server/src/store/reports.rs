@@ -3,12 +3,12 @@
 //! once made.
 
 use super::SavedAnswer;
+use super::db::{Connection, OptionalExtension, params};
 use super::{Error, Store, timestamp};
 use crate::courses::report::{PartMark, State, Stored};
 use jiff::Timestamp;
 use labs::Exercise;
 use labs::grading::Outputs;
-use rusqlite::{Connection, OptionalExtension, params};
 use serde_json::value::RawValue;
 
 /// Why a change of a report was refused: it is handed in and not sent back.
@@ -31,7 +31,7 @@ impl Store {
         text: &str,
         now: Timestamp,
     ) -> Result<Result<(), Closed>, Error> {
-        let mut connection = self.connection();
+        let connection = self.connection();
         let transaction = connection.transaction()?;
         let mut report = read_report(&transaction, member, lab)?.unwrap_or_default();
         if !report.state().open_to_student() {
@@ -58,7 +58,7 @@ impl Store {
         (submission, answers): (i64, &[SavedAnswer]),
         now: Timestamp,
     ) -> Result<Result<Stored, Closed>, Error> {
-        let mut connection = self.connection();
+        let connection = self.connection();
         let transaction = connection.transaction()?;
         let report = read_report(&transaction, member, lab)?.unwrap_or_default();
         if !report.state().open_to_student() {
@@ -71,7 +71,7 @@ impl Store {
                                   handed_in_at, handed_analyses, handed_answers)
              VALUES (?1, ?2, ?5, ?4, 1, ?3, ?4, ?5, ?6)
              ON CONFLICT (member, lab) DO UPDATE
-             SET handed_in = handed_in + 1, submission = ?3, handed_in_at = ?4,
+             SET handed_in = reports.handed_in + 1, submission = ?3, handed_in_at = ?4,
                  handed_analyses = ?5, handed_answers = ?6",
             params![
                 member,
@@ -96,7 +96,7 @@ impl Store {
         (handed_in, rubric): (u32, &[PartMark]),
         (by, now): (&str, Timestamp),
     ) -> Result<Result<Stored, Closed>, Error> {
-        let mut connection = self.connection();
+        let connection = self.connection();
         let transaction = connection.transaction()?;
         let report = read_report(&transaction, member, lab)?.unwrap_or_default();
         if report.handed_in == 0 || report.handed_in != handed_in {
@@ -122,13 +122,12 @@ impl Store {
     /// The state of every report of a course's exercise that was written, by member.
     pub fn report_states(&self, course: &str, lab: Exercise) -> Result<Vec<(i64, State)>, Error> {
         let connection = self.connection();
-        let mut statement = connection.prepare(
+        let members = connection.query_map(
             "SELECT r.member FROM reports r JOIN members m ON m.id = r.member
              WHERE m.course = ?1 AND r.lab = ?2 ORDER BY r.member",
+            params![course, lab.name()],
+            |row| row.get::<_, i64>(0),
         )?;
-        let members = statement
-            .query_map(params![course, lab.name()], |row| row.get::<_, i64>(0))?
-            .collect::<Result<Vec<_>, _>>()?;
         members
             .into_iter()
             .map(|member| {

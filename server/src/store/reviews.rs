@@ -2,12 +2,12 @@
 //! reviews which sheet (numbered for the reviewer, who never learns whose it is), and the
 //! marks. What a round hands out and how its marks count is `courses::rounds`' to decide.
 
+use super::db::{self, OptionalExtension, Transaction, params};
 use super::{Error, Store, timestamp};
 use crate::courses::questions::Answer;
 use crate::courses::review::Pair;
 use jiff::Timestamp;
 use labs::Exercise;
-use rusqlite::{OptionalExtension, Transaction, params};
 use serde::{Deserialize, Serialize};
 use ts_rs::TS;
 
@@ -63,7 +63,7 @@ pub struct Mark {
 const ROUND_COLUMNS: &str =
     "id, part, per_sheet, bonus_above, opened_by, opened_at, closed_at, seed, questions";
 
-fn round(row: &rusqlite::Row) -> rusqlite::Result<Round> {
+fn round(row: &db::Row) -> db::Result<Round> {
     Ok(Round {
         id: row.get(0)?,
         part: row.get::<_, i64>(1)? as usize,
@@ -95,7 +95,7 @@ fn insert_sheet(
     round: i64,
     author: i64,
     sheet: &[SheetAnswer],
-) -> rusqlite::Result<()> {
+) -> db::Result<()> {
     let json = serde_json::to_string(sheet).expect("a sheet serialises");
     transaction.execute(
         "INSERT INTO review_sheets (round, author, answers) VALUES (?1, ?2, ?3)",
@@ -107,7 +107,7 @@ fn insert_sheet(
 /// Adds `pair` as the reviewer's sheet numbered after every number they ever had in the
 /// round: a number names one sheet for good, so marks sent for a sheet that went
 /// elsewhere meanwhile never land on another.
-fn insert_pair(transaction: &Transaction, round: i64, pair: Pair) -> rusqlite::Result<()> {
+fn insert_pair(transaction: &Transaction, round: i64, pair: Pair) -> db::Result<()> {
     transaction.execute(
         "INSERT INTO review_pairs (round, reviewer, author, number)
          VALUES (?1, ?2, ?3, 1 + (SELECT COALESCE(MAX(number), 0) FROM review_numbers
@@ -122,7 +122,7 @@ fn insert_pair(transaction: &Transaction, round: i64, pair: Pair) -> rusqlite::R
     Ok(())
 }
 
-fn delete_pair(transaction: &Transaction, round: i64, pair: Pair) -> rusqlite::Result<()> {
+fn delete_pair(transaction: &Transaction, round: i64, pair: Pair) -> db::Result<()> {
     let keys = params![round, pair.reviewer, pair.author];
     transaction.execute(
         "DELETE FROM review_marks WHERE round = ?1 AND reviewer = ?2 AND author = ?3",
@@ -144,11 +144,11 @@ impl Store {
         pairs: &[Pair],
         now: Timestamp,
     ) -> Result<i64, Error> {
-        let mut connection = self.connection();
+        let connection = self.connection();
         let transaction = connection.transaction()?;
-        transaction.execute(
-            "INSERT INTO review_rounds (course, lab, part, per_sheet, seed, bonus_above, opened_by, opened_at, questions)
-             VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9)",
+        let id = transaction.query_row(
+"INSERT INTO review_rounds (course, lab, part, per_sheet, seed, bonus_above, opened_by, opened_at, questions)
+             VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9) RETURNING id",
             params![
                 new.course,
                 new.lab.name(),
@@ -159,9 +159,7 @@ impl Store {
                 new.opened_by,
                 now.as_second(),
                 new.questions
-            ],
-        )?;
-        let id = transaction.last_insert_rowid();
+            ], |row| row.get(0))?;
         for (author, sheet) in sheets {
             insert_sheet(&transaction, id, *author, sheet)?;
         }
@@ -175,12 +173,9 @@ impl Store {
     /// An assignment's rounds, the latest first.
     pub fn rounds(&self, course: &str, lab: Exercise) -> Result<Vec<Round>, Error> {
         let connection = self.connection();
-        let mut statement = connection.prepare(&format!(
+        let rounds = connection.query_map(&format!(
             "SELECT {ROUND_COLUMNS} FROM review_rounds WHERE course = ?1 AND lab = ?2 ORDER BY id DESC"
-        ))?;
-        let rounds = statement
-            .query_map(params![course, lab.name()], round)?
-            .collect::<Result<_, _>>()?;
+        ), params![course, lab.name()], round)?;
         Ok(rounds)
     }
 
@@ -210,12 +205,11 @@ impl Store {
     /// A round's pairs.
     pub fn pairs(&self, round: i64) -> Result<Vec<StoredPair>, Error> {
         let connection = self.connection();
-        let mut statement = connection.prepare(
+        let pairs = connection.query_map(
             "SELECT reviewer, author, number, submitted_at FROM review_pairs
              WHERE round = ?1 ORDER BY reviewer, number",
-        )?;
-        let pairs = statement
-            .query_map([round], |row| {
+            params![round],
+            |row| {
                 Ok(StoredPair {
                     pair: Pair {
                         reviewer: row.get(0)?,
@@ -224,22 +218,19 @@ impl Store {
                     number: row.get::<_, i64>(2)? as usize,
                     submitted_at: row.get::<_, Option<i64>>(3)?.map(timestamp),
                 })
-            })?
-            .collect::<Result<_, _>>()?;
+            },
+        )?;
         Ok(pairs)
     }
 
     /// A round's sheets, by author.
     pub fn sheets(&self, round: i64) -> Result<Vec<(i64, Vec<SheetAnswer>)>, Error> {
         let connection = self.connection();
-        let mut statement = connection.prepare(
+        let rows = connection.query_map(
             "SELECT author, answers FROM review_sheets WHERE round = ?1 ORDER BY author",
+            params![round],
+            |row| Ok((row.get::<_, i64>(0)?, row.get::<_, String>(1)?)),
         )?;
-        let rows = statement
-            .query_map([round], |row| {
-                Ok((row.get::<_, i64>(0)?, row.get::<_, String>(1)?))
-            })?
-            .collect::<Result<Vec<_>, _>>()?;
         rows.into_iter()
             .map(|(author, json)| {
                 Ok((
@@ -253,12 +244,11 @@ impl Store {
     /// Every mark of a round: (reviewer, author, mark).
     pub fn marks(&self, round: i64) -> Result<Vec<(Pair, Mark)>, Error> {
         let connection = self.connection();
-        let mut statement = connection.prepare(
+        let marks = connection.query_map(
             "SELECT reviewer, author, question, correct, comment FROM review_marks
              WHERE round = ?1 ORDER BY reviewer, author, question",
-        )?;
-        let marks = statement
-            .query_map([round], |row| {
+            params![round],
+            |row| {
                 Ok((
                     Pair {
                         reviewer: row.get(0)?,
@@ -270,8 +260,8 @@ impl Store {
                         comment: row.get(4)?,
                     },
                 ))
-            })?
-            .collect::<Result<_, _>>()?;
+            },
+        )?;
         Ok(marks)
     }
 
@@ -286,7 +276,7 @@ impl Store {
         submit: bool,
         now: Timestamp,
     ) -> Result<bool, Error> {
-        let mut connection = self.connection();
+        let connection = self.connection();
         let transaction = connection.transaction()?;
         let keys = params![round, pair.reviewer, pair.author];
         let open: bool = transaction.query_row(
@@ -336,7 +326,7 @@ impl Store {
         removed: &[Pair],
         added: &[Pair],
     ) -> Result<(), Error> {
-        let mut connection = self.connection();
+        let connection = self.connection();
         let transaction = connection.transaction()?;
         insert_sheet(&transaction, round, author, sheet)?;
         for &pair in removed {
@@ -352,7 +342,7 @@ impl Store {
     /// Moves sheets between reviewers: each old pair (with any marks) is removed and its
     /// new one, where there is one, added.
     pub fn move_pairs(&self, round: i64, moves: &[(Pair, Option<Pair>)]) -> Result<(), Error> {
-        let mut connection = self.connection();
+        let connection = self.connection();
         let transaction = connection.transaction()?;
         for &(old, new) in moves {
             delete_pair(&transaction, round, old)?;

@@ -1,12 +1,25 @@
-//! The schema, as migrations: each takes it from version `i` to `i + 1` (`PRAGMA
-//! user_version`), in one transaction. A database of any earlier release opens and is
-//! brought forward; nothing already stored is dropped.
+//! The schema, as migrations: each takes it from version `i` to `i + 1`, in one
+//! transaction. A database of any earlier release opens and is brought forward; nothing
+//! already stored is dropped. Both engines run the same definitions, written in SQLite's
+//! words: PostgreSQL reads them with its own names for the same types (`postgres_ddl`).
+//! SQLite keeps the version in `PRAGMA user_version`, PostgreSQL in `estlab_schema`, and
+//! there a lock makes processes that start together migrate one after the other.
 
-use rusqlite::Connection;
+use super::db::{self, Connection, Engine};
+use Step::{OldRows, Schema};
 
-const MIGRATIONS: &[&str] = &[
+/// One step of the schema's history.
+enum Step {
+    /// Tables, columns and indexes, on both engines.
+    Schema(&'static str),
+    /// A rewrite of rows an earlier release stored. A PostgreSQL database began with a
+    /// release after every such step, so it holds no such rows: SQLite's alone.
+    OldRows(&'static str),
+}
+
+const MIGRATIONS: &[Step] = &[
     // 1 (estlab 0.1.0): the submissions of an open server.
-    "CREATE TABLE submissions (
+    Schema("CREATE TABLE submissions (
         id INTEGER PRIMARY KEY,
         course TEXT NOT NULL,
         student TEXT NOT NULL,
@@ -19,12 +32,12 @@ const MIGRATIONS: &[&str] = &[
         score REAL,
         result TEXT
     );
-    CREATE INDEX submissions_by_student ON submissions (course, student, id);",
+    CREATE INDEX submissions_by_student ON submissions (course, student, id);"),
     // 2: courses, their people and assignments, and what signs people in. Times that are
     // compared are Unix seconds; codes and tokens are kept as hashes only. A submission
     // made by a signed-in student names them (`member`); those of an open server name
     // nobody and belong to no course's people.
-    "CREATE TABLE courses (
+    Schema("CREATE TABLE courses (
         name TEXT PRIMARY KEY,
         title TEXT NOT NULL,
         created_at INTEGER NOT NULL
@@ -78,11 +91,11 @@ const MIGRATIONS: &[&str] = &[
     ALTER TABLE submissions ADD COLUMN member INTEGER REFERENCES members (id);
     ALTER TABLE submissions ADD COLUMN late_seconds INTEGER NOT NULL DEFAULT 0;
     ALTER TABLE submissions ADD COLUMN penalty REAL NOT NULL DEFAULT 0;
-    CREATE INDEX submissions_by_member ON submissions (member, lab, id);",
+    CREATE INDEX submissions_by_member ON submissions (member, lab, id);"),
     // 3: the instructor's side. Each result names the grader that produced it; a
     // regrade keeps the result it replaces (`results`) and goes item by item, so a stop
     // resumes it; extensions move one student's dates; staff actions are logged.
-    "ALTER TABLE submissions ADD COLUMN grader TEXT;
+    Schema("ALTER TABLE submissions ADD COLUMN grader TEXT;
     CREATE TABLE regrades (
         id INTEGER PRIMARY KEY,
         course TEXT NOT NULL,
@@ -130,20 +143,20 @@ const MIGRATIONS: &[&str] = &[
         action TEXT NOT NULL,
         detail TEXT NOT NULL
     );
-    CREATE INDEX audit_by_course ON audit (course, id);",
+    CREATE INDEX audit_by_course ON audit (course, id);"),
     // 4: a submission's late penalty waived by staff, with their reason. Lateness itself
     // is not stored for the scores: it is judged from `submitted_at` and the dates in force.
-    "CREATE TABLE waivers (
+    Schema("CREATE TABLE waivers (
         submission INTEGER PRIMARY KEY REFERENCES submissions (id),
         reason TEXT NOT NULL,
         waived_by TEXT NOT NULL,
         waived_at INTEGER NOT NULL
-    );",
+    );"),
     // 5: each test of a result says what it tests (`subject`: a function, or a run). A
     // result stored before said it in its name alone: a function's test is named
     // `predict: 12 cases`, a run's begins with the run's name (`o3 data set, ...`,
     // `square path: ...`).
-    "CREATE TEMP TABLE tested (kept TEXT, id INTEGER, result TEXT, PRIMARY KEY (kept, id));
+    OldRows("CREATE TEMP TABLE tested (kept TEXT, id INTEGER, result TEXT, PRIMARY KEY (kept, id));
     INSERT INTO tested
     SELECT kept, id, json_set(result, '$.tests', json((
         SELECT json_group_array(json_set(test.value, '$.subject', json_object(
@@ -161,23 +174,23 @@ const MIGRATIONS: &[&str] = &[
     WHERE id IN (SELECT id FROM tested WHERE kept = 'submissions');
     UPDATE results SET result = (SELECT t.result FROM tested t WHERE t.kept = 'results' AND t.id = results.id)
     WHERE id IN (SELECT id FROM tested WHERE kept = 'results');
-    DROP TABLE tested;",
+    DROP TABLE tested;"),
     // 6: the class challenge. A submission's figure (its filter's error over its class's
     // held-out run, lower the better; none where the exercise has no challenge or the run
     // gave no figure) kept beside its score, so that a rank is a query away; and whether an
     // assignment shows its students their rank.
-    "ALTER TABLE submissions ADD COLUMN challenge REAL;
-    ALTER TABLE assignments ADD COLUMN ranked INTEGER NOT NULL DEFAULT 1;",
+    Schema("ALTER TABLE submissions ADD COLUMN challenge REAL;
+    ALTER TABLE assignments ADD COLUMN ranked INTEGER NOT NULL DEFAULT 1;"),
     // 7: the language a submission is written in (`labs::Language`'s name); every earlier
     // one is JavaScript.
-    "ALTER TABLE submissions ADD COLUMN language TEXT NOT NULL DEFAULT 'javascript';",
+    Schema("ALTER TABLE submissions ADD COLUMN language TEXT NOT NULL DEFAULT 'javascript';"),
     // 8: the languages an assignment takes (names, comma-separated); none: every language
     // the server grades, those of later releases too.
-    "ALTER TABLE assignments ADD COLUMN languages TEXT;",
+    Schema("ALTER TABLE assignments ADD COLUMN languages TEXT;"),
     // 9: the written hand-in. An assignment's question sets (`questions`: their TOML as a
     // JSON array, in order; none: the exercise's own sets) and each student's answers,
     // the latest to each question, by the set's place and the question's id.
-    "ALTER TABLE assignments ADD COLUMN questions TEXT;
+    Schema("ALTER TABLE assignments ADD COLUMN questions TEXT;
     CREATE TABLE answers (
         member INTEGER NOT NULL REFERENCES members (id),
         lab TEXT NOT NULL,
@@ -186,14 +199,14 @@ const MIGRATIONS: &[&str] = &[
         answer TEXT NOT NULL,
         saved_at INTEGER NOT NULL,
         PRIMARY KEY (member, lab, part, question)
-    );",
+    );"),
     // 10: peer review of the written answers. A round hands one question set's answer
     // sheets (each frozen as it stood when the round opened, or when its author joined
     // late) to reviewers among their authors, each pair numbered for its reviewer (who
     // never learns the author); a mark is one reviewer's judgement of one answer. The
     // round keeps the set as it was (its TOML), so that a change of the assignment's sets
     // leaves what it reviews alone.
-    "CREATE TABLE review_rounds (
+    Schema("CREATE TABLE review_rounds (
         id INTEGER PRIMARY KEY,
         course TEXT NOT NULL,
         lab TEXT NOT NULL,
@@ -236,7 +249,7 @@ const MIGRATIONS: &[&str] = &[
         reviewer INTEGER NOT NULL,
         number INTEGER NOT NULL,
         PRIMARY KEY (round, reviewer, number)
-    );",
+    );"),
     // 11: the report. A student's analyses of its runs (a JSON object, run name to text);
     // each hand-in counts up `handed_in`, names the submission whose runs it shows and
     // keeps the analyses and answers as they were (`handed_analyses`, `handed_answers`,
@@ -245,7 +258,7 @@ const MIGRATIONS: &[&str] = &[
     // it keeps in `reviewed`. The runs of a submission's report, once made, are kept (the
     // harness's outputs, JSON) with the grader that made them: the same code, seed and
     // grader give the same runs, and another grader's data sets are not these.
-    "CREATE TABLE reports (
+    Schema("CREATE TABLE reports (
         member INTEGER NOT NULL REFERENCES members (id),
         lab TEXT NOT NULL,
         analyses TEXT NOT NULL,
@@ -265,17 +278,76 @@ const MIGRATIONS: &[&str] = &[
         submission INTEGER PRIMARY KEY REFERENCES submissions (id),
         grader TEXT NOT NULL,
         outputs TEXT NOT NULL
-    );",
+    );"),
 ];
 
 /// Brings the schema up to the newest version, one migration per transaction.
-pub fn migrate(connection: &Connection) -> rusqlite::Result<()> {
-    let version: i64 = connection.query_row("PRAGMA user_version", [], |row| row.get(0))?;
-    for (i, migration) in MIGRATIONS.iter().enumerate().skip(version as usize) {
+pub fn migrate(connection: &Connection) -> db::Result<()> {
+    match connection.engine() {
+        Engine::Sqlite => {
+            let version: i64 = connection.query_row("PRAGMA user_version", (), |row| row.get(0))?;
+            for (i, step) in MIGRATIONS.iter().enumerate().skip(version as usize) {
+                let (Schema(sql) | OldRows(sql)) = step;
+                connection.execute_batch(&format!(
+                    "BEGIN; {sql}; PRAGMA user_version = {}; COMMIT;",
+                    i + 1
+                ))?;
+            }
+            Ok(())
+        }
+        Engine::Postgres => {
+            // Held until the session's end or the unlock below, by one process at a time.
+            connection.execute_batch(&format!("SELECT pg_advisory_lock({MIGRATION_LOCK})"))?;
+            let migrated = migrate_postgres(connection);
+            connection.execute_batch(&format!("SELECT pg_advisory_unlock({MIGRATION_LOCK})"))?;
+            migrated
+        }
+    }
+}
+
+/// The key of PostgreSQL's advisory lock that migrations take (EL2320, the course).
+const MIGRATION_LOCK: i64 = 2320;
+
+fn migrate_postgres(connection: &Connection) -> db::Result<()> {
+    connection.execute_batch(POSTGRES_FUNCTIONS)?;
+    connection.execute_batch(
+        "CREATE TABLE IF NOT EXISTS estlab_schema (version BIGINT NOT NULL);
+         INSERT INTO estlab_schema SELECT 0 WHERE NOT EXISTS (SELECT 1 FROM estlab_schema);",
+    )?;
+    let version: i64 =
+        connection.query_row("SELECT version FROM estlab_schema", (), |row| row.get(0))?;
+    for (i, step) in MIGRATIONS.iter().enumerate().skip(version as usize) {
+        let sql = match step {
+            Schema(sql) => postgres_ddl(sql),
+            OldRows(_) => String::new(),
+        };
         connection.execute_batch(&format!(
-            "BEGIN; {migration}; PRAGMA user_version = {}; COMMIT;",
+            "BEGIN; {sql}; UPDATE estlab_schema SET version = {}; COMMIT;",
             i + 1
         ))?;
     }
     Ok(())
+}
+
+/// What the store's queries call that SQLite has built in: `json_each(text)` over a JSON
+/// array, giving each element as text in a column `value`. (PostgreSQL's own `json_each`
+/// takes `json` or `jsonb`; a text argument picks this one.)
+const POSTGRES_FUNCTIONS: &str = "CREATE OR REPLACE FUNCTION json_each(list text)
+    RETURNS TABLE (value text) LANGUAGE sql IMMUTABLE
+    AS $$ SELECT jsonb_array_elements_text(CAST(list AS jsonb)) $$;";
+
+/// A definition in SQLite's words, in PostgreSQL's: 64-bit integers (SQLite's are), a
+/// row id drawn from a sequence, double precision, and the moment now as SQLite formats
+/// it (`2026-12-05T09:30:00.000Z`).
+fn postgres_ddl(sql: &str) -> String {
+    sql.replace(
+        "id INTEGER PRIMARY KEY,",
+        "id BIGINT GENERATED BY DEFAULT AS IDENTITY PRIMARY KEY,",
+    )
+    .replace(" INTEGER", " BIGINT")
+    .replace(" REAL", " DOUBLE PRECISION")
+    .replace(
+        "strftime('%Y-%m-%dT%H:%M:%fZ', 'now')",
+        "to_char(now() AT TIME ZONE 'UTC', 'YYYY-MM-DD\"T\"HH24:MI:SS.MS\"Z\"')",
+    )
 }

@@ -4,13 +4,13 @@
 //! what submissions already made count: each lists the scores it changed.
 
 use super::courses::policy_in_force;
+use super::db::{self, OptionalExtension, Row, params};
 use super::submissions::SubmissionSummary;
 use super::timestamp;
 use super::{Error, Store, exercise};
 use crate::courses::deadline::Policy;
 use jiff::Timestamp;
 use labs::Exercise;
-use rusqlite::{OptionalExtension, Row, params};
 use serde::Serialize;
 use ts_rs::TS;
 
@@ -48,7 +48,7 @@ pub struct Waiver {
 
 /// A waiver from the columns `reason, waived_by, waived_at` from `first` on (left-joined:
 /// all null for a submission without one).
-pub(super) fn waiver_at(row: &Row, first: usize) -> rusqlite::Result<Option<Waiver>> {
+pub(super) fn waiver_at(row: &Row, first: usize) -> db::Result<Option<Waiver>> {
     let Some(reason) = row.get::<_, Option<String>>(first)? else {
         return Ok(None);
     };
@@ -145,7 +145,7 @@ pub struct NewWaiver<'a> {
     pub reason: &'a str,
 }
 
-fn extension(row: &Row) -> rusqlite::Result<Extension> {
+fn extension(row: &Row) -> db::Result<Extension> {
     Ok(Extension {
         lab: exercise(row, 0)?,
         student: row.get(1)?,
@@ -188,11 +188,10 @@ impl Store {
     /// A course's audit log, newest first.
     pub fn audit_log(&self, course: &str) -> Result<Vec<AuditEntry>, Error> {
         let connection = self.connection();
-        let mut statement = connection.prepare(
+        let entries = connection.query_map(
             "SELECT id, at, actor, action, detail FROM audit WHERE course = ?1 ORDER BY id DESC",
-        )?;
-        let entries = statement
-            .query_map([course], |row| {
+            params![course],
+            |row| {
                 Ok(AuditEntry {
                     id: row.get(0)?,
                     at: timestamp(row.get(1)?),
@@ -200,8 +199,8 @@ impl Store {
                     action: row.get(3)?,
                     detail: row.get(4)?,
                 })
-            })?
-            .collect::<Result<_, _>>()?;
+            },
+        )?;
         Ok(entries)
     }
 
@@ -322,13 +321,14 @@ impl Store {
     /// The extensions of a course's exercise.
     pub fn extensions(&self, course: &str, lab: Exercise) -> Result<Vec<Extension>, Error> {
         let connection = self.connection();
-        let mut statement = connection.prepare(&format!(
-            "SELECT {EXTENSION_COLUMNS} FROM extensions e JOIN members m ON m.id = e.member
+        let extensions = connection.query_map(
+            &format!(
+                "SELECT {EXTENSION_COLUMNS} FROM extensions e JOIN members m ON m.id = e.member
              WHERE e.course = ?1 AND e.lab = ?2 ORDER BY m.login"
-        ))?;
-        let extensions = statement
-            .query_map(params![course, lab.name()], extension)?
-            .collect::<Result<_, _>>()?;
+            ),
+            params![course, lab.name()],
+            extension,
+        )?;
         Ok(extensions)
     }
 

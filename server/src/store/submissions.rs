@@ -5,13 +5,13 @@
 //! waived the penalty; what was judged when it was taken is stored too, for the record.
 
 use super::courses::policy_in_force;
+use super::db::{self, OptionalExtension, Row, params};
 use super::staff::{Waiver, waiver_at};
 use super::{Error, Store, exercise, known_exercises, named};
 use crate::courses::deadline::Lateness;
 use jiff::Timestamp;
 use labs::grading::GradeResult;
 use labs::{Exercise, Language};
-use rusqlite::{OptionalExtension, Row, params};
 use serde::Serialize;
 use std::collections::HashMap;
 use ts_rs::TS;
@@ -131,7 +131,7 @@ pub(super) fn challenge_figure(result: &GradeResult) -> Option<f64> {
 }
 
 /// How submission times are written: UTC to the millisecond, as estlab 0.1.0 wrote them.
-fn moment(at: Timestamp) -> String {
+pub(super) fn moment(at: Timestamp) -> String {
     at.strftime("%Y-%m-%dT%H:%M:%S%.3fZ").to_string()
 }
 
@@ -150,7 +150,7 @@ pub(super) const SUMMARY_COLUMNS: &str = "s.id, s.course, s.student, s.lab, s.st
     w.reason, w.waived_by, w.waived_at, s.challenge, s.language";
 pub(super) const SUMMARY_WIDTH: usize = 20;
 
-pub(super) fn summary(row: &Row) -> rusqlite::Result<SubmissionSummary> {
+pub(super) fn summary(row: &Row) -> db::Result<SubmissionSummary> {
     let score: Option<f64> = row.get(8)?;
     let submitted_at: String = row.get(5)?;
     let lateness = match (policy_in_force(row, 9)?, submitted_at.parse::<Timestamp>()) {
@@ -200,10 +200,10 @@ impl Store {
         if let Some(id) = busy {
             return Err(Error::Busy(id));
         }
-        connection.execute(
+        Ok(connection.query_row(
             "INSERT INTO submissions (course, student, member, lab, seed, source, status,
                  submitted_at, late_seconds, penalty, language)
-             VALUES (?1, ?2, ?3, ?4, ?5, ?6, 'queued', ?7, ?8, ?9, ?10)",
+             VALUES (?1, ?2, ?3, ?4, ?5, ?6, 'queued', ?7, ?8, ?9, ?10) RETURNING id",
             params![
                 new.course,
                 new.student,
@@ -216,8 +216,8 @@ impl Store {
                 new.penalty,
                 new.language.name()
             ],
-        )?;
-        Ok(connection.last_insert_rowid())
+            |row| row.get(0),
+        )?)
     }
 
     /// Marks a submission as being graded and returns what grading needs.
@@ -257,13 +257,14 @@ impl Store {
         let text = serde_json::to_string(result).expect("results serialise");
         self.connection().execute(
             "UPDATE submissions SET status = 'graded', result = ?2, score = ?3, grader = ?4,
-             challenge = ?5, graded_at = strftime('%Y-%m-%dT%H:%M:%fZ', 'now') WHERE id = ?1",
+             challenge = ?5, graded_at = ?6 WHERE id = ?1",
             params![
                 id,
                 text,
                 result.gradable.then_some(result.score),
                 grader,
-                challenge_figure(result)
+                challenge_figure(result),
+                moment(Timestamp::now())
             ],
         )?;
         Ok(())
@@ -297,19 +298,18 @@ impl Store {
     /// release's are left for it).
     pub fn unfinished(&self) -> Result<Vec<Unfinished>, Error> {
         let connection = self.connection();
-        let mut statement = connection.prepare(
+        let list = connection.query_map(
             "SELECT id, course, student FROM submissions
              WHERE status != 'graded' AND lab IN (SELECT value FROM json_each(?1)) ORDER BY id",
-        )?;
-        let list = statement
-            .query_map([known_exercises()], |row| {
+            params![known_exercises()],
+            |row| {
                 Ok(Unfinished {
                     id: row.get(0)?,
                     course: row.get(1)?,
                     student: row.get(2)?,
                 })
-            })?
-            .collect::<Result<_, _>>()?;
+            },
+        )?;
         Ok(list)
     }
 
@@ -385,13 +385,14 @@ impl Store {
     /// A student's own submissions to an exercise, oldest first.
     pub fn history(&self, member: i64, lab: Exercise) -> Result<Vec<SubmissionSummary>, Error> {
         let connection = self.connection();
-        let mut statement = connection.prepare(&format!(
-            "SELECT {SUMMARY_COLUMNS} FROM {SUMMARY_FROM} WHERE s.member = ?1 AND s.lab = ?2
+        let list = connection.query_map(
+            &format!(
+                "SELECT {SUMMARY_COLUMNS} FROM {SUMMARY_FROM} WHERE s.member = ?1 AND s.lab = ?2
              ORDER BY s.id"
-        ))?;
-        let list = statement
-            .query_map(params![member, lab.name()], summary)?
-            .collect::<Result<_, _>>()?;
+            ),
+            params![member, lab.name()],
+            summary,
+        )?;
         Ok(list)
     }
 
@@ -402,14 +403,15 @@ impl Store {
         lab: Exercise,
     ) -> Result<Vec<SubmissionSummary>, Error> {
         let connection = self.connection();
-        let mut statement = connection.prepare(&format!(
-            "SELECT {SUMMARY_COLUMNS} FROM {SUMMARY_FROM}
+        let list = connection.query_map(
+            &format!(
+                "SELECT {SUMMARY_COLUMNS} FROM {SUMMARY_FROM}
              WHERE s.member IN (SELECT id FROM members WHERE course = ?1) AND s.lab = ?2
              ORDER BY s.student, s.id"
-        ))?;
-        let list = statement
-            .query_map(params![course, lab.name()], summary)?
-            .collect::<Result<_, _>>()?;
+            ),
+            params![course, lab.name()],
+            summary,
+        )?;
         Ok(list)
     }
 
@@ -417,12 +419,16 @@ impl Store {
     pub fn results(&self, ids: &[i64]) -> Result<HashMap<i64, GradeResult>, Error> {
         let texts: Vec<(i64, String)> = {
             let connection = self.connection();
-            let mut statement = connection.prepare_cached(
-                "SELECT result FROM submissions WHERE id = ?1 AND result IS NOT NULL",
-            )?;
             let mut texts = Vec::with_capacity(ids.len());
             for &id in ids {
-                if let Some(text) = statement.query_row([id], |row| row.get(0)).optional()? {
+                let text = connection
+                    .query_row(
+                        "SELECT result FROM submissions WHERE id = ?1 AND result IS NOT NULL",
+                        [id],
+                        |row| row.get(0),
+                    )
+                    .optional()?;
+                if let Some(text) = text {
                     texts.push((id, text));
                 }
             }
@@ -443,12 +449,11 @@ impl Store {
     /// or a restart).
     pub fn all_submissions(&self) -> Result<Vec<SubmissionSummary>, Error> {
         let connection = self.connection();
-        let mut statement = connection.prepare(&format!(
-            "SELECT {SUMMARY_COLUMNS} FROM {SUMMARY_FROM} ORDER BY s.id"
-        ))?;
-        let list = statement
-            .query_map([], summary)?
-            .collect::<Result<_, _>>()?;
+        let list = connection.query_map(
+            &format!("SELECT {SUMMARY_COLUMNS} FROM {SUMMARY_FROM} ORDER BY s.id"),
+            (),
+            summary,
+        )?;
         Ok(list)
     }
 }
@@ -475,7 +480,7 @@ mod tests {
     #[test]
     fn a_student_has_one_submission_waiting_and_a_failed_grading_frees_the_next() {
         let dir = tempfile::tempdir().unwrap();
-        let store = Store::open(dir.path()).unwrap();
+        let store = crate::store::test_store(dir.path());
         let first = store.insert(&new("ada", "// one")).unwrap();
         // Another student is not held up; the same student is, while the first waits.
         store.insert(&new("grace", "// other")).unwrap();
@@ -516,7 +521,7 @@ mod tests {
     #[test]
     fn an_exercise_of_a_later_release_is_left_alone() {
         let dir = tempfile::tempdir().unwrap();
-        let store = Store::open(dir.path()).unwrap();
+        let store = crate::store::test_store(dir.path());
         store
             .create_course("el2320", "Applied Estimation", Timestamp::UNIX_EPOCH)
             .unwrap();
@@ -526,7 +531,8 @@ mod tests {
             .execute_batch(
                 "INSERT INTO submissions (course, student, lab, seed, source, status, submitted_at,
                      late_seconds, penalty)
-                 VALUES ('el2320', 'grace', 'particle-filter', 1, '// later', 'queued', 0, 0, 0);
+                 VALUES ('el2320', 'grace', 'particle-filter', 1, '// later', 'queued',
+                     '1970-01-01T00:00:00.000Z', 0, 0);
                  INSERT INTO assignments (course, lab, due, cutoff, late_penalty, counts)
                  VALUES ('el2320', 'particle-filter', 0, 0, 0, 'best');
                  INSERT INTO regrades (course, lab, scope, requested_by, grader, created_at)

@@ -64,9 +64,22 @@ pub fn assets() -> Assets {
     Assets::load(&dir).unwrap_or_else(|e| panic!("{e} (run scripts/build-web)"))
 }
 
+/// A store for a test: in `dir` on SQLite, or in a new database of the test server when
+/// the tests run on PostgreSQL (`ESTLAB_TEST_DATABASE=postgres`); its connection string.
+pub fn test_store(dir: &Path) -> (Store, Option<String>) {
+    if pgtest::wanted() {
+        let url = pgtest::database();
+        (Store::connect(&url).unwrap(), Some(url))
+    } else {
+        (Store::open(dir).unwrap(), None)
+    }
+}
+
 /// The web application over a fresh data directory, with a clock of its own.
 pub struct App {
     pub dir: tempfile::TempDir,
+    /// The PostgreSQL database, when the tests run on PostgreSQL.
+    pub url: Option<String>,
     pub clock: Arc<FixedClock>,
     pub state: Arc<AppState>,
     pub router: Router,
@@ -75,12 +88,19 @@ pub struct App {
 impl App {
     pub fn new() -> App {
         let clock = Arc::new(FixedClock::new(at("2026-12-01T10:00:00Z")));
-        App::over(tempfile::tempdir().unwrap(), clock)
+        let dir = tempfile::tempdir().unwrap();
+        let (store, url) = test_store(dir.path());
+        App::over(dir, url, store, clock)
     }
 
-    /// The application over a data directory, grading (and regrading) what waits there.
-    fn over(dir: tempfile::TempDir, clock: Arc<FixedClock>) -> App {
-        let store = Store::open(dir.path()).unwrap();
+    /// The application over a data directory and its store, grading (and regrading) what
+    /// waits there.
+    fn over(
+        dir: tempfile::TempDir,
+        url: Option<String>,
+        store: Store,
+        clock: Arc<FixedClock>,
+    ) -> App {
         let secret = Secret::load_or_create(dir.path()).unwrap();
         let sandbox = Sandbox::new(PathBuf::from(env!("CARGO_BIN_EXE_estlab")), 1);
         let grader = Grader::new(
@@ -104,6 +124,7 @@ impl App {
         let router = estlab::web::router(Arc::clone(&state));
         App {
             dir,
+            url,
             clock,
             state,
             router,
@@ -112,12 +133,25 @@ impl App {
 
     /// The application again over the same data directory, as after a restart.
     pub fn restart(self) -> App {
-        App::over(self.dir, self.clock)
+        let store = match &self.url {
+            Some(url) => Store::connect(url).unwrap(),
+            None => Store::open(self.dir.path()).unwrap(),
+        };
+        App::over(self.dir, self.url, store, self.clock)
     }
 
-    /// The database file, for tests that look at it or change it behind the server.
-    pub fn database(&self) -> PathBuf {
-        self.dir.path().join(estlab::store::FILE)
+    /// A connection of its own to the application's database, for tests that change it
+    /// behind the server.
+    pub fn database(&self) -> estlab::store::db::Connection {
+        use estlab::store::db::Connection;
+        match &self.url {
+            Some(url) => Connection::Postgres(
+                estlab::store::db::Postgres::connect(url.parse().unwrap()).unwrap(),
+            ),
+            None => Connection::Sqlite(
+                rusqlite::Connection::open(self.dir.path().join(estlab::store::FILE)).unwrap(),
+            ),
+        }
     }
 
     pub fn store(&self) -> &Store {
