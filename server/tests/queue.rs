@@ -7,12 +7,15 @@
 use estlab::clock::{Clock, FixedClock};
 use estlab::grading::{Grader, Policy, Secret, Work};
 use estlab::sandbox::Sandbox;
-use estlab::store::{Error, NewSubmission, Status, Store};
+use estlab::store::{Error, NewSubmission, Status};
 use jiff::Timestamp;
 use labs::Exercise;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
+
+mod common;
+use common::store_in;
 
 /// How long a test waits for what it expects before it gives up (a hang, not a time
 /// measured: nothing here asserts how long anything took).
@@ -57,7 +60,7 @@ fn one_at_a_time() -> Policy {
 fn grader(dir: &Path, sandbox: Sandbox, policy: Policy) -> Arc<Grader> {
     let clock: Arc<dyn Clock> = Arc::new(FixedClock::new(Timestamp::UNIX_EPOCH));
     Grader::with_policy(
-        Store::open(dir).unwrap(),
+        store_in(dir),
         sandbox,
         Secret::load_or_create(dir).unwrap(),
         policy,
@@ -80,7 +83,7 @@ async fn another_students_submission_is_graded_before_a_flooders_second() {
     // The submissions a stop left waiting: a flooder's two (one per exercise) first, then
     // two other students' one each.
     let ids: Vec<i64> = {
-        let store = Store::open(dir.path()).unwrap();
+        let store = store_in(dir.path());
         [
             ("mallory", Exercise::EkfLocalization),
             ("mallory", Exercise::Odometry),

@@ -50,24 +50,23 @@ impl Store {
         expires_at: Option<Timestamp>,
         now: Timestamp,
     ) -> Result<(), Error> {
-        let connection = self.connection();
-        let transaction = connection.transaction()?;
-        transaction.execute("DELETE FROM codes WHERE member = ?1", params![member])?;
-        transaction.execute("DELETE FROM sessions WHERE member = ?1", params![member])?;
-        transaction.execute(
-            "INSERT INTO codes (selector, member, hash, once, expires_at, created_at)
-             VALUES (?1, ?2, ?3, ?4, ?5, ?6)",
-            params![
-                code.selector,
-                member,
-                code.hash,
-                once,
-                expires_at.map(|t| t.as_second()),
-                now.as_second()
-            ],
-        )?;
-        transaction.commit()?;
-        Ok(())
+        self.transaction(|transaction| {
+            transaction.execute("DELETE FROM codes WHERE member = ?1", params![member])?;
+            transaction.execute("DELETE FROM sessions WHERE member = ?1", params![member])?;
+            transaction.execute(
+                "INSERT INTO codes (selector, member, hash, once, expires_at, created_at)
+                 VALUES (?1, ?2, ?3, ?4, ?5, ?6)",
+                params![
+                    code.selector,
+                    member,
+                    code.hash,
+                    once,
+                    expires_at.map(|t| t.as_second()),
+                    now.as_second()
+                ],
+            )?;
+            Ok(())
+        })
     }
 
     /// Finds whose a typed code is, by its selector (no secret is checked: the caller
@@ -177,14 +176,20 @@ impl Store {
         }
         let token = codes::new_token("estlab_");
         let connection = self.connection();
-        Ok((connection.query_row(
-"INSERT INTO tokens (course, role, hash, created_at) VALUES (?1, ?2, ?3, ?4) RETURNING id",
-            params![
-                course,
-                role.as_str(),
-                codes::token_hash(&token),
-                now.as_second()
-            ], |row| row.get(0))?, token))
+        Ok((
+            connection.query_row(
+                "INSERT INTO tokens (course, role, hash, created_at)
+             VALUES (?1, ?2, ?3, ?4) RETURNING id",
+                params![
+                    course,
+                    role.as_str(),
+                    codes::token_hash(&token),
+                    now.as_second()
+                ],
+                |row| row.get(0),
+            )?,
+            token,
+        ))
     }
 
     /// The course and role an API token stands for, unless it was revoked.

@@ -281,60 +281,64 @@ impl Store {
         students: &[roster::Student],
         apply: bool,
     ) -> Result<RosterChange, Error> {
-        let connection = self.connection();
-        let transaction = connection.transaction()?;
-        let mut change = RosterChange::default();
-        for student in students {
-            match find_member(&transaction, course, &student.id)? {
-                Some(existing) if existing.role.is_staff() => {
-                    return Err(Error::Conflict(format!(
-                        "the roster's id {:?} is a {} of {course}; staff and students need different ids",
-                        student.id,
-                        existing.role.as_str()
-                    )));
-                }
-                Some(existing) => {
-                    if existing.name == student.name
-                        && existing.email == student.email
-                        && !existing.dropped
-                    {
-                        change.unchanged += 1;
-                    } else {
+        self.transaction_then(apply, |transaction| {
+            let mut change = RosterChange::default();
+            for student in students {
+                match find_member(transaction, course, &student.id)? {
+                    Some(existing) if existing.role.is_staff() => {
+                        return Err(Error::Conflict(format!(
+                            "the roster's id {:?} is a {} of {course}; \
+                             staff and students need different ids",
+                            student.id,
+                            existing.role.as_str()
+                        )));
+                    }
+                    Some(existing) => {
+                        if existing.name == student.name
+                            && existing.email == student.email
+                            && !existing.dropped
+                        {
+                            change.unchanged += 1;
+                        } else {
+                            transaction.execute(
+                                "UPDATE members SET name = ?2, email = ?3, dropped = 0
+                                 WHERE id = ?1",
+                                params![existing.id, student.name, student.email],
+                            )?;
+                            change.updated.push(existing.login);
+                        }
+                    }
+                    None => {
                         transaction.execute(
-                            "UPDATE members SET name = ?2, email = ?3, dropped = 0 WHERE id = ?1",
-                            params![existing.id, student.name, student.email],
+                            "INSERT INTO members (course, login, name, email, role)
+                             VALUES (?1, ?2, ?3, ?4, 'student')",
+                            params![course, student.id, student.name, student.email],
                         )?;
-                        change.updated.push(existing.login);
+                        change.added.push(
+                            find_member(transaction, course, &student.id)?.expect("just written"),
+                        );
                     }
                 }
-                None => {
-                    transaction.execute(
-                        "INSERT INTO members (course, login, name, email, role)
-                         VALUES (?1, ?2, ?3, ?4, 'student')",
-                        params![course, student.id, student.name, student.email],
-                    )?;
-                    change.added.push(
-                        find_member(&transaction, course, &student.id)?.expect("just written"),
-                    );
+            }
+            let listed: std::collections::HashSet<&str> =
+                students.iter().map(|s| s.id.as_str()).collect();
+            let current: Vec<(i64, String)> = {
+                transaction.query_map(
+                    "SELECT id, login FROM members
+                     WHERE course = ?1 AND role = 'student' AND dropped = 0",
+                    params![course],
+                    |row| Ok((row.get(0)?, row.get(1)?)),
+                )?
+            };
+            for (id, login) in current {
+                if !listed.contains(login.as_str()) {
+                    transaction
+                        .execute("UPDATE members SET dropped = 1 WHERE id = ?1", params![id])?;
+                    change.dropped.push(login);
                 }
             }
-        }
-        let listed: std::collections::HashSet<&str> =
-            students.iter().map(|s| s.id.as_str()).collect();
-        let current: Vec<(i64, String)> = {
-            transaction.query_map(
-                "SELECT id, login FROM members WHERE course = ?1 AND role = 'student' AND dropped = 0", params![course], |row| Ok((row.get(0)?, row.get(1)?)))?
-        };
-        for (id, login) in current {
-            if !listed.contains(login.as_str()) {
-                transaction.execute("UPDATE members SET dropped = 1 WHERE id = ?1", params![id])?;
-                change.dropped.push(login);
-            }
-        }
-        if apply {
-            transaction.commit()?;
-        }
-        Ok(change)
+            Ok(change)
+        })
     }
 
     /// Everyone in a course: staff first, then students by id.

@@ -35,6 +35,9 @@ use std::time::Duration;
 /// The database file inside the data directory.
 pub const FILE: &str = "estlab.sqlite3";
 
+/// How many times a transaction is tried when it keeps losing races (PostgreSQL).
+const TRIES: u32 = 10;
+
 /// How long a statement waits for another process (a command of `estlab course` while
 /// the server runs) to finish writing.
 const BUSY_TIMEOUT: Duration = Duration::from_secs(10);
@@ -239,6 +242,40 @@ impl Store {
     fn connection(&self) -> MutexGuard<'_, Connection> {
         // A panic while holding the lock leaves the connection usable: SQLite rolls back.
         self.connection.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// Runs `work` in one transaction, committed when it returns `Ok`.
+    fn transaction<T>(
+        &self,
+        work: impl FnMut(&Connection) -> Result<T, Error>,
+    ) -> Result<T, Error> {
+        self.transaction_then(true, work)
+    }
+
+    /// Runs `work` in one transaction, committed when `commit` and it returns `Ok`, rolled
+    /// back otherwise. On PostgreSQL, where transactions are serializable, a transaction
+    /// that lost a race with another process's is run again from the start (SQLite's
+    /// writers wait for each other instead).
+    fn transaction_then<T>(
+        &self,
+        commit: bool,
+        mut work: impl FnMut(&Connection) -> Result<T, Error>,
+    ) -> Result<T, Error> {
+        let connection = self.connection();
+        let mut tries = 1;
+        loop {
+            let transaction = connection.transaction()?;
+            let done = work(&transaction).and_then(|value| {
+                if commit {
+                    transaction.commit()?;
+                }
+                Ok(value)
+            });
+            match done {
+                Err(Error::Sql(e)) if e.is_retryable() && tries < TRIES => tries += 1,
+                done => return done,
+            }
+        }
     }
 
     /// Writes a consistent copy of the database to `target` with SQLite's online backup,

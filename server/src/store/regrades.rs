@@ -115,60 +115,59 @@ impl Store {
         grader: &str,
         now: Timestamp,
     ) -> Result<(i64, usize), Error> {
-        let connection = self.connection();
-        let transaction = connection.transaction()?;
-        let listed;
-        let (filter, value) = match scope {
-            Scope::Submission(id) => ("AND s.id = ?3", Value::Integer(*id)),
-            Scope::Student(login) => ("AND m.login = ?3", Value::Text(login)),
-            Scope::Students(logins) => {
-                listed = serde_json::to_string(logins).expect("ids serialise");
-                (
-                    "AND m.login IN (SELECT value FROM json_each(?3))",
-                    Value::Text(&listed),
-                )
+        self.transaction(|transaction| {
+            let listed;
+            let (filter, value) = match scope {
+                Scope::Submission(id) => ("AND s.id = ?3", Value::Integer(*id)),
+                Scope::Student(login) => ("AND m.login = ?3", Value::Text(login)),
+                Scope::Students(logins) => {
+                    listed = serde_json::to_string(logins).expect("ids serialise");
+                    (
+                        "AND m.login IN (SELECT value FROM json_each(?3))",
+                        Value::Text(&listed),
+                    )
+                }
+                Scope::Assignment => ("AND CAST(?3 AS TEXT) IS NULL", Value::Null),
+            };
+            let ids: Vec<i64> = {
+                transaction.query_map(
+                    &format!(
+                        "SELECT s.id FROM submissions s JOIN members m ON m.id = s.member
+                     WHERE m.course = ?1 AND s.lab = ?2 AND s.status = 'graded' {filter}
+                     ORDER BY s.id"
+                    ),
+                    params![course, lab.name(), value],
+                    |row| row.get(0),
+                )?
+            };
+            if ids.is_empty() {
+                return Err(Error::Conflict(format!(
+                    "nothing to regrade: no graded submission of {} in {course}'s {lab}",
+                    scope.describe()
+                )));
             }
-            Scope::Assignment => ("AND CAST(?3 AS TEXT) IS NULL", Value::Null),
-        };
-        let ids: Vec<i64> = {
-            transaction.query_map(
-                &format!(
-                    "SELECT s.id FROM submissions s JOIN members m ON m.id = s.member
-                 WHERE m.course = ?1 AND s.lab = ?2 AND s.status = 'graded' {filter}
-                 ORDER BY s.id"
-                ),
-                params![course, lab.name(), value],
+            let regrade = transaction.query_row(
+                "INSERT INTO regrades (course, lab, scope, requested_by, grader, created_at)
+                 VALUES (?1, ?2, ?3, ?4, ?5, ?6) RETURNING id",
+                params![
+                    course,
+                    lab.name(),
+                    scope.describe(),
+                    requested_by,
+                    grader,
+                    now.as_second()
+                ],
                 |row| row.get(0),
-            )?
-        };
-        if ids.is_empty() {
-            return Err(Error::Conflict(format!(
-                "nothing to regrade: no graded submission of {} in {course}'s {lab}",
-                scope.describe()
-            )));
-        }
-        let regrade = transaction.query_row(
-            "INSERT INTO regrades (course, lab, scope, requested_by, grader, created_at)
-             VALUES (?1, ?2, ?3, ?4, ?5, ?6) RETURNING id",
-            params![
-                course,
-                lab.name(),
-                scope.describe(),
-                requested_by,
-                grader,
-                now.as_second()
-            ],
-            |row| row.get(0),
-        )?;
-        for id in &ids {
-            transaction.execute(
-                "INSERT INTO regrade_items (regrade, submission, old_score)
-                 SELECT ?1, id, score FROM submissions WHERE id = ?2",
-                params![regrade, id],
             )?;
-        }
-        transaction.commit()?;
-        Ok((regrade, ids.len()))
+            for id in &ids {
+                transaction.execute(
+                    "INSERT INTO regrade_items (regrade, submission, old_score)
+                     SELECT ?1, id, score FROM submissions WHERE id = ?2",
+                    params![regrade, id],
+                )?;
+            }
+            Ok((regrade, ids.len()))
+        })
     }
 
     /// The next item of the oldest unfinished regrade, if any.
@@ -197,45 +196,45 @@ impl Store {
     ) -> Result<(), Error> {
         let text = serde_json::to_string(result).expect("results serialise");
         let score = result.gradable.then_some(result.score);
-        let connection = self.connection();
-        let transaction = connection.transaction()?;
-        let waiting: bool = transaction.query_row(
-            "SELECT EXISTS (SELECT 1 FROM regrade_items
-             WHERE regrade = ?1 AND submission = ?2 AND done = 0)",
-            params![regrade, submission],
-            |row| row.get(0),
-        )?;
-        if !waiting {
-            return Ok(());
-        }
-        transaction.execute(
-            "INSERT INTO results (submission, grader, score, result, graded_at, replaced_by)
-             SELECT id, grader, score, result, graded_at, ?2 FROM submissions WHERE id = ?1",
-            params![submission, regrade],
-        )?;
-        transaction.execute(
-            "UPDATE submissions SET result = ?2, score = ?3, grader = ?4, challenge = ?5,
-             graded_at = ?6 WHERE id = ?1",
-            params![
-                submission,
-                text,
-                score,
-                grader,
-                challenge_figure(result),
-                moment(Timestamp::now())
-            ],
-        )?;
-        transaction.execute(
-            "UPDATE regrade_items SET done = 1, new_score = ?3 WHERE regrade = ?1 AND submission = ?2",
-            params![regrade, submission, score],
-        )?;
-        transaction.execute(
-            "UPDATE regrades SET finished_at = ?2 WHERE id = ?1 AND NOT EXISTS
-             (SELECT 1 FROM regrade_items WHERE regrade = ?1 AND done = 0)",
-            params![regrade, now.as_second()],
-        )?;
-        transaction.commit()?;
-        Ok(())
+        self.transaction(|transaction| {
+            let waiting: bool = transaction.query_row(
+                "SELECT EXISTS (SELECT 1 FROM regrade_items
+                 WHERE regrade = ?1 AND submission = ?2 AND done = 0)",
+                params![regrade, submission],
+                |row| row.get(0),
+            )?;
+            if !waiting {
+                return Ok(());
+            }
+            transaction.execute(
+                "INSERT INTO results (submission, grader, score, result, graded_at, replaced_by)
+                 SELECT id, grader, score, result, graded_at, ?2 FROM submissions WHERE id = ?1",
+                params![submission, regrade],
+            )?;
+            transaction.execute(
+                "UPDATE submissions SET result = ?2, score = ?3, grader = ?4, challenge = ?5,
+                 graded_at = ?6 WHERE id = ?1",
+                params![
+                    submission,
+                    text,
+                    score,
+                    grader,
+                    challenge_figure(result),
+                    moment(Timestamp::now())
+                ],
+            )?;
+            transaction.execute(
+                "UPDATE regrade_items SET done = 1, new_score = ?3
+                 WHERE regrade = ?1 AND submission = ?2",
+                params![regrade, submission, score],
+            )?;
+            transaction.execute(
+                "UPDATE regrades SET finished_at = ?2 WHERE id = ?1 AND NOT EXISTS
+                 (SELECT 1 FROM regrade_items WHERE regrade = ?1 AND done = 0)",
+                params![regrade, now.as_second()],
+            )?;
+            Ok(())
+        })
     }
 
     /// A course's regrades, newest first, each with its progress and changed scores.

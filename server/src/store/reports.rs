@@ -31,21 +31,20 @@ impl Store {
         text: &str,
         now: Timestamp,
     ) -> Result<Result<(), Closed>, Error> {
-        let connection = self.connection();
-        let transaction = connection.transaction()?;
-        let mut report = read_report(&transaction, member, lab)?.unwrap_or_default();
-        if !report.state().open_to_student() {
-            return Ok(Err(Closed(report.state())));
-        }
-        report.analyses.insert(run.to_owned(), text.to_owned());
-        let analyses = serde_json::to_string(&report.analyses).expect("texts serialise");
-        transaction.execute(
-            "INSERT INTO reports (member, lab, analyses, saved_at) VALUES (?1, ?2, ?3, ?4)
-             ON CONFLICT (member, lab) DO UPDATE SET analyses = ?3, saved_at = ?4",
-            params![member, lab.name(), analyses, now.as_second()],
-        )?;
-        transaction.commit()?;
-        Ok(Ok(()))
+        self.transaction(|transaction| {
+            let mut report = read_report(transaction, member, lab)?.unwrap_or_default();
+            if !report.state().open_to_student() {
+                return Ok(Err(Closed(report.state())));
+            }
+            report.analyses.insert(run.to_owned(), text.to_owned());
+            let analyses = serde_json::to_string(&report.analyses).expect("texts serialise");
+            transaction.execute(
+                "INSERT INTO reports (member, lab, analyses, saved_at) VALUES (?1, ?2, ?3, ?4)
+                 ON CONFLICT (member, lab) DO UPDATE SET analyses = ?3, saved_at = ?4",
+                params![member, lab.name(), analyses, now.as_second()],
+            )?;
+            Ok(Ok(()))
+        })
     }
 
     /// Hands the report in with the runs of `submission` and the student's `answers` as
@@ -58,33 +57,32 @@ impl Store {
         (submission, answers): (i64, &[SavedAnswer]),
         now: Timestamp,
     ) -> Result<Result<Stored, Closed>, Error> {
-        let connection = self.connection();
-        let transaction = connection.transaction()?;
-        let report = read_report(&transaction, member, lab)?.unwrap_or_default();
-        if !report.state().open_to_student() {
-            return Ok(Err(Closed(report.state())));
-        }
-        let analyses = serde_json::to_string(&report.analyses).expect("texts serialise");
-        let answers = serde_json::to_string(answers).expect("answers serialise");
-        transaction.execute(
-            "INSERT INTO reports (member, lab, analyses, saved_at, handed_in, submission,
-                                  handed_in_at, handed_analyses, handed_answers)
-             VALUES (?1, ?2, ?5, ?4, 1, ?3, ?4, ?5, ?6)
-             ON CONFLICT (member, lab) DO UPDATE
-             SET handed_in = reports.handed_in + 1, submission = ?3, handed_in_at = ?4,
-                 handed_analyses = ?5, handed_answers = ?6",
-            params![
-                member,
-                lab.name(),
-                submission,
-                now.as_second(),
-                analyses,
-                answers
-            ],
-        )?;
-        let report = read_report(&transaction, member, lab)?.expect("the report just written");
-        transaction.commit()?;
-        Ok(Ok(report))
+        self.transaction(|transaction| {
+            let report = read_report(transaction, member, lab)?.unwrap_or_default();
+            if !report.state().open_to_student() {
+                return Ok(Err(Closed(report.state())));
+            }
+            let analyses = serde_json::to_string(&report.analyses).expect("texts serialise");
+            let answers = serde_json::to_string(answers).expect("answers serialise");
+            transaction.execute(
+                "INSERT INTO reports (member, lab, analyses, saved_at, handed_in, submission,
+                                      handed_in_at, handed_analyses, handed_answers)
+                 VALUES (?1, ?2, ?5, ?4, 1, ?3, ?4, ?5, ?6)
+                 ON CONFLICT (member, lab) DO UPDATE
+                 SET handed_in = reports.handed_in + 1, submission = ?3, handed_in_at = ?4,
+                     handed_analyses = ?5, handed_answers = ?6",
+                params![
+                    member,
+                    lab.name(),
+                    submission,
+                    now.as_second(),
+                    analyses,
+                    answers
+                ],
+            )?;
+            let report = read_report(transaction, member, lab)?.expect("the report just written");
+            Ok(Ok(report))
+        })
     }
 
     /// Staff's rubric of the hand-in counted `handed_in` (the one they read); refused
@@ -96,27 +94,26 @@ impl Store {
         (handed_in, rubric): (u32, &[PartMark]),
         (by, now): (&str, Timestamp),
     ) -> Result<Result<Stored, Closed>, Error> {
-        let connection = self.connection();
-        let transaction = connection.transaction()?;
-        let report = read_report(&transaction, member, lab)?.unwrap_or_default();
-        if report.handed_in == 0 || report.handed_in != handed_in {
-            return Ok(Err(Closed(report.state())));
-        }
-        transaction.execute(
-            "UPDATE reports SET rubric = ?3, reviewed = ?4, reviewed_by = ?5, reviewed_at = ?6
-             WHERE member = ?1 AND lab = ?2",
-            params![
-                member,
-                lab.name(),
-                serde_json::to_string(rubric).expect("marks serialise"),
-                handed_in,
-                by,
-                now.as_second()
-            ],
-        )?;
-        let report = read_report(&transaction, member, lab)?.expect("the report just written");
-        transaction.commit()?;
-        Ok(Ok(report))
+        self.transaction(|transaction| {
+            let report = read_report(transaction, member, lab)?.unwrap_or_default();
+            if report.handed_in == 0 || report.handed_in != handed_in {
+                return Ok(Err(Closed(report.state())));
+            }
+            transaction.execute(
+                "UPDATE reports SET rubric = ?3, reviewed = ?4, reviewed_by = ?5, reviewed_at = ?6
+                 WHERE member = ?1 AND lab = ?2",
+                params![
+                    member,
+                    lab.name(),
+                    serde_json::to_string(rubric).expect("marks serialise"),
+                    handed_in,
+                    by,
+                    now.as_second()
+                ],
+            )?;
+            let report = read_report(transaction, member, lab)?.expect("the report just written");
+            Ok(Ok(report))
+        })
     }
 
     /// The state of every report of a course's exercise that was written, by member.

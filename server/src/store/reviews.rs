@@ -2,7 +2,7 @@
 //! reviews which sheet (numbered for the reviewer, who never learns whose it is), and the
 //! marks. What a round hands out and how its marks count is `courses::rounds`' to decide.
 
-use super::db::{self, OptionalExtension, Transaction, params};
+use super::db::{self, Connection, OptionalExtension, params};
 use super::{Error, Store, timestamp};
 use crate::courses::questions::Answer;
 use crate::courses::review::Pair;
@@ -91,7 +91,7 @@ pub struct NewRound<'a> {
 }
 
 fn insert_sheet(
-    transaction: &Transaction,
+    transaction: &Connection,
     round: i64,
     author: i64,
     sheet: &[SheetAnswer],
@@ -107,7 +107,7 @@ fn insert_sheet(
 /// Adds `pair` as the reviewer's sheet numbered after every number they ever had in the
 /// round: a number names one sheet for good, so marks sent for a sheet that went
 /// elsewhere meanwhile never land on another.
-fn insert_pair(transaction: &Transaction, round: i64, pair: Pair) -> db::Result<()> {
+fn insert_pair(transaction: &Connection, round: i64, pair: Pair) -> db::Result<()> {
     transaction.execute(
         "INSERT INTO review_pairs (round, reviewer, author, number)
          VALUES (?1, ?2, ?3, 1 + (SELECT COALESCE(MAX(number), 0) FROM review_numbers
@@ -122,7 +122,7 @@ fn insert_pair(transaction: &Transaction, round: i64, pair: Pair) -> db::Result<
     Ok(())
 }
 
-fn delete_pair(transaction: &Transaction, round: i64, pair: Pair) -> db::Result<()> {
+fn delete_pair(transaction: &Connection, round: i64, pair: Pair) -> db::Result<()> {
     let keys = params![round, pair.reviewer, pair.author];
     transaction.execute(
         "DELETE FROM review_marks WHERE round = ?1 AND reviewer = ?2 AND author = ?3",
@@ -144,30 +144,32 @@ impl Store {
         pairs: &[Pair],
         now: Timestamp,
     ) -> Result<i64, Error> {
-        let connection = self.connection();
-        let transaction = connection.transaction()?;
-        let id = transaction.query_row(
-"INSERT INTO review_rounds (course, lab, part, per_sheet, seed, bonus_above, opened_by, opened_at, questions)
-             VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9) RETURNING id",
-            params![
-                new.course,
-                new.lab.name(),
-                new.part as i64,
-                new.per_sheet as i64,
-                new.seed as i64,
-                new.bonus_above,
-                new.opened_by,
-                now.as_second(),
-                new.questions
-            ], |row| row.get(0))?;
-        for (author, sheet) in sheets {
-            insert_sheet(&transaction, id, *author, sheet)?;
-        }
-        for &pair in pairs {
-            insert_pair(&transaction, id, pair)?;
-        }
-        transaction.commit()?;
-        Ok(id)
+        self.transaction(|transaction| {
+            let id = transaction.query_row(
+                "INSERT INTO review_rounds (course, lab, part, per_sheet, seed, bonus_above,
+                     opened_by, opened_at, questions)
+                 VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9) RETURNING id",
+                params![
+                    new.course,
+                    new.lab.name(),
+                    new.part as i64,
+                    new.per_sheet as i64,
+                    new.seed as i64,
+                    new.bonus_above,
+                    new.opened_by,
+                    now.as_second(),
+                    new.questions
+                ],
+                |row| row.get(0),
+            )?;
+            for (author, sheet) in sheets {
+                insert_sheet(transaction, id, *author, sheet)?;
+            }
+            for &pair in pairs {
+                insert_pair(transaction, id, pair)?;
+            }
+            Ok(id)
+        })
     }
 
     /// An assignment's rounds, the latest first.
@@ -276,45 +278,45 @@ impl Store {
         submit: bool,
         now: Timestamp,
     ) -> Result<bool, Error> {
-        let connection = self.connection();
-        let transaction = connection.transaction()?;
-        let keys = params![round, pair.reviewer, pair.author];
-        let open: bool = transaction.query_row(
-            "SELECT EXISTS (SELECT 1 FROM review_rounds r JOIN review_pairs p ON p.round = r.id
-                            WHERE r.id = ?1 AND r.closed_at IS NULL AND p.reviewer = ?2
-                              AND p.author = ?3 AND p.submitted_at IS NULL)",
-            keys,
-            |row| row.get(0),
-        )?;
-        if !open {
-            return Ok(false);
-        }
-        transaction.execute(
-            "DELETE FROM review_marks WHERE round = ?1 AND reviewer = ?2 AND author = ?3",
-            keys,
-        )?;
-        for mark in marks {
-            transaction.execute(
-                "INSERT INTO review_marks (round, reviewer, author, question, correct, comment)
-                 VALUES (?1, ?2, ?3, ?4, ?5, ?6)",
-                params![
-                    round,
-                    pair.reviewer,
-                    pair.author,
-                    mark.question,
-                    mark.correct,
-                    mark.comment
-                ],
+        self.transaction(|transaction| {
+            let keys = params![round, pair.reviewer, pair.author];
+            let open: bool = transaction.query_row(
+                "SELECT EXISTS (SELECT 1 FROM review_rounds r JOIN review_pairs p ON p.round = r.id
+                                WHERE r.id = ?1 AND r.closed_at IS NULL AND p.reviewer = ?2
+                                  AND p.author = ?3 AND p.submitted_at IS NULL)",
+                keys,
+                |row| row.get(0),
             )?;
-        }
-        if submit {
+            if !open {
+                return Ok(false);
+            }
             transaction.execute(
-                "UPDATE review_pairs SET submitted_at = ?4 WHERE round = ?1 AND reviewer = ?2 AND author = ?3",
-                params![round, pair.reviewer, pair.author, now.as_second()],
+                "DELETE FROM review_marks WHERE round = ?1 AND reviewer = ?2 AND author = ?3",
+                keys,
             )?;
-        }
-        transaction.commit()?;
-        Ok(true)
+            for mark in marks {
+                transaction.execute(
+                    "INSERT INTO review_marks (round, reviewer, author, question, correct, comment)
+                     VALUES (?1, ?2, ?3, ?4, ?5, ?6)",
+                    params![
+                        round,
+                        pair.reviewer,
+                        pair.author,
+                        mark.question,
+                        mark.correct,
+                        mark.comment
+                    ],
+                )?;
+            }
+            if submit {
+                transaction.execute(
+                    "UPDATE review_pairs SET submitted_at = ?4
+                     WHERE round = ?1 AND reviewer = ?2 AND author = ?3",
+                    params![round, pair.reviewer, pair.author, now.as_second()],
+                )?;
+            }
+            Ok(true)
+        })
     }
 
     /// A late author joins a round: their sheet, the pairs that make room for them
@@ -326,31 +328,29 @@ impl Store {
         removed: &[Pair],
         added: &[Pair],
     ) -> Result<(), Error> {
-        let connection = self.connection();
-        let transaction = connection.transaction()?;
-        insert_sheet(&transaction, round, author, sheet)?;
-        for &pair in removed {
-            delete_pair(&transaction, round, pair)?;
-        }
-        for &pair in added {
-            insert_pair(&transaction, round, pair)?;
-        }
-        transaction.commit()?;
-        Ok(())
+        self.transaction(|transaction| {
+            insert_sheet(transaction, round, author, sheet)?;
+            for &pair in removed {
+                delete_pair(transaction, round, pair)?;
+            }
+            for &pair in added {
+                insert_pair(transaction, round, pair)?;
+            }
+            Ok(())
+        })
     }
 
     /// Moves sheets between reviewers: each old pair (with any marks) is removed and its
     /// new one, where there is one, added.
     pub fn move_pairs(&self, round: i64, moves: &[(Pair, Option<Pair>)]) -> Result<(), Error> {
-        let connection = self.connection();
-        let transaction = connection.transaction()?;
-        for &(old, new) in moves {
-            delete_pair(&transaction, round, old)?;
-            if let Some(new) = new {
-                insert_pair(&transaction, round, new)?;
+        self.transaction(|transaction| {
+            for &(old, new) in moves {
+                delete_pair(transaction, round, old)?;
+                if let Some(new) = new {
+                    insert_pair(transaction, round, new)?;
+                }
             }
-        }
-        transaction.commit()?;
-        Ok(())
+            Ok(())
+        })
     }
 }

@@ -186,38 +186,40 @@ pub(super) fn summary(row: &Row) -> db::Result<SubmissionSummary> {
 
 impl Store {
     /// Stores a new submission as queued and returns its id; refuses it when the student
-    /// already has one waiting or being graded in the same course and exercise.
+    /// already has one waiting or being graded in the same course and exercise (judged in
+    /// the same transaction, so that two web processes cannot both take one).
     pub fn insert(&self, new: &NewSubmission) -> Result<i64, Error> {
-        let connection = self.connection();
-        let busy: Option<i64> = connection
-            .query_row(
-                "SELECT id FROM submissions WHERE course = ?1 AND student = ?2 AND lab = ?3
+        self.transaction(|connection| {
+            let busy: Option<i64> = connection
+                .query_row(
+                    "SELECT id FROM submissions WHERE course = ?1 AND student = ?2 AND lab = ?3
                  AND status != 'graded' ORDER BY id LIMIT 1",
-                params![new.course, new.student, new.lab.name()],
-                |row| row.get(0),
-            )
-            .optional()?;
-        if let Some(id) = busy {
-            return Err(Error::Busy(id));
-        }
-        Ok(connection.query_row(
-            "INSERT INTO submissions (course, student, member, lab, seed, source, status,
+                    params![new.course, new.student, new.lab.name()],
+                    |row| row.get(0),
+                )
+                .optional()?;
+            if let Some(id) = busy {
+                return Err(Error::Busy(id));
+            }
+            Ok(connection.query_row(
+                "INSERT INTO submissions (course, student, member, lab, seed, source, status,
                  submitted_at, late_seconds, penalty, language)
              VALUES (?1, ?2, ?3, ?4, ?5, ?6, 'queued', ?7, ?8, ?9, ?10) RETURNING id",
-            params![
-                new.course,
-                new.student,
-                new.member,
-                new.lab.name(),
-                new.seed as i64,
-                new.source,
-                moment(new.submitted_at),
-                new.late_seconds,
-                new.penalty,
-                new.language.name()
-            ],
-            |row| row.get(0),
-        )?)
+                params![
+                    new.course,
+                    new.student,
+                    new.member,
+                    new.lab.name(),
+                    new.seed as i64,
+                    new.source,
+                    moment(new.submitted_at),
+                    new.late_seconds,
+                    new.penalty,
+                    new.language.name()
+                ],
+                |row| row.get(0),
+            )?)
+        })
     }
 
     /// Marks a submission as being graded and returns what grading needs.

@@ -64,14 +64,28 @@ pub fn assets() -> Assets {
     Assets::load(&dir).unwrap_or_else(|e| panic!("{e} (run scripts/build-web)"))
 }
 
-/// A store for a test: in `dir` on SQLite, or in a new database of the test server when
-/// the tests run on PostgreSQL (`ESTLAB_TEST_DATABASE=postgres`); its connection string.
-pub fn test_store(dir: &Path) -> (Store, Option<String>) {
-    if pgtest::wanted() {
-        let url = pgtest::database();
-        (Store::connect(&url).unwrap(), Some(url))
-    } else {
-        (Store::open(dir).unwrap(), None)
+/// When the tests run on PostgreSQL (`ESTLAB_TEST_DATABASE=postgres`), the database of
+/// the test whose data directory is `dir`: made at the first ask, and named in a file of
+/// that directory from then on (as `estlab --database` would be given it).
+pub fn database_url(dir: &Path) -> Option<String> {
+    if !pgtest::wanted() {
+        return None;
+    }
+    let file = dir.join("test-database");
+    if let Ok(url) = std::fs::read_to_string(&file) {
+        return Some(url);
+    }
+    let url = pgtest::database();
+    std::fs::create_dir_all(dir).unwrap();
+    std::fs::write(&file, &url).unwrap();
+    Some(url)
+}
+
+/// The store of the test whose data directory is `dir`, on the engine the tests run on.
+pub fn store_in(dir: &Path) -> Store {
+    match database_url(dir) {
+        Some(url) => Store::connect(&url).unwrap(),
+        None => Store::open(dir).unwrap(),
     }
 }
 
@@ -88,19 +102,13 @@ pub struct App {
 impl App {
     pub fn new() -> App {
         let clock = Arc::new(FixedClock::new(at("2026-12-01T10:00:00Z")));
-        let dir = tempfile::tempdir().unwrap();
-        let (store, url) = test_store(dir.path());
-        App::over(dir, url, store, clock)
+        App::over(tempfile::tempdir().unwrap(), clock)
     }
 
-    /// The application over a data directory and its store, grading (and regrading) what
-    /// waits there.
-    fn over(
-        dir: tempfile::TempDir,
-        url: Option<String>,
-        store: Store,
-        clock: Arc<FixedClock>,
-    ) -> App {
+    /// The application over a data directory, grading (and regrading) what waits there.
+    fn over(dir: tempfile::TempDir, clock: Arc<FixedClock>) -> App {
+        let store = store_in(dir.path());
+        let url = database_url(dir.path());
         let secret = Secret::load_or_create(dir.path()).unwrap();
         let sandbox = Sandbox::new(PathBuf::from(env!("CARGO_BIN_EXE_estlab")), 1);
         let grader = Grader::new(
@@ -133,11 +141,7 @@ impl App {
 
     /// The application again over the same data directory, as after a restart.
     pub fn restart(self) -> App {
-        let store = match &self.url {
-            Some(url) => Store::connect(url).unwrap(),
-            None => Store::open(self.dir.path()).unwrap(),
-        };
-        App::over(self.dir, self.url, store, self.clock)
+        App::over(self.dir, self.clock)
     }
 
     /// A connection of its own to the application's database, for tests that change it
