@@ -40,13 +40,25 @@ struct Cluster {
     dir: PathBuf,
 }
 
-static CLUSTER: OnceLock<Cluster> = OnceLock::new();
+/// The server, or why it did not start (said again to every test that asks).
+static CLUSTER: OnceLock<Result<Cluster, String>> = OnceLock::new();
 static DATABASES: AtomicU32 = AtomicU32::new(0);
 
 /// The connection string of a new, empty database on this process's server, started at
 /// the first call.
 pub fn database() -> String {
-    let cluster = CLUSTER.get_or_init(Cluster::start);
+    let cluster = CLUSTER
+        .get_or_init(|| {
+            std::panic::catch_unwind(Cluster::start).map_err(|panic| {
+                panic
+                    .downcast_ref::<String>()
+                    .cloned()
+                    .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
+                    .unwrap_or_default()
+            })
+        })
+        .as_ref()
+        .unwrap_or_else(|why| panic!("the test PostgreSQL server did not start: {why}"));
     let name = format!("t{}", DATABASES.fetch_add(1, Ordering::SeqCst));
     let admin = cluster.url("postgres");
     let create = format!("CREATE DATABASE {name}");
@@ -233,6 +245,21 @@ fn remove_stale() {
             continue;
         };
         if !Path::new(&format!("/proc/{pid}")).exists() {
+            // A server its test process left running (killed before it could stop it)
+            // stops first.
+            let server = std::fs::read_to_string(entry.path().join("data/postmaster.pid"))
+                .ok()
+                .and_then(|text| text.lines().next()?.trim().parse::<i32>().ok());
+            let postgres = |pid: i32| {
+                std::fs::read(format!("/proc/{pid}/cmdline"))
+                    .is_ok_and(|line| line.windows(8).any(|w| w == b"postgres"))
+            };
+            if let Some(server) = server.filter(|&pid| postgres(pid)) {
+                // SAFETY: kill only sends a signal.
+                unsafe {
+                    libc::kill(server, libc::SIGQUIT);
+                }
+            }
             let _ = std::fs::remove_dir_all(entry.path());
         }
     }

@@ -1271,6 +1271,25 @@ async fn refusals_of_the_api_are_json_naming_what_is_wrong() {
         "field `lab`: unknown exercise \"kidnapped-robot\"; the exercises graded here: ekf-localization, odometry, sensor-fusion, ukf-particle"
     );
 
+    // A file holding a NUL character: 400, naming its line; nothing stored.
+    let before = app.count();
+    let answer = app
+        .send(
+            Req::post("/api/submissions")
+                .who(&who)
+                .json(json!({ "source": "function init() {}\n// \u{0}\n" })),
+        )
+        .await;
+    assert_eq!(answer.status, StatusCode::BAD_REQUEST, "{}", answer.body);
+    assert!(
+        answer
+            .error()
+            .starts_with("field `source`: line 2 holds a NUL character"),
+        "{}",
+        answer.body
+    );
+    assert_eq!(app.count(), before);
+
     // A body that is not the JSON asked for: 400, naming the line and column.
     let broken = Req::post("/api/submissions").who(&who).json(json!(null));
     let error = app.send(broken).await.error();

@@ -16,9 +16,10 @@ use common::{database_url, store_in};
 fn estlab(data: &Path, args: &[&str]) -> Output {
     let mut command = Command::new(env!("CARGO_BIN_EXE_estlab"));
     command.args(args).args(["--data", data.to_str().unwrap()]);
-    if let Some(url) = database_url(data) {
-        command.env("ESTLAB_DATABASE", url);
-    }
+    match database_url(data) {
+        Some(url) => command.env("ESTLAB_DATABASE", url),
+        None => command.env_remove("ESTLAB_DATABASE"),
+    };
     if args[0] == "course" {
         command.args(["--url", "https://estlab.example"]);
     }

@@ -2,7 +2,7 @@
 // port, the estlab command line, and headless Chromium (Debian's) driven by Playwright.
 import assert from 'node:assert/strict';
 import { spawn, execFileSync } from 'node:child_process';
-import { existsSync, mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
+import { chownSync, existsSync, mkdirSync, mkdtempSync, readdirSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import { createRequire } from 'node:module';
 import { tmpdir } from 'node:os';
 import { dirname, join, resolve } from 'node:path';
@@ -52,9 +52,97 @@ export function withMistake(file, mistakes, name) {
 /** correct.js with an endless loop at the start of `predict`, which the sandboxes stop after 2 s. */
 export const loopingInPredict = correct.replace(/function predict\(([^)]*)\) \{/, 'function predict($1) { while (true) {}');
 
-/** The estlab command line: its standard output, or a thrown error with its stderr. */
+/**
+ * The estlab command line: its standard output, or a thrown error with its stderr. On
+ * PostgreSQL, the database of the data directory that `--data` names.
+ */
 export function estlab(...args) {
-  return execFileSync(estlabBinary, args, { encoding: 'utf8', maxBuffer: 1 << 28 });
+  const data = args.indexOf('--data');
+  const env = data >= 0 ? withDatabase(args[data + 1]) : process.env;
+  return execFileSync(estlabBinary, args, { encoding: 'utf8', maxBuffer: 1 << 28, env });
+}
+
+/**
+ * Whether the tests run on PostgreSQL (`ESTLAB_TEST_DATABASE=postgres`, as scripts/test
+ * runs the load and regrade tests a second time), rather than each data directory's SQLite.
+ */
+export const onPostgres = process.env.ESTLAB_TEST_DATABASE === 'postgres';
+
+/**
+ * The environment of an estlab process over the data directory `dataDir`: on PostgreSQL,
+ * with ESTLAB_DATABASE naming the directory's own database (made at the first ask, and
+ * named in the directory's `test-database`, as the Rust tests' is).
+ */
+export function withDatabase(dataDir) {
+  if (!onPostgres) {
+    const env = { ...process.env };
+    delete env.ESTLAB_DATABASE;
+    return env;
+  }
+  const file = join(dataDir, 'test-database');
+  if (!existsSync(file)) {
+    mkdirSync(dataDir, { recursive: true });
+    writeFileSync(file, newDatabase());
+  }
+  return { ...process.env, ESTLAB_DATABASE: readFileSync(file, 'utf8') };
+}
+
+/**
+ * This test file's PostgreSQL server (as the Rust tests' pgtest starts theirs): Debian's
+ * newest /usr/lib/postgresql/*\/bin, a cluster in a temporary folder, listening on a Unix
+ * socket there only, run as the postgres user when the tests run as root; stopped when the
+ * test file's process exits. Folders of earlier runs whose process is gone are removed.
+ */
+let cluster;
+let databases = 0;
+function newDatabase() {
+  cluster ??= startCluster();
+  const name = `e${databases++}`;
+  execFileSync(join(cluster.bin, 'createdb'), ['-h', cluster.dir, '-p', '5432', '-U', 'estlab', name]);
+  return `host=${cluster.dir} port=5432 user=estlab dbname=${name}`;
+}
+
+function startCluster() {
+  const versions = existsSync('/usr/lib/postgresql') ? readdirSync('/usr/lib/postgresql').filter((v) => /^\d+$/.test(v)) : [];
+  const newest = versions.map(Number).sort((a, b) => a - b).at(-1);
+  if (newest === undefined) throw new Error('ESTLAB_TEST_DATABASE=postgres, but PostgreSQL is not installed (apt-get install postgresql, as scripts/test does)');
+  const bin = process.env.ESTLAB_POSTGRES_BIN ?? `/usr/lib/postgresql/${newest}/bin`;
+  for (const name of readdirSync(tmpdir())) {
+    const pid = name.match(/^estlab-pg-(\d+)$/)?.[1];
+    if (!pid || existsSync(`/proc/${pid}`)) continue;
+    // A server its test process left running (killed before it could stop it) stops first.
+    const postmaster = join(tmpdir(), name, 'data', 'postmaster.pid');
+    const server = existsSync(postmaster) ? readFileSync(postmaster, 'utf8').split('\n')[0] : '';
+    if (/^\d+$/.test(server) && existsSync(`/proc/${server}/cmdline`) && readFileSync(`/proc/${server}/cmdline`, 'utf8').includes('postgres')) {
+      process.kill(Number(server), 'SIGQUIT');
+    }
+    rmSync(join(tmpdir(), name), { recursive: true, force: true });
+  }
+  const dir = join(tmpdir(), `estlab-pg-${process.pid}`);
+  mkdirSync(dir);
+  let user = {};
+  if (process.getuid() === 0) {
+    const line = readFileSync('/etc/passwd', 'utf8').split('\n').find((l) => l.startsWith('postgres:'));
+    assert.ok(line, 'the tests run as root, which PostgreSQL refuses, and there is no user postgres');
+    const [, , uid, gid] = line.split(':');
+    user = { uid: Number(uid), gid: Number(gid) };
+    chownSync(dir, user.uid, user.gid);
+  }
+  execFileSync(join(bin, 'initdb'), ['-D', join(dir, 'data'), '-U', 'estlab', '--auth=trust', '--no-locale', '-E', 'UTF8', '--no-sync'], { ...user, stdio: 'ignore' });
+  const server = spawn(join(bin, 'postgres'), ['-D', join(dir, 'data'), '-k', dir, '-p', '5432', '-c', 'listen_addresses=',
+    '-c', 'fsync=off', '-c', 'synchronous_commit=off', '-c', 'full_page_writes=off', '-c', 'max_connections=200'], { ...user, stdio: 'ignore' });
+  // Not holding the test file's process open: it stops the server as it exits.
+  server.unref();
+  process.on('exit', () => server.kill('SIGINT'));
+  for (let tries = 0; ; tries++) {
+    try {
+      execFileSync(join(bin, 'pg_isready'), ['-h', dir, '-p', '5432', '-q']);
+      return { bin, dir };
+    } catch (error) {
+      if (tries > 600) throw new Error(`PostgreSQL did not accept connections: ${error.message}`);
+      Atomics.wait(new Int32Array(new SharedArrayBuffer(4)), 0, 0, 100);
+    }
+  }
 }
 
 /** The temporary directories this test file made, removed when its process exits. */
@@ -79,6 +167,7 @@ export function startServer({ dataDir = tempDir(), args = [] } = {}) {
   if (!existsSync(estlabBinary)) throw new Error(`${estlabBinary} is not built (cargo build -p estlab)`);
   const child = spawn(estlabBinary, ['serve', '--addr', '127.0.0.1:0', '--static', staticDir, '--data', dataDir, ...args], {
     stdio: ['ignore', 'pipe', 'pipe'],
+    env: withDatabase(dataDir),
   });
   let stderr = '';
   child.stderr.on('data', (chunk) => { stderr += chunk; });

@@ -76,6 +76,7 @@ async fn serve(args: &Args) -> Result<(), Error> {
     };
     let store = args.data.open()?;
     let secret = Secret::load_or_create(&args.data.dir)?;
+    store.check_secret(&secret.fingerprint())?;
     let parallel = args.parallel.clamp(1, cores());
     let sandbox = Sandbox::current(cores() / parallel)
         .map_err(Error::io("the estlab executable"))?

@@ -72,6 +72,16 @@ impl Secret {
         file.sync_all().map_err(failed(path))
     }
 
+    /// A fingerprint of the secret, which tells secrets apart without telling anything of
+    /// them: the first 8 bytes of SHA-256 of a label and the secret, in hex.
+    pub fn fingerprint(&self) -> String {
+        let digest = Sha256::new()
+            .chain_update(b"fingerprint of an estlab secret ")
+            .chain_update(self.0)
+            .finalize();
+        digest[..8].iter().map(|b| format!("{b:02x}")).collect()
+    }
+
     /// The secret's bytes, to put in a package.
     pub fn bytes(&self) -> &[u8; BYTES] {
         &self.0
@@ -162,6 +172,9 @@ mod tests {
         let other = tempfile::tempdir().unwrap();
         let other = Secret::load_or_create(other.path()).unwrap();
         assert_ne!(first.hidden_seed(7), other.hidden_seed(7));
+        assert_eq!(first.fingerprint(), again.fingerprint());
+        assert_ne!(first.fingerprint(), other.fingerprint());
+        assert_eq!(first.fingerprint().len(), 16);
     }
 
     /// A class's held-out run is the same for every submission of the class, another for

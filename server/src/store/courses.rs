@@ -177,6 +177,9 @@ fn find_member(connection: &Connection, course: &str, login: &str) -> db::Result
         .optional()
 }
 
+/// The setting that keeps the fingerprint of the server's secret.
+const SECRET_FINGERPRINT: &str = "secret_fingerprint";
+
 impl Store {
     /// Whether any course is set up: until one is, the server is open to anyone.
     pub fn any_course(&self) -> Result<bool, Error> {
@@ -189,18 +192,19 @@ impl Store {
 
     /// Creates a course, or gives an existing one a new title; true when it is new.
     pub fn create_course(&self, name: &str, title: &str, now: Timestamp) -> Result<bool, Error> {
-        let connection = self.connection();
-        let updated = connection.execute(
-            "UPDATE courses SET title = ?2 WHERE name = ?1",
-            params![name, title],
-        )?;
-        if updated == 0 {
-            connection.execute(
-                "INSERT INTO courses (name, title, created_at) VALUES (?1, ?2, ?3)",
-                params![name, title, now.as_second()],
+        self.transaction(|connection| {
+            let updated = connection.execute(
+                "UPDATE courses SET title = ?2 WHERE name = ?1",
+                params![name, title],
             )?;
-        }
-        Ok(updated == 0)
+            if updated == 0 {
+                connection.execute(
+                    "INSERT INTO courses (name, title, created_at) VALUES (?1, ?2, ?3)",
+                    params![name, title, now.as_second()],
+                )?;
+            }
+            Ok(updated == 0)
+        })
     }
 
     pub fn courses(&self) -> Result<Vec<Course>, Error> {
@@ -232,26 +236,29 @@ impl Store {
     /// marked dropped. Refuses to turn a student into staff or back: their submissions
     /// would change hands.
     pub fn add_member(&self, course: &str, new: &NewMember) -> Result<Member, Error> {
-        let connection = self.connection();
-        if let Some(existing) = find_member(&connection, course, new.login)? {
-            if existing.role.is_staff() != new.role.is_staff() {
-                return Err(Error::Conflict(format!(
-                    "{:?} is already a {} of {course}; staff and students need different ids",
-                    new.login,
-                    existing.role.as_str()
-                )));
+        self.transaction(|connection| {
+            if let Some(existing) = find_member(connection, course, new.login)? {
+                if existing.role.is_staff() != new.role.is_staff() {
+                    return Err(Error::Conflict(format!(
+                        "{:?} is already a {} of {course}; staff and students need different ids",
+                        new.login,
+                        existing.role.as_str()
+                    )));
+                }
+                connection.execute(
+                    "UPDATE members SET name = ?2, email = ?3, role = ?4, dropped = 0
+                     WHERE id = ?1",
+                    params![existing.id, new.name, new.email, new.role.as_str()],
+                )?;
+            } else {
+                connection.execute(
+                    "INSERT INTO members (course, login, name, email, role)
+                     VALUES (?1, ?2, ?3, ?4, ?5)",
+                    params![course, new.login, new.name, new.email, new.role.as_str()],
+                )?;
             }
-            connection.execute(
-                "UPDATE members SET name = ?2, email = ?3, role = ?4, dropped = 0 WHERE id = ?1",
-                params![existing.id, new.name, new.email, new.role.as_str()],
-            )?;
-        } else {
-            connection.execute(
-                "INSERT INTO members (course, login, name, email, role) VALUES (?1, ?2, ?3, ?4, ?5)",
-                params![course, new.login, new.name, new.email, new.role.as_str()],
-            )?;
-        }
-        Ok(find_member(&connection, course, new.login)?.expect("just written"))
+            Ok(find_member(connection, course, new.login)?.expect("just written"))
+        })
     }
 
     /// Imports a roster in one transaction: new students are added, known ones updated
@@ -465,6 +472,38 @@ impl Store {
             .optional()?)
     }
 
+    /// Records the fingerprint of the secret the hidden cases are drawn from, at the first
+    /// start over this database; refuses another, which would grade every submission on
+    /// other hidden cases (a process started with another data directory's secret, or a
+    /// database restored beside the wrong one).
+    pub fn check_secret(&self, fingerprint: &str) -> Result<(), Error> {
+        self.transaction(|connection| {
+            let kept: Option<String> = connection
+                .query_row(
+                    "SELECT value FROM settings WHERE key = ?1",
+                    params![SECRET_FINGERPRINT],
+                    |row| row.get(0),
+                )
+                .optional()?;
+            match kept {
+                None => {
+                    connection.execute(
+                        "INSERT INTO settings (key, value) VALUES (?1, ?2)",
+                        params![SECRET_FINGERPRINT, fingerprint],
+                    )?;
+                    Ok(())
+                }
+                Some(kept) if kept == fingerprint => Ok(()),
+                Some(kept) => Err(Error::Conflict(format!(
+                    "the data directory's secret (fingerprint {fingerprint}) is not the one this \
+                     database's submissions are graded with (fingerprint {kept}): every estlab \
+                     process over one database needs the same secret; copy the file `secret` of \
+                     the data directory the database began with"
+                ))),
+            }
+        })
+    }
+
     pub fn set_setting(&self, key: &str, value: &str) -> Result<(), Error> {
         self.connection().execute(
             "INSERT INTO settings (key, value) VALUES (?1, ?2)
@@ -472,5 +511,28 @@ impl Store {
             params![key, value],
         )?;
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The first process over a database records its secret's fingerprint; the same is
+    /// taken again, another refused, naming both.
+    #[test]
+    fn a_database_keeps_to_the_secret_it_began_with() {
+        let dir = tempfile::tempdir().unwrap();
+        let store = crate::store::test_store(dir.path());
+        store.check_secret("00aa").unwrap();
+        store.check_secret("00aa").unwrap();
+        let refused = store.check_secret("11bb").unwrap_err();
+        assert!(matches!(refused, Error::Conflict(_)));
+        let message = refused.to_string();
+        assert!(
+            message.contains("11bb") && message.contains("00aa") && message.contains("secret"),
+            "{message}"
+        );
+        store.check_secret("00aa").unwrap();
     }
 }

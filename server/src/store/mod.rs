@@ -272,7 +272,12 @@ impl Store {
                 Ok(value)
             });
             match done {
-                Err(Error::Sql(e)) if e.is_retryable() && tries < TRIES => tries += 1,
+                Err(Error::Sql(e)) if e.is_retryable() && tries < TRIES => {
+                    // The other transaction is given a moment to end before this one's
+                    // next try.
+                    std::thread::sleep(std::time::Duration::from_millis(5 * u64::from(tries)));
+                    tries += 1;
+                }
                 done => return done,
             }
         }

@@ -299,8 +299,13 @@ pub fn migrate(connection: &Connection) -> db::Result<()> {
             // Held until the session's end or the unlock below, by one process at a time.
             connection.execute_batch(&format!("SELECT pg_advisory_lock({MIGRATION_LOCK})"))?;
             let migrated = migrate_postgres(connection);
-            connection.execute_batch(&format!("SELECT pg_advisory_unlock({MIGRATION_LOCK})"))?;
-            migrated
+            if migrated.is_err() {
+                // A failed step leaves its transaction open: the unlock waits for its end.
+                let _ = connection.execute_batch("ROLLBACK");
+            }
+            let unlocked =
+                connection.execute_batch(&format!("SELECT pg_advisory_unlock({MIGRATION_LOCK})"));
+            migrated.and(unlocked)
         }
     }
 }
@@ -337,8 +342,9 @@ const POSTGRES_FUNCTIONS: &str = "CREATE OR REPLACE FUNCTION json_each(list text
     AS $$ SELECT jsonb_array_elements_text(CAST(list AS jsonb)) $$;";
 
 /// A definition in SQLite's words, in PostgreSQL's: 64-bit integers (SQLite's are), a
-/// row id drawn from a sequence, double precision, and the moment now as SQLite formats
-/// it (`2026-12-05T09:30:00.000Z`).
+/// row id drawn from a sequence, double precision, text compared and sorted byte by byte
+/// as SQLite does (the "C" collation, whatever the database's locale), and the moment now
+/// as SQLite formats it (`2026-12-05T09:30:00.000Z`).
 fn postgres_ddl(sql: &str) -> String {
     sql.replace(
         "id INTEGER PRIMARY KEY,",
@@ -346,6 +352,7 @@ fn postgres_ddl(sql: &str) -> String {
     )
     .replace(" INTEGER", " BIGINT")
     .replace(" REAL", " DOUBLE PRECISION")
+    .replace(" TEXT", " TEXT COLLATE \"C\"")
     .replace(
         "strftime('%Y-%m-%dT%H:%M:%fZ', 'now')",
         "to_char(now() AT TIME ZONE 'UTC', 'YYYY-MM-DD\"T\"HH24:MI:SS.MS\"Z\"')",

@@ -384,8 +384,10 @@ pub struct Transaction<'c> {
 
 impl Transaction<'_> {
     pub fn commit(mut self) -> Result<()> {
+        // A failed COMMIT leaves the transaction to be rolled back as it is dropped.
+        self.connection.execute_batch("COMMIT")?;
         self.done = true;
-        self.connection.execute_batch("COMMIT")
+        Ok(())
     }
 }
 

@@ -2,13 +2,34 @@
 //! its own, which must not be started from inside another (the web server's): so each
 //! connection's client lives on a thread of its own, and statements cross to it with their
 //! text and owned values, and come back as rows, which are read where they were asked for.
+//! Each statement is prepared once per connection (the store's are a few dozen texts), so
+//! that running it again is one round trip to the server, not two.
 
 use super::Value;
 use postgres::types::{IsNull, ToSql, Type};
+use std::collections::HashMap;
 use std::error::Error as StdError;
 use std::sync::mpsc;
 
-type Job = Box<dyn FnOnce(&mut postgres::Client) + Send>;
+type Job = Box<dyn FnOnce(&mut Session) + Send>;
+
+/// What the connection's thread holds: the client and the statements it prepared.
+struct Session {
+    client: postgres::Client,
+    prepared: HashMap<String, postgres::Statement>,
+}
+
+impl Session {
+    /// The statement of `sql`, prepared at its first use.
+    fn statement(&mut self, sql: &str) -> Result<postgres::Statement, postgres::Error> {
+        if let Some(statement) = self.prepared.get(sql) {
+            return Ok(statement.clone());
+        }
+        let statement = self.client.prepare(sql)?;
+        self.prepared.insert(sql.to_owned(), statement.clone());
+        Ok(statement)
+    }
+}
 
 /// A connection to a PostgreSQL server, held by a thread of its own.
 pub struct Postgres {
@@ -23,8 +44,11 @@ impl Postgres {
         std::thread::Builder::new()
             .name("estlab-postgres".into())
             .spawn(move || {
-                let mut client = match config.connect(postgres::NoTls) {
-                    Ok(client) => client,
+                let mut session = match config.connect(postgres::NoTls) {
+                    Ok(client) => Session {
+                        client,
+                        prepared: HashMap::new(),
+                    },
                     Err(e) => {
                         let _ = ready.send(Err(e));
                         return;
@@ -33,7 +57,18 @@ impl Postgres {
                 let _ = ready.send(Ok(()));
                 // Ends when the connection is dropped (its sender with it).
                 for job in waiting {
-                    job(&mut client);
+                    // A server that restarted (or closed an idle session) is connected to
+                    // again, its statements prepared anew; if it is still away, the
+                    // statement fails and says so.
+                    if session.client.is_closed()
+                        && let Ok(again) = config.connect(postgres::NoTls)
+                    {
+                        session = Session {
+                            client: again,
+                            prepared: HashMap::new(),
+                        };
+                    }
+                    job(&mut session);
                 }
             })
             .expect("a thread for the database connection starts");
@@ -44,14 +79,11 @@ impl Postgres {
     }
 
     /// Runs `job` on the connection's thread and waits for its answer.
-    fn run<R: Send + 'static>(
-        &self,
-        job: impl FnOnce(&mut postgres::Client) -> R + Send + 'static,
-    ) -> R {
+    fn run<R: Send + 'static>(&self, job: impl FnOnce(&mut Session) -> R + Send + 'static) -> R {
         let (reply, answer) = mpsc::sync_channel(1);
         self.jobs
-            .send(Box::new(move |client| {
-                let _ = reply.send(job(client));
+            .send(Box::new(move |session| {
+                let _ = reply.send(job(session));
             }))
             .expect("the connection's thread lives as long as the connection");
         answer
@@ -61,7 +93,10 @@ impl Postgres {
 
     pub fn execute(&self, sql: &str, params: &[Value]) -> Result<u64, postgres::Error> {
         let (sql, params) = (postgres_sql(sql), owned(params));
-        self.run(move |client| client.execute(&sql, &bound(&params)))
+        self.run(move |session| {
+            let statement = session.statement(&sql)?;
+            session.client.execute(&statement, &bound(&params))
+        })
     }
 
     pub fn query(
@@ -70,12 +105,15 @@ impl Postgres {
         params: &[Value],
     ) -> Result<Vec<postgres::Row>, postgres::Error> {
         let (sql, params) = (postgres_sql(sql), owned(params));
-        self.run(move |client| client.query(&sql, &bound(&params)))
+        self.run(move |session| {
+            let statement = session.statement(&sql)?;
+            session.client.query(&statement, &bound(&params))
+        })
     }
 
     pub fn batch_execute(&self, sql: &str) -> Result<(), postgres::Error> {
         let sql = sql.to_owned();
-        self.run(move |client| client.batch_execute(&sql))
+        self.run(move |session| session.client.batch_execute(&sql))
     }
 }
 
