@@ -782,3 +782,32 @@ fn questions_are_imported_from_files_each_problem_naming_its_file_and_line() {
     );
     assert!(error.contains("el2320 has not opened odometry"), "{error}");
 }
+
+/// A database URL that PostgreSQL cannot read, or whose server is not there, is refused
+/// without repeating its password.
+#[test]
+fn a_database_that_cannot_be_opened_is_refused_without_its_password() {
+    let dir = tempfile::tempdir().unwrap();
+    for (url, said) in [
+        (
+            "postgres://ada:hunter2@localhost:notaport/estlab",
+            "is not one PostgreSQL reads",
+        ),
+        (
+            "postgres://ada:hunter2@127.0.0.1:1/estlab",
+            "postgres://ada@127.0.0.1:1/estlab",
+        ),
+    ] {
+        let out = Command::new(env!("CARGO_BIN_EXE_estlab"))
+            .args(["course", "list", "--data", dir.path().to_str().unwrap()])
+            .env("ESTLAB_DATABASE", url)
+            .output()
+            .unwrap();
+        assert!(!out.status.success(), "{url}");
+        let error = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            error.contains(said) && !error.contains("hunter2"),
+            "{url}: {error}"
+        );
+    }
+}

@@ -223,7 +223,8 @@ impl Store {
     pub fn connect(url: &str) -> Result<Store, Error> {
         let config: postgres::Config = url.parse().map_err(|e: postgres::Error| {
             Error::Conflict(format!(
-                "the database URL {url:?} is not one PostgreSQL reads: {e}"
+                "the database URL (--database or ESTLAB_DATABASE; not repeated here, as it may \
+                 hold a password) is not one PostgreSQL reads: {e}"
             ))
         })?;
         let place = Place::Server(server_name(&config));
