@@ -347,7 +347,9 @@ test('after the grader changes, the whole assignment is regraded from the page w
   // Another secret: other hidden cases, and a plan (with its hidden cases) of another hash.
   await server.stop();
   writeFileSync(join(dataDir, 'secret'), SECRET_AFTER);
-  server = await startServer({ dataDir });
+  // Refused unless the secret is said to be new: the database keeps the first's fingerprint.
+  await assert.rejects(startServer({ dataDir }), /secret \(fingerprint [0-9a-f]{16}\) is not the one this database's submissions are graded with/);
+  server = await startServer({ dataDir, args: ['--new-secret'] });
   await visit(staff, CLASS_PAGE);
   const grader = await staff.locator('#grader').textContent();
   assert.match(grader, /^estlab \S+ plan [0-9a-f]{12}$/);

@@ -41,6 +41,11 @@ pub struct Args {
     /// proxy adds to X-Forwarded-For.
     #[arg(long)]
     behind_https: bool,
+    /// The data directory's secret replaces, on purpose, the one the database's
+    /// submissions were graded with (without this the server refuses to start with another
+    /// secret): a regrade then draws other hidden cases.
+    #[arg(long)]
+    new_secret: bool,
     /// The address people reach the server at, for the sign-in links that `estlab
     /// course` prints (default: the address it listens on, with https:// when
     /// --behind-https).
@@ -76,7 +81,12 @@ async fn serve(args: &Args) -> Result<(), Error> {
     };
     let store = args.data.open()?;
     let secret = Secret::load_or_create(&args.data.dir)?;
-    store.check_secret(&secret.fingerprint())?;
+    if let Some(replaced) = store.check_secret(&secret.fingerprint(), args.new_secret)? {
+        println!(
+            "estlab: the secret (fingerprint {}) replaces the one of fingerprint {replaced}: regrade to grade on its hidden cases",
+            secret.fingerprint()
+        );
+    }
     let parallel = args.parallel.clamp(1, cores());
     let sandbox = Sandbox::current(cores() / parallel)
         .map_err(Error::io("the estlab executable"))?

@@ -475,8 +475,9 @@ impl Store {
     /// Records the fingerprint of the secret the hidden cases are drawn from, at the first
     /// start over this database; refuses another, which would grade every submission on
     /// other hidden cases (a process started with another data directory's secret, or a
-    /// database restored beside the wrong one).
-    pub fn check_secret(&self, fingerprint: &str) -> Result<(), Error> {
+    /// database restored beside the wrong one), unless it is taken as `new` (a secret
+    /// replaced on purpose): then the fingerprint it replaced.
+    pub fn check_secret(&self, fingerprint: &str, new: bool) -> Result<Option<String>, Error> {
         self.transaction(|connection| {
             let kept: Option<String> = connection
                 .query_row(
@@ -491,14 +492,23 @@ impl Store {
                         "INSERT INTO settings (key, value) VALUES (?1, ?2)",
                         params![SECRET_FINGERPRINT, fingerprint],
                     )?;
-                    Ok(())
+                    Ok(None)
                 }
-                Some(kept) if kept == fingerprint => Ok(()),
+                Some(kept) if kept == fingerprint => Ok(None),
+                Some(kept) if new => {
+                    connection.execute(
+                        "UPDATE settings SET value = ?2 WHERE key = ?1",
+                        params![SECRET_FINGERPRINT, fingerprint],
+                    )?;
+                    Ok(Some(kept))
+                }
                 Some(kept) => Err(Error::Conflict(format!(
                     "the data directory's secret (fingerprint {fingerprint}) is not the one this \
                      database's submissions are graded with (fingerprint {kept}): every estlab \
                      process over one database needs the same secret; copy the file `secret` of \
-                     the data directory the database began with"
+                     the data directory the database began with, or, to replace the secret on \
+                     purpose, start once with --new-secret (a regrade then draws other hidden \
+                     cases)"
                 ))),
             }
         })
@@ -519,20 +529,27 @@ mod tests {
     use super::*;
 
     /// The first process over a database records its secret's fingerprint; the same is
-    /// taken again, another refused, naming both.
+    /// taken again, another refused, naming both, unless it replaces the first on purpose.
     #[test]
     fn a_database_keeps_to_the_secret_it_began_with() {
         let dir = tempfile::tempdir().unwrap();
         let store = crate::store::test_store(dir.path());
-        store.check_secret("00aa").unwrap();
-        store.check_secret("00aa").unwrap();
-        let refused = store.check_secret("11bb").unwrap_err();
+        assert_eq!(store.check_secret("00aa", false).unwrap(), None);
+        assert_eq!(store.check_secret("00aa", false).unwrap(), None);
+        let refused = store.check_secret("11bb", false).unwrap_err();
         assert!(matches!(refused, Error::Conflict(_)));
         let message = refused.to_string();
         assert!(
             message.contains("11bb") && message.contains("00aa") && message.contains("secret"),
             "{message}"
         );
-        store.check_secret("00aa").unwrap();
+        assert_eq!(store.check_secret("00aa", false).unwrap(), None);
+        // Replaced on purpose: taken, and kept from then on.
+        assert_eq!(
+            store.check_secret("11bb", true).unwrap().as_deref(),
+            Some("00aa")
+        );
+        assert_eq!(store.check_secret("11bb", false).unwrap(), None);
+        assert!(store.check_secret("00aa", false).is_err());
     }
 }
