@@ -18,7 +18,7 @@ use estlab::courses::deadline::{Counts, Policy};
 use estlab::courses::export::{self, Format};
 use estlab::courses::roster;
 use estlab::sandbox::{Code, Sandbox};
-use estlab::store::{NewExtension, NewMember, NewSubmission, Role, Store};
+use estlab::store::{Holder, Lease, NewExtension, NewMember, NewSubmission, Role, Store};
 use jiff::{SignedDuration, Timestamp};
 use labs::Exercise;
 use labs::grading::{GradeResult, Hidden, student_seed};
@@ -27,6 +27,8 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 const COURSE: &str = "el2320";
+/// The grader the class's results name.
+const GRADER: &str = "estlab 0.1.0 plan bench";
 const STUDENTS: usize = 500;
 const PER_STUDENT: usize = 10;
 /// The catalogued mistakes graded (`tests/student/mistakes.json`), each in another function.
@@ -171,6 +173,7 @@ fn build(dir: &Path) -> Store {
         .collect();
     let members = store.import_roster(COURSE, &roster).unwrap().added;
     assert_eq!(members.len(), STUDENTS);
+    let holder = Holder::this_process();
     for (i, member) in members.iter().enumerate() {
         let seed = student_seed(COURSE, &member.login);
         for n in 0..PER_STUDENT {
@@ -194,14 +197,21 @@ fn build(dir: &Path) -> Store {
                     submitted_at,
                     late_seconds: if late { 20 * 3600 } else { 0 },
                     penalty: if late { 0.1 } else { 0.0 },
+                    grader: GRADER,
                 })
                 .unwrap();
             let result = GradeResult {
                 seed,
                 ..file.result.clone()
             };
+            let lease = Lease {
+                holder: &holder,
+                from: Timestamp::now(),
+                length: Duration::from_secs(60),
+            };
+            store.claim_submission(id, &lease).unwrap();
             store
-                .finish_grading(id, &result, Some("estlab 0.1.0 plan bench"))
+                .finish_grading(id, &result, Some(GRADER), &holder)
                 .unwrap();
         }
     }

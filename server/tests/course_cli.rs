@@ -162,6 +162,7 @@ fn a_course_is_set_up_from_scratch_and_re_imports_change_only_what_changed() {
             submitted_at: Timestamp::now(),
             late_seconds: 0,
             penalty: 0.0,
+            grader: "estlab test plan 0",
         })
         .unwrap();
     std::fs::write(
@@ -655,6 +656,7 @@ fn a_backup_taken_while_the_database_is_in_use_restores_every_submission() {
                 submitted_at: Timestamp::now(),
                 late_seconds: 0,
                 penalty: 0.0,
+                grader: "estlab test plan 0",
             })
             .unwrap();
     }

@@ -31,7 +31,13 @@ fn quick(marker: &str) -> String {
     format!("function init(){{ throw new Error(\"not implemented\") }} // {marker}\n")
 }
 
-fn submission<'a>(student: &'a str, lab: Exercise, source: &'a str) -> NewSubmission<'a> {
+/// A submission as a web process beside `grader` takes it.
+fn submission<'a>(
+    grader: &'a Grader,
+    student: &'a str,
+    lab: Exercise,
+    source: &'a str,
+) -> NewSubmission<'a> {
     NewSubmission {
         course: "el2320",
         student,
@@ -43,6 +49,7 @@ fn submission<'a>(student: &'a str, lab: Exercise, source: &'a str) -> NewSubmis
         submitted_at: Timestamp::UNIX_EPOCH,
         late_seconds: 0,
         penalty: 0.0,
+        grader: grader.version(lab),
     }
 }
 
@@ -80,34 +87,44 @@ async fn until(what: &str, mut done: impl FnMut() -> bool) {
 #[tokio::test]
 async fn another_students_submission_is_graded_before_a_flooders_second() {
     let dir = tempfile::tempdir().unwrap();
+    let grader = grader(dir.path(), Sandbox::new(estlab(), 1), one_at_a_time());
+    let store = grader.store();
+    // First, a submission that a web process of another release took: this grader would
+    // grade it differently, and leaves it to a grader of that release.
+    let elsewhere = store
+        .insert(&NewSubmission {
+            grader: "estlab 0.0.1 plan 000000000000",
+            ..submission(&grader, "alan", Exercise::Odometry, &quick("alan"))
+        })
+        .unwrap();
     // The submissions a stop left waiting: a flooder's two (one per exercise) first, then
     // two other students' one each.
-    let ids: Vec<i64> = {
-        let store = store_in(dir.path());
-        [
-            ("mallory", Exercise::EkfLocalization),
-            ("mallory", Exercise::Odometry),
-            ("ada", Exercise::EkfLocalization),
-            ("grace", Exercise::Odometry),
-        ]
-        .iter()
-        .map(|(student, lab)| {
-            let source = quick(student);
-            store.insert(&submission(student, *lab, &source)).unwrap()
-        })
-        .collect()
-    };
-    let grader = grader(dir.path(), Sandbox::new(estlab(), 1), one_at_a_time());
+    let ids: Vec<i64> = [
+        ("mallory", Exercise::EkfLocalization),
+        ("mallory", Exercise::Odometry),
+        ("ada", Exercise::EkfLocalization),
+        ("grace", Exercise::Odometry),
+    ]
+    .iter()
+    .map(|(student, lab)| {
+        let source = quick(student);
+        store
+            .insert(&submission(&grader, student, *lab, &source))
+            .unwrap()
+    })
+    .collect();
     assert_eq!(grader.resume().unwrap(), 4);
-    let store = grader.store();
-    until("every submission graded", || {
+    until("every submission of this release graded", || {
         store
             .all_submissions()
             .unwrap()
             .iter()
-            .all(|s| s.status == Status::Graded)
+            .all(|s| s.status == Status::Graded || s.id == elsewhere)
     })
     .await;
+    // The first in line, and never taken.
+    let left = store.get(elsewhere, false).unwrap().unwrap();
+    assert_eq!(left.summary.status, Status::Queued);
 
     let mut graded: Vec<(String, i64)> = ids
         .iter()
@@ -142,7 +159,12 @@ async fn a_sandbox_that_cannot_start_leaves_the_submission_waiting_until_it_can(
     grader.resume().unwrap();
     let source = quick("waiting");
     let id = grader
-        .submit(&submission("ada", Exercise::EkfLocalization, &source))
+        .submit(&submission(
+            &grader,
+            "ada",
+            Exercise::EkfLocalization,
+            &source,
+        ))
         .unwrap();
 
     // Tried, failed, tried again: still waiting, not "not gradable".
@@ -168,7 +190,7 @@ async fn a_sandbox_that_cannot_start_leaves_the_submission_waiting_until_it_can(
     assert!(matches!(
         grader
             .store()
-            .insert(&submission("ada", Exercise::EkfLocalization, "// again")),
+            .insert(&submission(&grader, "ada", Exercise::EkfLocalization, "// again")),
         Err(Error::Busy(busy)) if busy == id
     ));
 

@@ -159,13 +159,13 @@ export function tempDir() {
 }
 
 /**
- * Starts `estlab serve` on a free port, its submissions in `dataDir` (a fresh directory
- * unless given); resolves to { url, dataDir, process, stop(), kill() }: stop() as Ctrl-C
- * does, kill() at once (SIGKILL), each resolving once the server has exited.
+ * Starts `estlab COMMAND ...args` over `dataDir` (its secret and database); resolves once
+ * its standard output matches `ready` to { match, process, log(), kill() }: log() is its
+ * stderr so far, kill() sends SIGKILL and resolves once it has exited.
  */
-export function startServer({ dataDir = tempDir(), args = [] } = {}) {
+function startEstlab(command, dataDir, args, ready) {
   if (!existsSync(estlabBinary)) throw new Error(`${estlabBinary} is not built (cargo build -p estlab)`);
-  const child = spawn(estlabBinary, ['serve', '--addr', '127.0.0.1:0', '--static', staticDir, '--data', dataDir, ...args], {
+  const child = spawn(estlabBinary, [command, '--data', dataDir, ...args], {
     stdio: ['ignore', 'pipe', 'pipe'],
     env: withDatabase(dataDir),
   });
@@ -175,19 +175,59 @@ export function startServer({ dataDir = tempDir(), args = [] } = {}) {
     let stdout = '';
     child.stdout.on('data', (chunk) => {
       stdout += chunk;
-      const match = stdout.match(/serving on (http:\/\/\S+)\//);
-      if (match) {
-        resolve({
-          url: match[1],
-          dataDir,
-          process: child,
-          stop: () => ended(child, 'SIGINT'),
-          kill: () => ended(child, 'SIGKILL'),
-        });
-      }
+      const match = stdout.match(ready);
+      if (match) resolve({ match, process: child, log: () => stderr, kill: () => ended(child, 'SIGKILL') });
     });
-    child.once('exit', (code) => reject(new Error(`estlab serve exited with ${code}: ${stderr}`)));
+    child.once('exit', (code) => reject(new Error(`estlab ${command} exited with ${code}: ${stderr}`)));
   });
+}
+
+/**
+ * Starts `estlab serve` on a free port, its submissions in `dataDir` (a fresh directory
+ * unless given); resolves to { url, dataDir, process, stop(), kill() }: stop() as Ctrl-C
+ * does, kill() at once (SIGKILL), each resolving once the server has exited.
+ */
+export async function startServer({ dataDir = tempDir(), args = [] } = {}) {
+  const started = await startEstlab('serve', dataDir, ['--addr', '127.0.0.1:0', '--static', staticDir, ...args],
+    /serving on (http:\/\/\S+)\//);
+  return {
+    url: started.match[1],
+    dataDir,
+    process: started.process,
+    stop: () => ended(started.process, 'SIGINT'),
+    kill: started.kill,
+  };
+}
+
+/**
+ * Starts `estlab grader` over `dataDir` (its secret, and its database: SQLite's file or,
+ * on PostgreSQL, the directory's own); resolves once it grades to { holder, process,
+ * log(), stop(), kill() }: log() is its stderr so far (a line per grading), stop() as
+ * SIGTERM does, kill() at once (SIGKILL), each resolving once it has exited.
+ */
+export async function startGrader({ dataDir, args = [] }) {
+  const started = await startEstlab('grader', dataDir, args, /estlab grader (\S+) is grading/);
+  return {
+    holder: started.match[1],
+    process: started.process,
+    log: started.log,
+    stop: () => ended(started.process, 'SIGTERM'),
+    kill: started.kill,
+  };
+}
+
+/** CPU seconds a process and its waited-for children (the sandbox workers) have used. */
+export function cpuOf(pid) {
+  const stat = readFileSync(`/proc/${pid}/stat`, 'utf8');
+  // "pid (comm) state ppid ...": utime, stime, cutime and cstime are fields 14 to 17, in 1/100 s.
+  const fields = stat.slice(stat.lastIndexOf(')') + 2).split(' ');
+  return fields.slice(11, 15).map(Number).reduce((a, b) => a + b, 0) / 100;
+}
+
+/** The value at quantile `q` of `values` (nearest rank). */
+export function quantile(values, q) {
+  const sorted = [...values].sort((a, b) => a - b);
+  return sorted[Math.min(sorted.length - 1, Math.max(0, Math.ceil(q * sorted.length) - 1))];
 }
 
 /**

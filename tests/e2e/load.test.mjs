@@ -13,7 +13,7 @@ import assert from 'node:assert/strict';
 import { readFileSync, writeFileSync } from 'node:fs';
 import { test } from 'node:test';
 import {
-  bounded, correct, getJson, mapLimit, setUpCourse, signIn, starter, startServer, waitFor,
+  bounded, correct, cpuOf, getJson, mapLimit, quantile, setUpCourse, signIn, starter, startServer, waitFor,
 } from './harness.mjs';
 
 const COURSE = 'el2320';
@@ -62,20 +62,6 @@ function countStatuses(list, started) {
 /** A field of /proc/PID/status in kB (VmRSS, VmHWM). */
 function memoryOf(pid, field) {
   return Number(readFileSync(`/proc/${pid}/status`, 'utf8').match(new RegExp(`^${field}:\\s+(\\d+) kB`, 'm'))[1]);
-}
-
-/** CPU seconds a process and its waited-for children (the sandbox workers) have used. */
-function cpuOf(pid) {
-  const stat = readFileSync(`/proc/${pid}/stat`, 'utf8');
-  // "pid (comm) state ppid ...": utime, stime, cutime and cstime are fields 14 to 17, in 1/100 s.
-  const fields = stat.slice(stat.lastIndexOf(')') + 2).split(' ');
-  return fields.slice(11, 15).map(Number).reduce((a, b) => a + b, 0) / 100;
-}
-
-/** The value at quantile `q` of `values` (nearest rank). */
-function quantile(values, q) {
-  const sorted = [...values].sort((a, b) => a - b);
-  return sorted[Math.min(sorted.length - 1, Math.max(0, Math.ceil(q * sorted.length) - 1))];
 }
 
 /** What a student's submission must be when read back with their own cookie. */

@@ -2,7 +2,7 @@
 //! with one file per student, named by the student's id), graded as the server grades
 //! them, each with that student's variant.
 
-use super::serve::default_parallel;
+use super::grading::default_parallel;
 use super::{file_name, print};
 use crate::courses::export::inert;
 use crate::error::Error;

@@ -9,6 +9,8 @@ pub mod data;
 pub mod fusion;
 pub mod grade;
 pub mod grade_class;
+pub mod grader;
+pub mod grading;
 pub mod mrclam;
 pub mod odometry;
 pub mod package;
@@ -54,6 +56,7 @@ enum Command {
     Cases(cases::Args),
     Grade(grade::Args),
     GradeClass(grade_class::Args),
+    Grader(grader::Args),
     Course(course::Args),
     Backup(backup::Args),
     Package(package::Args),
@@ -68,7 +71,11 @@ pub fn main() -> ExitCode {
     let cli = Cli::parse();
     if matches!(
         cli.command,
-        Command::Serve(_) | Command::Course(_) | Command::Backup(_) | Command::GradeClass(_)
+        Command::Serve(_)
+            | Command::Grader(_)
+            | Command::Course(_)
+            | Command::Backup(_)
+            | Command::GradeClass(_)
     ) {
         private_files();
     }
@@ -83,6 +90,7 @@ pub fn main() -> ExitCode {
         Command::Cases(args) => cases::run(&args),
         Command::Grade(args) => grade::run(&args),
         Command::GradeClass(args) => grade_class::run(&args),
+        Command::Grader(args) => grader::run(&args),
         Command::Course(args) => course::run(&args),
         Command::Backup(args) => backup::run(&args),
         Command::Package(args) => package::run(&args),
@@ -158,5 +166,16 @@ pub fn short(value: f64) -> String {
             )
         }
         _ => text,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// Every subcommand's flags are well formed (clap checks them only as the subcommand
+    /// is parsed): no two of a name, no group named twice.
+    #[test]
+    fn the_command_line_is_well_formed() {
+        use clap::CommandFactory;
+        super::Cli::command().debug_assert();
     }
 }

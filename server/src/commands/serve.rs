@@ -1,15 +1,13 @@
 //! `estlab serve`: the web application.
 
 use super::data::Data;
+use super::grading;
 use crate::clock::{Clock, SystemClock};
 use crate::datasets::Datasets;
 use crate::error::Error;
-use crate::grading::{Grader, Secret};
-use crate::sandbox::{JavaScript, Sandbox, cores};
 use crate::web::connections::{self, Limits, raise_descriptor_limit};
 use crate::web::phases::Trials;
-use crate::web::{self, AppState, Assets, SignInLimiter};
-use labs::Language;
+use crate::web::{self, AppState, Assets};
 use std::net::SocketAddr;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -26,16 +24,12 @@ pub struct Args {
     /// The data directory (created at start if missing) and the database.
     #[command(flatten)]
     data: Data,
-    /// How many submissions are graded at once (each in a worker process of its own);
-    /// at most one per core. The cores are shared out between them, so that no more
-    /// engines run at once than there are cores.
-    #[arg(long, default_value_t = default_parallel())]
-    parallel: usize,
-    /// The engine of students' JavaScript: V8 in the operating system's sandbox, on the
-    /// whole data sets (QuickJS where that sandbox does not start), or QuickJS always,
-    /// on their first readings, as the platform packages grade.
-    #[arg(long, value_enum, default_value_t)]
-    javascript: JavaScript,
+    #[command(flatten)]
+    grading: grading::Grading,
+    /// Store submissions and leave their grading to `estlab grader` processes sharing the
+    /// database (without this, the server grades too, beside any graders).
+    #[arg(long)]
+    no_grading: bool,
     /// The server is reached through a TLS reverse proxy: session cookies are marked
     /// Secure, and the client's address (for the sign-in limits) is the last one the
     /// proxy adds to X-Forwarded-For.
@@ -57,12 +51,6 @@ pub struct Args {
     datasets: Option<PathBuf>,
 }
 
-/// Gradings at once: one per two cores, each with two engines side by side, which keeps
-/// a lone grading quick.
-pub fn default_parallel() -> usize {
-    (cores() / 2).max(1)
-}
-
 /// Where `scripts/build-web` puts the assets, in the tree this binary was built from.
 const DEFAULT_STATIC_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../target/web/dist");
 
@@ -80,37 +68,8 @@ async fn serve(args: &Args) -> Result<(), Error> {
         None => Datasets::default(),
     };
     let store = args.data.open()?;
-    let secret = Secret::load_or_create(&args.data.dir)?;
-    if let Some(replaced) = store.check_secret(&secret.fingerprint(), args.new_secret)? {
-        println!(
-            "estlab: the secret (fingerprint {}) replaces the one of fingerprint {replaced}: regrade to grade on its hidden cases",
-            secret.fingerprint()
-        );
-    }
-    let parallel = args.parallel.clamp(1, cores());
-    let sandbox = Sandbox::current(cores() / parallel)
-        .map_err(Error::io("the estlab executable"))?
-        .with_javascript(args.javascript);
-    // Each language's sandbox tried once, and said: a language that cannot be graded
-    // here is refused at submission with a message that points to this log.
-    match sandbox.v8() {
-        Ok(()) => println!("estlab: JavaScript files are graded on V8, on whole data sets"),
-        Err(why) => println!(
-            "estlab: JavaScript files are graded on QuickJS, on the first readings of each data set: {why}"
-        ),
-    }
-    for &language in Language::ALL {
-        match sandbox.language(language) {
-            Ok(()) => tracing::info!(%language, "students' files in this language are graded"),
-            Err(unavailable) => {
-                println!(
-                    "estlab: {} files cannot be graded here: {unavailable}",
-                    language.title()
-                );
-                tracing::warn!(%language, %unavailable, "not graded here");
-            }
-        }
-    }
+    let store_place = store.place().to_string();
+    let grader = args.grading.grader(&args.data, store, args.new_secret)?;
     let listener = tokio::net::TcpListener::bind(args.addr)
         .await
         .map_err(Error::io(args.addr.to_string()))?;
@@ -122,24 +81,24 @@ async fn serve(args: &Args) -> Result<(), Error> {
         .public_url
         .clone()
         .unwrap_or_else(|| format!("{scheme}://{addr}"));
-    store.set_setting(
+    grader.store().set_setting(
         crate::courses::setup::PUBLIC_URL,
         public_url.trim_end_matches('/'),
     )?;
     let clock: Arc<dyn Clock> = Arc::new(SystemClock);
-    let store_place = store.place().to_string();
-    let grader = Grader::new(store, sandbox, secret, parallel, Arc::clone(&clock));
-    let resumed = grader.resume()?;
-    if resumed > 0 {
-        println!(
-            "estlab: resuming the grading of {resumed} submission(s) cut off by the last stop"
-        );
+    if args.no_grading {
+        println!("estlab: grading is left to `estlab grader` processes");
+    } else {
+        let waiting = grader.resume()?;
+        if waiting > 0 {
+            println!("estlab: grading {waiting} submission(s) found waiting");
+        }
     }
+    let parallel = args.grading.parallel();
     let app = web::router(Arc::new(AppState {
         assets,
         grader,
         clock,
-        limiter: SignInLimiter::default(),
         behind_https: args.behind_https,
         datasets: Arc::new(datasets),
         trials: Trials::new(parallel),
@@ -175,7 +134,7 @@ fn return_large_blocks() {}
 
 /// Ctrl-C, or SIGTERM from a service manager: answer what is in flight, then stop.
 /// Gradings cut off by the stop resume at the next start.
-async fn stop_asked() {
+pub async fn stop_asked() {
     use tokio::signal::unix::{SignalKind, signal};
     match signal(SignalKind::terminate()) {
         Ok(mut terminate) => {
@@ -192,7 +151,7 @@ async fn stop_asked() {
 
 /// Logs on stderr, one line per event, at the level `RUST_LOG` asks (default: info for
 /// estlab and the requests it answers, warnings for the rest).
-fn init_logging() {
+pub fn init_logging() {
     use tracing_subscriber::EnvFilter;
     let filter = EnvFilter::try_from_default_env()
         .unwrap_or_else(|_| EnvFilter::new("warn,estlab=info,tower_http=info"));

@@ -13,7 +13,7 @@
 //! `Policy::demote_after`: a file that runs
 //! every phase to its limit holds a slot for a few seconds at most, never a minute.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::time::{Duration, Instant};
 
 /// A charge halves in this time: a student whose file ran every phase to its limit (about
@@ -35,7 +35,7 @@ pub enum Tenant {
 }
 
 /// What is to be graded.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Work {
     Submission(i64),
     RegradeItem { regrade: i64, submission: i64 },
@@ -63,6 +63,12 @@ pub struct Policy {
     pub heavy: Duration,
     /// The wait after a grading's first failed start.
     pub first_retry: Duration,
+    /// How long a grading is leased to this grader at each claim or renewal (renewed at
+    /// each third of it while it runs): another grader takes over the work of one that
+    /// died after at most this.
+    pub lease: Duration,
+    /// How often the database is looked at for work others queued, or left.
+    pub poll: Duration,
 }
 
 impl Policy {
@@ -78,6 +84,8 @@ impl Policy {
             demote_after: Duration::from_secs(3),
             heavy: Duration::from_secs(3),
             first_retry: Duration::from_millis(500),
+            lease: Duration::from_secs(30),
+            poll: Duration::from_secs(1),
         }
     }
 
@@ -144,6 +152,9 @@ pub struct FairQueue {
     /// runs, the tenant is heavy whatever its charge (so that each of a student's files
     /// does not get a foreground turn of its own before the first one ends).
     overrunning: HashMap<Tenant, usize>,
+    /// Every work waiting or running, each held once (the database is polled for work
+    /// that may be there already).
+    held: HashSet<Work>,
     arrivals: u64,
 }
 
@@ -158,6 +169,7 @@ impl FairQueue {
             charges: HashMap::new(),
             long: HashMap::new(),
             overrunning: HashMap::new(),
+            held: HashSet::new(),
             arrivals: 0,
         }
     }
@@ -166,8 +178,12 @@ impl FairQueue {
         &self.policy
     }
 
-    /// Adds a grading at the end of the arrivals.
-    pub fn push(&mut self, work: Work, tenant: Tenant) {
+    /// Adds a grading at the end of the arrivals, unless it is waiting or running already;
+    /// returns whether it was added.
+    pub fn push(&mut self, work: Work, tenant: Tenant) -> bool {
+        if !self.held.insert(work) {
+            return false;
+        }
         self.arrivals += 1;
         self.waiting.push(Waiting {
             work,
@@ -176,6 +192,7 @@ impl FairQueue {
             not_before: None,
             arrival: self.arrivals,
         });
+        true
     }
 
     /// The waiting gradings, in arrival order.
@@ -277,6 +294,7 @@ impl FairQueue {
     /// A grading ended after `took`: its place is free and its tenant charged.
     pub fn finish(&mut self, ticket: Ticket, took: Duration, now: Instant) {
         self.release(&ticket);
+        self.held.remove(&ticket.work);
         let rest = took.saturating_sub(ticket.charged);
         add_charge(&mut self.charges, &ticket.tenant, rest, now);
         if took >= self.policy.demote_after {
@@ -552,5 +570,26 @@ mod tests {
         assert!(queue.has(&student("ada")));
         queue.finish(ticket, QUICK, start + QUICK);
         assert!(!queue.has(&student("ada")));
+    }
+
+    /// The database is polled for work that is waiting or running here already: each is
+    /// held once, and found again once it has ended (when another grader may have left it).
+    #[test]
+    fn a_work_is_held_once_until_it_ends() {
+        let start = Instant::now();
+        let mut queue = FairQueue::new(policy(2));
+        assert!(queue.push(Work::Submission(1), student("ada")));
+        assert!(!queue.push(Work::Submission(1), student("ada")));
+        let ticket = queue.take(start).unwrap();
+        assert!(!queue.push(Work::Submission(1), student("ada")), "running");
+        assert!(queue.take(start).is_none());
+        queue.retry(ticket, start);
+        assert!(
+            !queue.push(Work::Submission(1), student("ada")),
+            "waiting again"
+        );
+        let ticket = queue.take(start + Duration::from_secs(1)).unwrap();
+        queue.finish(ticket, QUICK, start + QUICK);
+        assert!(queue.push(Work::Submission(1), student("ada")));
     }
 }

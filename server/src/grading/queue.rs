@@ -5,13 +5,21 @@
 //! worker process, so that the server's other requests are answered meanwhile. A grading
 //! whose sandbox did not start waits and is tried again: a fault of the server's own
 //! never becomes a student's result.
+//!
+//! Several graders (each a process: `estlab serve`, `estlab grader`) may share one
+//! database: each claims a grading before it starts it and renews the lease while it
+//! runs (`store::leases`), and looks at the database every `Policy::poll` for work that
+//! other processes queued or left when they died. A submission taken by a web process of
+//! another release (another `grader_version`) is left for a grader of that release.
 
 use super::fair::{FairQueue, Lane, Policy, Tenant, Ticket, Waiting, Work};
 use super::{Secret, grader_version, priority};
 use crate::clock::Clock;
 use crate::sandbox::{Code, DidNotStart, Sandbox};
-use crate::store::{Error, NewSubmission, Store, ToGrade};
+use crate::store::{Error, Holder, Lease, NewSubmission, Store, ToGrade};
+use jiff::Timestamp;
 use labs::Exercise;
+use std::collections::HashSet;
 use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
@@ -33,9 +41,16 @@ pub struct Grader {
     /// Wakes the dispatcher: a grading arrived, ended or moved to the background, or a
     /// regrade started.
     wake: Notify,
-    /// Whether the regrades may have an item for the queue (set when a regrade starts and
-    /// when an item is done).
+    /// Whether the regrades may have an item for the queue (set when a regrade starts,
+    /// when an item is done, and at each look at the database).
     regrades_pending: AtomicBool,
+    /// This process, as the holder of the leases it takes.
+    holder: Holder,
+    /// Whether this process grades (`resume` was called): a web process that leaves the
+    /// grading to graders only stores submissions.
+    grading: AtomicBool,
+    /// The submissions left for a grader of another release, said once each in the log.
+    left: Mutex<HashSet<i64>>,
     clock: Arc<dyn Clock>,
 }
 
@@ -44,6 +59,15 @@ enum Failure {
     /// The sandbox did not start: the grading waits and is tried again.
     DidNotStart(DidNotStart),
     Store(Error),
+}
+
+/// How a grading's turn ended, when nothing failed.
+#[derive(Debug, PartialEq)]
+enum Graded {
+    /// Its result is stored.
+    Here,
+    /// Another grader held it (or had graded it already): nothing was done.
+    Elsewhere,
 }
 
 impl From<Error> for Failure {
@@ -84,6 +108,9 @@ impl Grader {
             queue: Mutex::new(FairQueue::new(policy)),
             wake: Notify::new(),
             regrades_pending: AtomicBool::new(false),
+            holder: Holder::this_process(),
+            grading: AtomicBool::new(false),
+            left: Mutex::new(HashSet::new()),
             clock,
         })
     }
@@ -106,29 +133,84 @@ impl Grader {
         &self.versions[index]
     }
 
-    /// Stores a submission, then queues its grading; returns its id once it is stored.
+    /// This process, as the holder of the leases it takes.
+    pub fn holder(&self) -> &str {
+        self.holder.as_str()
+    }
+
+    /// The versions of the graders of every exercise, as this process grades them.
+    pub fn versions(&self) -> Vec<&str> {
+        self.versions.iter().map(String::as_str).collect()
+    }
+
+    /// Stores a submission, then queues its grading if this process grades; returns its
+    /// id once it is stored.
     pub fn submit(&self, new: &NewSubmission) -> Result<i64, Error> {
         let id = self.store.insert(new)?;
-        self.enqueue(Work::Submission(id), student(new.course, new.student));
+        if self.grading.load(Ordering::SeqCst) {
+            self.enqueue(Work::Submission(id), student(new.course, new.student));
+        }
         Ok(id)
     }
 
-    /// Queues every submission whose grading a stop cut off and starts grading (which
-    /// resumes any regrade a stop cut off); returns how many submissions.
+    /// Starts grading: ends the leases of this machine's graders that died, queues every
+    /// submission waiting (those a stop cut off too), resumes any regrade, and looks at
+    /// the database every `Policy::poll` from then on; returns how many submissions it
+    /// found waiting.
     pub fn resume(self: &Arc<Self>) -> Result<usize, Error> {
-        let unfinished = self.store.unfinished()?;
-        {
-            let mut queue = self.queue();
-            for waiting in &unfinished {
-                queue.push(
-                    Work::Submission(waiting.id),
-                    student(&waiting.course, &waiting.student),
-                );
-            }
-        }
+        self.store.end_leases_of_the_dead()?;
+        let found = self.find_work()?;
+        self.grading.store(true, Ordering::SeqCst);
         self.regrades_pending.store(true, Ordering::SeqCst);
         tokio::spawn(Arc::clone(self).dispatch());
-        Ok(unfinished.len())
+        tokio::spawn(Arc::clone(self).watch());
+        Ok(found)
+    }
+
+    /// Queues the submissions waiting in the database that this grader may grade, unless
+    /// queued here already; returns how many it queued.
+    fn find_work(&self) -> Result<usize, Error> {
+        let claimable = self.store.claimable(Timestamp::now())?;
+        let mut queue = self.queue();
+        let mut found = 0;
+        for waiting in claimable {
+            let id = waiting.submission.id;
+            if let Some(wanted) = waiting.wanted_grader
+                && !self.versions.contains(&wanted)
+            {
+                let mut left = self.left.lock().unwrap_or_else(|e| e.into_inner());
+                if left.insert(id) {
+                    tracing::warn!(
+                        submission = id,
+                        wanted,
+                        "left for a grader of that release: this one would grade it differently"
+                    );
+                }
+                continue;
+            }
+            let tenant = student(&waiting.submission.course, &waiting.submission.student);
+            if queue.push(Work::Submission(id), tenant) {
+                found += 1;
+            }
+        }
+        Ok(found)
+    }
+
+    /// Looks at the database every `Policy::poll`, for as long as the process runs: for
+    /// submissions other processes stored or left, and regrades they started.
+    async fn watch(self: Arc<Self>) {
+        let poll = self.queue().policy().poll;
+        loop {
+            tokio::time::sleep(poll).await;
+            let grader = Arc::clone(&self);
+            match tokio::task::spawn_blocking(move || grader.find_work()).await {
+                Ok(Ok(_)) => {}
+                Ok(Err(err)) => tracing::error!("looking for work: {err}"),
+                Err(err) => tracing::error!("looking for work stopped: {err}"),
+            }
+            self.regrades_pending.store(true, Ordering::SeqCst);
+            self.wake.notify_one();
+        }
     }
 
     /// Tells the grader that a regrade has started.
@@ -183,15 +265,22 @@ impl Grader {
     /// leaves it for the next regrade or start rather than trying again in a spin.
     async fn queue_next_regrade_item(self: &Arc<Self>) {
         let grader = Arc::clone(self);
-        let next = tokio::task::spawn_blocking(move || grader.store.next_regrade_item()).await;
+        let next = tokio::task::spawn_blocking(move || {
+            grader
+                .store
+                .next_regrade_item(Timestamp::now(), &grader.versions())
+        })
+        .await;
         match next {
-            Ok(Ok(Some((regrade, submission)))) => self.queue().push(
-                Work::RegradeItem {
-                    regrade,
-                    submission,
-                },
-                Tenant::Regrades,
-            ),
+            Ok(Ok(Some((regrade, submission)))) => {
+                self.queue().push(
+                    Work::RegradeItem {
+                        regrade,
+                        submission,
+                    },
+                    Tenant::Regrades,
+                );
+            }
             Ok(Ok(None)) => {}
             Ok(Err(err)) => tracing::error!("regrading: {err}"),
             Err(err) => tracing::error!("regrading stopped: {err}"),
@@ -199,8 +288,8 @@ impl Grader {
     }
 
     /// Grades one ticket's work in a blocking task; moves it to the background once it
-    /// has run `demote_after`, and there keeps its worker at the background priority; then
-    /// settles it with the queue.
+    /// has run `demote_after`, and there keeps its worker at the background priority;
+    /// renews its lease at each third of it; then settles it with the queue.
     async fn run(self: Arc<Self>, mut ticket: Ticket) {
         let started = Instant::now();
         // The grading thread's id while it grades (0 before and after), whose child is
@@ -214,17 +303,29 @@ impl Grader {
             grading_thread.store(0, Ordering::SeqCst);
             outcome
         });
-        let demote_after = self.queue().policy().demote_after;
+        let (demote_after, lease) = {
+            let queue = self.queue();
+            (queue.policy().demote_after, queue.policy().lease)
+        };
+        let mut renew_at = started + lease / 3;
         let outcome = loop {
             let wait = match ticket.lane {
                 Lane::Foreground => demote_after.saturating_sub(started.elapsed()),
                 Lane::Background => SWEEP,
-            };
+            }
+            .min(renew_at.saturating_duration_since(Instant::now()));
             tokio::select! {
                 outcome = &mut grading => break outcome,
                 () = tokio::time::sleep(wait) => {}
             }
-            if ticket.lane == Lane::Foreground && self.queue().demote(&mut ticket, Instant::now()) {
+            if Instant::now() >= renew_at {
+                self.renew(work).await;
+                renew_at = Instant::now() + lease / 3;
+            }
+            if ticket.lane == Lane::Foreground
+                && started.elapsed() >= demote_after
+                && self.queue().demote(&mut ticket, Instant::now())
+            {
                 tracing::info!(?work, "still grading: moved to the background");
                 self.wake.notify_one();
             }
@@ -236,7 +337,10 @@ impl Grader {
         let now = Instant::now();
         let is_regrade = matches!(work, Work::RegradeItem { .. });
         match outcome {
-            Ok(Ok(())) => {
+            Ok(Ok(graded)) => {
+                if graded == Graded::Elsewhere {
+                    tracing::debug!(?work, "held or graded by another grader");
+                }
                 self.queue().finish(ticket, now - started, now);
                 if is_regrade {
                     self.regrades_pending.store(true, Ordering::SeqCst);
@@ -252,6 +356,16 @@ impl Grader {
                     "{err}: the grading waits and is tried again"
                 );
             }
+            Ok(Err(Failure::Store(Error::LeaseLost(what)))) => {
+                self.queue().finish(ticket, now - started, now);
+                tracing::warn!(
+                    ?work,
+                    "{what} is no longer this grader's: its result is not written"
+                );
+                if is_regrade {
+                    self.regrades_pending.store(true, Ordering::SeqCst);
+                }
+            }
             Ok(Err(Failure::Store(err))) => {
                 self.queue().finish(ticket, now - started, now);
                 self.failed(work, err.to_string()).await;
@@ -264,6 +378,31 @@ impl Grader {
         self.wake.notify_one();
     }
 
+    /// Renews the lease of a grading this grader holds; says so when it was lost (the
+    /// process stalled past it, or the database was out of reach meanwhile).
+    async fn renew(self: &Arc<Self>, work: Work) {
+        let grader = Arc::clone(self);
+        let renewed = tokio::task::spawn_blocking(move || {
+            let lease = grader.lease();
+            match work {
+                Work::Submission(id) => grader.store.renew_submission(id, &lease),
+                Work::RegradeItem {
+                    regrade,
+                    submission,
+                } => grader.store.renew_regrade_item(regrade, submission, &lease),
+            }
+        })
+        .await;
+        match renewed {
+            Ok(Ok(true)) => {}
+            Ok(Ok(false)) => {
+                tracing::warn!(?work, "the lease was lost: another grader may take it")
+            }
+            Ok(Err(err)) => tracing::warn!(?work, "the lease could not be renewed: {err}"),
+            Err(err) => tracing::warn!(?work, "renewing the lease stopped: {err}"),
+        }
+    }
+
     /// A grading that failed on the server's side after its sandbox ran (the database, a
     /// panic). A submission is not left waiting, which would refuse the student's next
     /// one: it ends "not gradable", which costs them nothing. A regrade item stays
@@ -273,9 +412,11 @@ impl Grader {
         if let Work::Submission(id) = work {
             let grader = Arc::clone(self);
             let ended = tokio::task::spawn_blocking(move || {
-                grader
-                    .store
-                    .give_up(id, "the server could not grade it; submit again")
+                grader.store.give_up(
+                    id,
+                    "the server could not grade it; submit again",
+                    &grader.holder,
+                )
             })
             .await;
             if let Ok(Err(err)) = ended {
@@ -284,7 +425,7 @@ impl Grader {
         }
     }
 
-    fn grade(&self, work: Work) -> Result<(), Failure> {
+    fn grade(&self, work: Work) -> Result<Graded, Failure> {
         match work {
             Work::Submission(id) => self.grade_submission(id),
             Work::RegradeItem {
@@ -294,9 +435,20 @@ impl Grader {
         }
     }
 
-    fn grade_submission(&self, id: i64) -> Result<(), Failure> {
+    /// A lease of this grader's from now.
+    fn lease(&self) -> Lease<'_> {
+        Lease {
+            holder: &self.holder,
+            from: Timestamp::now(),
+            length: self.queue().policy().lease,
+        }
+    }
+
+    fn grade_submission(&self, id: i64) -> Result<Graded, Failure> {
         let started = Instant::now();
-        let job = self.store.start_grading(id)?;
+        let Some(job) = self.store.claim_submission(id, &self.lease())? else {
+            return Ok(Graded::Elsewhere);
+        };
         let hidden = self.secret.hidden(id, &job.course);
         let result =
             match self
@@ -305,26 +457,37 @@ impl Grader {
             {
                 Ok(result) => result,
                 Err(err) => {
-                    self.store.back_to_queue(id)?;
+                    self.store.back_to_queue(id, &self.holder)?;
                     return Err(Failure::DidNotStart(err));
                 }
             };
         let score = result.gradable.then_some(result.score);
-        self.store
-            .finish_grading(id, &result.stored(), Some(self.version(job.exercise)))?;
+        self.store.finish_grading(
+            id,
+            &result.stored(),
+            Some(self.version(job.exercise)),
+            &self.holder,
+        )?;
         tracing::info!(
             submission = id,
             course = job.course,
             student = job.student,
             duration_ms = started.elapsed().as_millis() as u64,
             score,
+            grader = self.holder.as_str(),
             "graded"
         );
-        Ok(())
+        Ok(Graded::Here)
     }
 
-    fn regrade(&self, regrade: i64, submission: i64) -> Result<(), Failure> {
+    fn regrade(&self, regrade: i64, submission: i64) -> Result<Graded, Failure> {
         let started = Instant::now();
+        if !self
+            .store
+            .claim_regrade_item(regrade, submission, &self.lease())?
+        {
+            return Ok(Graded::Elsewhere);
+        }
         // Its status stays graded: the student may go on submitting meanwhile.
         let job = self.store.to_grade(submission)?;
         let hidden = self.secret.hidden(submission, &job.course);
@@ -338,6 +501,7 @@ impl Grader {
             submission,
             &result.stored(),
             self.version(job.exercise),
+            &self.holder,
             self.clock.now(),
         )?;
         tracing::info!(
@@ -347,9 +511,10 @@ impl Grader {
             student = job.student,
             duration_ms = started.elapsed().as_millis() as u64,
             score,
+            grader = self.holder.as_str(),
             "regraded"
         );
-        Ok(())
+        Ok(Graded::Here)
     }
 }
 

@@ -9,6 +9,8 @@ mod access;
 mod answers;
 mod courses;
 pub mod db;
+mod leases;
+mod rates;
 mod regrades;
 mod reports;
 mod reviews;
@@ -19,6 +21,8 @@ mod submissions;
 pub use access::{CodeCheck, FoundCode, TokenInfo};
 pub use answers::SavedAnswer;
 pub use courses::{Assignment, Course, Member, NewMember, Role, RosterChange};
+pub use leases::{Claimable, Holder, Lease};
+pub use rates::{Event, Window};
 pub use regrades::{Change, EarlierResult, Regrade, Scope};
 pub use reports::Closed;
 pub use reviews::{Mark, NewRound, Round, SheetAnswer, StoredPair};
@@ -77,6 +81,10 @@ pub enum Error {
     /// Input that contradicts what is stored (a student's id given to a staff member).
     #[error("{0}")]
     Conflict(String),
+    /// A grading's result, refused: its lease ran out and another grader took it (or
+    /// wrote it already).
+    #[error("{0} is no longer this grader's to write: its lease ran out")]
+    LeaseLost(String),
     #[error("a grading task stopped: {0}")]
     Task(String),
 }
@@ -104,6 +112,7 @@ impl Error {
             | Error::StoredResult(_)
             | Error::StoredAnswer(_)
             | Error::Secret { .. }
+            | Error::LeaseLost(_)
             | Error::Task(_) => Kind::Failure,
         }
     }

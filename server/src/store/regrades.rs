@@ -3,6 +3,7 @@
 //! score changes silently and a stop resumes the job where it was.
 
 use super::db::{OptionalExtension, Value, params};
+use super::leases::Holder;
 use super::submissions::{
     SUMMARY_COLUMNS, SUMMARY_FROM, SUMMARY_WIDTH, challenge_figure, moment, summary,
 };
@@ -170,28 +171,40 @@ impl Store {
         })
     }
 
-    /// The next item of the oldest unfinished regrade, if any.
-    pub fn next_regrade_item(&self) -> Result<Option<(i64, i64)>, Error> {
+    /// The next item a grader of the versions `graders` may take at `now` (none held under
+    /// a lease that runs on): of the oldest unfinished regrade whose grader is one of
+    /// them, if any. A regrade asked of another release's grader waits for one of it.
+    pub fn next_regrade_item(
+        &self,
+        now: Timestamp,
+        graders: &[&str],
+    ) -> Result<Option<(i64, i64)>, Error> {
+        let graders = serde_json::to_string(graders).expect("names serialise");
         Ok(self
             .connection()
             .query_row(
-                "SELECT regrade, submission FROM regrade_items WHERE done = 0
-                 ORDER BY regrade, submission LIMIT 1",
-                (),
+                "SELECT i.regrade, i.submission FROM regrade_items i
+                 JOIN regrades r ON r.id = i.regrade
+                 WHERE i.done = 0 AND i.lease_until < ?1
+                 AND r.grader IN (SELECT value FROM json_each(?2))
+                 ORDER BY i.regrade, i.submission LIMIT 1",
+                params![now.as_millisecond(), graders],
                 |row| Ok((row.get(0)?, row.get(1)?)),
             )
             .optional()?)
     }
 
-    /// Records a regrade's result for one submission in one transaction: the current
-    /// result is kept among the earlier ones, the new one becomes current, the item is
-    /// done, and the regrade finished when it was its last item.
+    /// Records a regrade's result for one submission in one transaction, if `holder`
+    /// still holds the item's lease (`leases`): the current result is kept among the
+    /// earlier ones, the new one becomes current, the item is done, and the regrade
+    /// finished when it was its last item.
     pub fn finish_regrade_item(
         &self,
         regrade: i64,
         submission: i64,
         result: &GradeResult,
         grader: &str,
+        holder: &Holder,
         now: Timestamp,
     ) -> Result<(), Error> {
         let text = serde_json::to_string(result).expect("results serialise");
@@ -199,12 +212,14 @@ impl Store {
         self.transaction(|transaction| {
             let waiting: bool = transaction.query_row(
                 "SELECT EXISTS (SELECT 1 FROM regrade_items
-                 WHERE regrade = ?1 AND submission = ?2 AND done = 0)",
-                params![regrade, submission],
+                 WHERE regrade = ?1 AND submission = ?2 AND done = 0 AND leased_by = ?3)",
+                params![regrade, submission, holder.as_str()],
                 |row| row.get(0),
             )?;
             if !waiting {
-                return Ok(());
+                return Err(Error::LeaseLost(format!(
+                    "regrade {regrade}'s item submission {submission}"
+                )));
             }
             transaction.execute(
                 "INSERT INTO results (submission, grader, score, result, graded_at, replaced_by)
@@ -224,8 +239,8 @@ impl Store {
                 ],
             )?;
             transaction.execute(
-                "UPDATE regrade_items SET done = 1, new_score = ?3
-                 WHERE regrade = ?1 AND submission = ?2",
+                "UPDATE regrade_items SET done = 1, new_score = ?3, leased_by = NULL,
+                 lease_until = 0 WHERE regrade = ?1 AND submission = ?2",
                 params![regrade, submission, score],
             )?;
             transaction.execute(

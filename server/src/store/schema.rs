@@ -279,6 +279,27 @@ const MIGRATIONS: &[Step] = &[
         grader TEXT NOT NULL,
         outputs TEXT NOT NULL
     );"),
+    // 12: graders and web processes of their own. A grading is leased: the grader holding it
+    // (`leased_by`, see `leases::Holder`) renews `lease_until` (milliseconds since 1970)
+    // while it grades, and writes its result only while it holds the lease; a lease that
+    // ran out is another grader's to take. A submission names the grader the web process
+    // that took it grades with (`wanted_grader`): a grader of another release leaves it.
+    Schema("ALTER TABLE submissions ADD COLUMN leased_by TEXT;
+    ALTER TABLE submissions ADD COLUMN lease_until INTEGER NOT NULL DEFAULT 0;
+    ALTER TABLE submissions ADD COLUMN wanted_grader TEXT;
+    ALTER TABLE regrade_items ADD COLUMN leased_by TEXT;
+    ALTER TABLE regrade_items ADD COLUMN lease_until INTEGER NOT NULL DEFAULT 0;
+    CREATE INDEX submissions_unfinished ON submissions (status) WHERE status != 'graded';
+    -- The limits every web process counts alike (`rates`): an event of a key of a scope
+    -- (a sign-in tried, a phase run) at a moment (milliseconds since 1970).
+    CREATE TABLE rate_events (
+        id INTEGER PRIMARY KEY,
+        scope TEXT NOT NULL,
+        key TEXT NOT NULL,
+        at INTEGER NOT NULL
+    );
+    CREATE INDEX rate_events_by_key ON rate_events (scope, key, at);
+    CREATE INDEX rate_events_by_moment ON rate_events (scope, at);"),
 ];
 
 /// Brings the schema up to the newest version, one migration per transaction.

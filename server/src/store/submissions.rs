@@ -6,8 +6,9 @@
 
 use super::courses::policy_in_force;
 use super::db::{self, OptionalExtension, Row, params};
+use super::leases::Holder;
 use super::staff::{Waiver, waiver_at};
-use super::{Error, Store, exercise, known_exercises, named};
+use super::{Error, Store, exercise, named};
 use crate::courses::deadline::Lateness;
 use jiff::Timestamp;
 use labs::grading::GradeResult;
@@ -27,7 +28,7 @@ pub enum Status {
 }
 
 impl Status {
-    fn as_str(self) -> &'static str {
+    pub(super) fn as_str(self) -> &'static str {
         match self {
             Status::Queued => "queued",
             Status::Grading => "grading",
@@ -60,6 +61,9 @@ pub struct NewSubmission<'a> {
     pub late_seconds: i64,
     /// The share of the score the lateness cost when taken, for the record too.
     pub penalty: f64,
+    /// The grader the web process taking it grades with (`grading::grader_version`): a
+    /// grader of another release leaves it to one of this.
+    pub grader: &'a str,
 }
 
 /// What grading a submission needs (and names in the log).
@@ -203,8 +207,8 @@ impl Store {
             }
             Ok(connection.query_row(
                 "INSERT INTO submissions (course, student, member, lab, seed, source, status,
-                 submitted_at, late_seconds, penalty, language)
-             VALUES (?1, ?2, ?3, ?4, ?5, ?6, 'queued', ?7, ?8, ?9, ?10) RETURNING id",
+                 submitted_at, late_seconds, penalty, language, wanted_grader)
+             VALUES (?1, ?2, ?3, ?4, ?5, ?6, 'queued', ?7, ?8, ?9, ?10, ?11) RETURNING id",
                 params![
                     new.course,
                     new.student,
@@ -215,20 +219,12 @@ impl Store {
                     moment(new.submitted_at),
                     new.late_seconds,
                     new.penalty,
-                    new.language.name()
+                    new.language.name(),
+                    new.grader
                 ],
                 |row| row.get(0),
             )?)
         })
-    }
-
-    /// Marks a submission as being graded and returns what grading needs.
-    pub fn start_grading(&self, id: i64) -> Result<ToGrade, Error> {
-        self.connection().execute(
-            "UPDATE submissions SET status = ?2 WHERE id = ?1",
-            params![id, Status::Grading.as_str()],
-        )?;
-        self.to_grade(id)
     }
 
     /// What grading a submission needs, its status left as it is.
@@ -249,31 +245,39 @@ impl Store {
         )?)
     }
 
-    /// Stores the result of a grading, with the grader that produced it.
+    /// Stores the result of a grading, with the grader that produced it, if `holder` still
+    /// holds its lease (`leases`): a result is written once.
     pub fn finish_grading(
         &self,
         id: i64,
         result: &GradeResult,
         grader: Option<&str>,
+        holder: &Holder,
     ) -> Result<(), Error> {
         let text = serde_json::to_string(result).expect("results serialise");
-        self.connection().execute(
+        let written = self.connection().execute(
             "UPDATE submissions SET status = 'graded', result = ?2, score = ?3, grader = ?4,
-             challenge = ?5, graded_at = ?6 WHERE id = ?1",
+             challenge = ?5, graded_at = ?6, leased_by = NULL, lease_until = 0
+             WHERE id = ?1 AND status = 'grading' AND leased_by = ?7",
             params![
                 id,
                 text,
                 result.gradable.then_some(result.score),
                 grader,
                 challenge_figure(result),
-                moment(Timestamp::now())
+                moment(Timestamp::now()),
+                holder.as_str()
             ],
         )?;
+        if written == 0 {
+            return Err(Error::LeaseLost(format!("submission {id}")));
+        }
         Ok(())
     }
 
-    /// Ends a submission whose grading failed as not gradable, with the reason.
-    pub fn give_up(&self, id: i64, reason: &str) -> Result<(), Error> {
+    /// Ends a submission whose grading `holder` holds, and which failed, as not gradable,
+    /// with the reason.
+    pub fn give_up(&self, id: i64, reason: &str, holder: &Holder) -> Result<(), Error> {
         let (exercise, seed): (Exercise, i64) = self.connection().query_row(
             "SELECT lab, seed FROM submissions WHERE id = ?1",
             [id],
@@ -283,36 +287,24 @@ impl Store {
             id,
             &GradeResult::not_gradable(exercise, seed as u64, reason),
             None,
+            holder,
         )
     }
 
-    /// A submission whose grading began but whose sandbox did not start: queued again.
-    pub fn back_to_queue(&self, id: i64) -> Result<(), Error> {
+    /// A submission whose grading `holder` began but whose sandbox did not start: queued
+    /// again, for any grader.
+    pub fn back_to_queue(&self, id: i64, holder: &Holder) -> Result<(), Error> {
         self.connection().execute(
-            "UPDATE submissions SET status = ?2 WHERE id = ?1 AND status = ?3",
-            params![id, Status::Queued.as_str(), Status::Grading.as_str()],
+            "UPDATE submissions SET status = ?2, leased_by = NULL, lease_until = 0
+             WHERE id = ?1 AND status = ?3 AND leased_by = ?4",
+            params![
+                id,
+                Status::Queued.as_str(),
+                Status::Grading.as_str(),
+                holder.as_str()
+            ],
         )?;
         Ok(())
-    }
-
-    /// The submissions whose grading has not finished (queued, or cut off by a stop),
-    /// oldest first, with whose they are: of the exercises this release grades (a later
-    /// release's are left for it).
-    pub fn unfinished(&self) -> Result<Vec<Unfinished>, Error> {
-        let connection = self.connection();
-        let list = connection.query_map(
-            "SELECT id, course, student FROM submissions
-             WHERE status != 'graded' AND lab IN (SELECT value FROM json_each(?1)) ORDER BY id",
-            params![known_exercises()],
-            |row| {
-                Ok(Unfinished {
-                    id: row.get(0)?,
-                    course: row.get(1)?,
-                    student: row.get(2)?,
-                })
-            },
-        )?;
-        Ok(list)
     }
 
     /// One submission, if it exists, with its source when `with_source`. The result is
@@ -476,6 +468,7 @@ mod tests {
             submitted_at: Timestamp::UNIX_EPOCH,
             late_seconds: 0,
             penalty: 0.0,
+            grader: "estlab test plan 0",
         }
     }
 
@@ -487,7 +480,13 @@ mod tests {
         // Another student is not held up; the same student is, while the first waits.
         store.insert(&new("grace", "// other")).unwrap();
         assert!(matches!(store.insert(&new("ada", "// two")), Err(Error::Busy(id)) if id == first));
-        store.start_grading(first).unwrap();
+        let me = Holder::this_process();
+        let lease = crate::store::Lease {
+            holder: &me,
+            from: Timestamp::now(),
+            length: std::time::Duration::from_secs(30),
+        };
+        store.claim_submission(first, &lease).unwrap();
         assert!(matches!(
             store.insert(&new("ada", "// two")),
             Err(Error::Busy(_))
@@ -496,7 +495,7 @@ mod tests {
         // Grading failed on the server's side: the submission ends not gradable, the
         // student may submit again, and nothing is lost.
         store
-            .give_up(first, "the server could not grade it")
+            .give_up(first, "the server could not grade it", &me)
             .unwrap();
         let ended = store.get(first, false).unwrap().unwrap();
         assert_eq!(ended.summary.status, Status::Graded);
@@ -510,7 +509,7 @@ mod tests {
         assert_eq!(result.seed, 7);
         let second = store.insert(&new("ada", "// two")).unwrap();
         assert!(second > first);
-        assert_eq!(store.start_grading(first).unwrap().source, "// one");
+        assert_eq!(store.to_grade(first).unwrap().source, "// one");
         assert_eq!(
             store.get(first, true).unwrap().unwrap().source.as_deref(),
             Some("// one")
@@ -541,7 +540,12 @@ mod tests {
                  VALUES ('el2320', 'particle-filter', 'all', 'teacher', 'estlab 9', 0);",
             )
             .unwrap();
-        let waiting: Vec<i64> = store.unfinished().unwrap().iter().map(|u| u.id).collect();
+        let waiting: Vec<i64> = store
+            .claimable(Timestamp::now())
+            .unwrap()
+            .iter()
+            .map(|c| c.submission.id)
+            .collect();
         assert_eq!(waiting, [known]);
         assert!(store.assignments("el2320").unwrap().is_empty());
         assert!(store.regrades("el2320").unwrap().is_empty());

@@ -11,13 +11,13 @@
 //! (120 random bits, 80 of them behind Argon2id), by the pace of the checks (one per
 //! core, `signin::CODE_CHECKS`) and by refusing the guesses of an address over its share
 //! before any hash is checked. An IPv6 client is counted by its /64, which it usually
-//! holds whole. Held in memory: a restart forgets them.
+//! holds whole. Counted in the database (`store::rates`): every web process behind a load
+//! balancer counts the same attempts, and a restart forgets none.
 
 use super::address::block;
+use crate::store::{Error, Event, Store, Window};
 use jiff::{SignedDuration, Timestamp};
-use std::collections::{HashMap, VecDeque};
 use std::net::IpAddr;
-use std::sync::Mutex;
 
 /// The window over which attempts are counted.
 const WINDOW: SignedDuration = SignedDuration::from_mins(15);
@@ -27,11 +27,9 @@ const PER_CODE: usize = 10;
 /// Failed guesses (codes of nobody's, a mistyped selector among them) an address may have
 /// in the window: enough for a room of students behind one address who mistype.
 const GUESSES: usize = 30;
-/// Keys kept at most; beyond it the quietest are forgotten first.
-const MAX_KEYS: usize = 100_000;
 
 /// What a sign-in tried, as the limiter counts it.
-#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Attempt {
     /// A code whose selector is someone's: counted for that selector.
     Code(String),
@@ -40,10 +38,23 @@ pub enum Attempt {
 }
 
 impl Attempt {
-    fn share(&self) -> usize {
+    fn window(&self) -> Window {
+        let (scope, share) = match self {
+            Attempt::Code(_) => ("signin code", PER_CODE),
+            Attempt::Guess => ("signin guess", GUESSES),
+        };
+        Window {
+            scope,
+            share,
+            length: WINDOW,
+        }
+    }
+
+    /// What it is counted under, from `address`.
+    fn key(&self, address: IpAddr) -> String {
         match self {
-            Attempt::Code(_) => PER_CODE,
-            Attempt::Guess => GUESSES,
+            Attempt::Code(selector) => format!("{} {selector}", block(address)),
+            Attempt::Guess => block(address).to_string(),
         }
     }
 }
@@ -56,59 +67,23 @@ pub struct Refusal {
     pub guesses: bool,
 }
 
-type Key = (IpAddr, Attempt);
-
-#[derive(Default)]
-pub struct SignInLimiter {
-    attempts: Mutex<HashMap<Key, VecDeque<Timestamp>>>,
-}
-
-impl SignInLimiter {
-    /// Starts `attempt` from `address` at `now`, counted as a failure until it succeeds
-    /// (`succeeded`), so that a burst of simultaneous attempts is held to the limit too;
-    /// refused when the address has had its share of such attempts.
-    pub fn begin(&self, address: IpAddr, attempt: &Attempt, now: Timestamp) -> Result<(), Refusal> {
-        let key = (block(address), attempt.clone());
-        let share = attempt.share();
-        let mut attempts = self.attempts.lock().unwrap_or_else(|e| e.into_inner());
-        if let Some(times) = attempts.get_mut(&key) {
-            while times
-                .front()
-                .is_some_and(|t| now.duration_since(*t) >= WINDOW)
-            {
-                times.pop_front();
-            }
-            if times.len() >= share {
-                let free_at = times[times.len() - share] + WINDOW;
-                let seconds = free_at.duration_since(now).as_secs().max(1);
-                return Err(Refusal {
-                    minutes: (seconds + 59) / 60,
-                    guesses: *attempt == Attempt::Guess,
-                });
-            }
+/// Starts `attempt` from `address` at `now`, counted as a failure until it succeeds (its
+/// event taken back: `Store::forget_event`), so that a burst of simultaneous attempts is
+/// held to the limit too; refused when the address has had its share of such attempts.
+pub fn begin(
+    store: &Store,
+    address: IpAddr,
+    attempt: &Attempt,
+    now: Timestamp,
+) -> Result<Result<Event, Refusal>, Error> {
+    let counted = store.count_event(&attempt.window(), &attempt.key(address), now)?;
+    Ok(counted.map_err(|free_at| {
+        let seconds = free_at.duration_since(now).as_secs().max(1);
+        Refusal {
+            minutes: (seconds + 59) / 60,
+            guesses: *attempt == Attempt::Guess,
         }
-        if attempts.len() >= MAX_KEYS {
-            attempts.retain(|_, times| {
-                times
-                    .back()
-                    .is_some_and(|t| now.duration_since(*t) < WINDOW)
-            });
-        }
-        if attempts.len() < MAX_KEYS || attempts.contains_key(&key) {
-            attempts.entry(key).or_default().push_back(now);
-        }
-        Ok(())
-    }
-
-    /// Takes back the attempt `begin` counted for a sign-in that succeeded.
-    pub fn succeeded(&self, address: IpAddr, attempt: &Attempt, now: Timestamp) {
-        let mut attempts = self.attempts.lock().unwrap_or_else(|e| e.into_inner());
-        if let Some(times) = attempts.get_mut(&(block(address), attempt.clone()))
-            && let Some(i) = times.iter().rposition(|t| *t == now)
-        {
-            times.remove(i);
-        }
-    }
+    }))
 }
 
 #[cfg(test)]
@@ -125,108 +100,154 @@ mod tests {
 
     #[test]
     fn a_burst_of_attempts_is_held_to_the_limit_until_it_leaves_the_window() {
-        let limiter = SignInLimiter::default();
+        let dir = tempfile::tempdir().unwrap();
+        let store = crate::store::test_store(dir.path());
         let address: IpAddr = "192.0.2.7".parse().unwrap();
         let other: IpAddr = "192.0.2.8".parse().unwrap();
         let start = at("2026-12-01T10:00Z");
         // All at once, none finished yet: the limit holds all the same.
         for i in 0..GUESSES {
             assert!(
-                limiter.begin(address, &Attempt::Guess, start).is_ok(),
+                begin(&store, address, &Attempt::Guess, start)
+                    .unwrap()
+                    .is_ok(),
                 "guess {i}"
             );
         }
         assert_eq!(
-            limiter.begin(
+            begin(
+                &store,
                 address,
                 &Attempt::Guess,
                 start + SignedDuration::from_mins(1)
-            ),
+            )
+            .unwrap(),
             Err(Refusal {
                 minutes: 14,
                 guesses: true
             })
         );
-        assert!(limiter.begin(other, &Attempt::Guess, start).is_ok());
         assert!(
-            limiter
-                .begin(
-                    address,
-                    &Attempt::Guess,
-                    start + WINDOW + SignedDuration::from_secs(5)
-                )
+            begin(&store, other, &Attempt::Guess, start)
+                .unwrap()
                 .is_ok()
+        );
+        assert!(
+            begin(
+                &store,
+                address,
+                &Attempt::Guess,
+                start + WINDOW + SignedDuration::from_secs(5)
+            )
+            .unwrap()
+            .is_ok()
         );
     }
 
     #[test]
     fn a_sign_in_that_succeeds_is_not_counted() {
-        let limiter = SignInLimiter::default();
+        let dir = tempfile::tempdir().unwrap();
+        let store = crate::store::test_store(dir.path());
         let address: IpAddr = "192.0.2.7".parse().unwrap();
         let start = at("2026-12-01T10:00Z");
         for i in 0..3 * PER_CODE {
             let now = start + SignedDuration::from_secs(i as i64);
-            assert!(
-                limiter.begin(address, &code("AAAA0000"), now).is_ok(),
-                "sign-in {i}"
-            );
-            limiter.succeeded(address, &code("AAAA0000"), now);
+            let attempt = begin(&store, address, &code("AAAA0000"), now).unwrap();
+            let event = attempt.unwrap_or_else(|refused| panic!("sign-in {i}: {refused:?}"));
+            store.forget_event(event).unwrap();
         }
     }
 
     #[test]
     fn attempts_from_other_addresses_never_refuse_an_address() {
-        let limiter = SignInLimiter::default();
+        let dir = tempfile::tempdir().unwrap();
+        let store = crate::store::test_store(dir.path());
         let now = at("2026-12-01T10:00Z");
         let classroom: IpAddr = "192.0.2.1".parse().unwrap();
-        limiter.begin(classroom, &code("AAAA0000"), now).unwrap();
+        begin(&store, classroom, &code("AAAA0000"), now)
+            .unwrap()
+            .unwrap();
         for i in 0..10 * GUESSES {
             let elsewhere = IpAddr::from([10, 0, (i / 256) as u8, (i % 256) as u8]);
-            limiter.begin(elsewhere, &code("AAAA0000"), now).unwrap();
-            limiter.begin(elsewhere, &Attempt::Guess, now).unwrap();
+            begin(&store, elsewhere, &code("AAAA0000"), now)
+                .unwrap()
+                .unwrap();
+            begin(&store, elsewhere, &Attempt::Guess, now)
+                .unwrap()
+                .unwrap();
         }
         for i in 1..PER_CODE {
             assert!(
-                limiter.begin(classroom, &code("AAAA0000"), now).is_ok(),
+                begin(&store, classroom, &code("AAAA0000"), now)
+                    .unwrap()
+                    .is_ok(),
                 "attempt {i}"
             );
         }
-        assert!(limiter.begin(classroom, &code("AAAA0000"), now).is_err());
+        assert!(
+            begin(&store, classroom, &code("AAAA0000"), now)
+                .unwrap()
+                .is_err()
+        );
     }
 
     #[test]
     fn behind_one_address_one_code_or_guesses_locked_out_lock_out_nothing_else() {
-        let limiter = SignInLimiter::default();
+        let dir = tempfile::tempdir().unwrap();
+        let store = crate::store::test_store(dir.path());
         let now = at("2026-12-01T10:00Z");
         let classroom: IpAddr = "192.0.2.1".parse().unwrap();
         for _ in 0..PER_CODE {
-            limiter.begin(classroom, &code("MALLORY0"), now).unwrap();
+            begin(&store, classroom, &code("MALLORY0"), now)
+                .unwrap()
+                .unwrap();
         }
         for _ in 0..GUESSES {
-            limiter.begin(classroom, &Attempt::Guess, now).unwrap();
+            begin(&store, classroom, &Attempt::Guess, now)
+                .unwrap()
+                .unwrap();
         }
         assert_eq!(
-            limiter.begin(classroom, &code("MALLORY0"), now),
+            begin(&store, classroom, &code("MALLORY0"), now).unwrap(),
             Err(Refusal {
                 minutes: 15,
                 guesses: false
             })
         );
-        assert!(limiter.begin(classroom, &Attempt::Guess, now).is_err());
-        assert!(limiter.begin(classroom, &code("CLASSMAT"), now).is_ok());
+        assert!(
+            begin(&store, classroom, &Attempt::Guess, now)
+                .unwrap()
+                .is_err()
+        );
+        assert!(
+            begin(&store, classroom, &code("CLASSMAT"), now)
+                .unwrap()
+                .is_ok()
+        );
     }
 
     #[test]
     fn an_ipv6_client_is_counted_by_its_slash_64() {
-        let limiter = SignInLimiter::default();
+        let dir = tempfile::tempdir().unwrap();
+        let store = crate::store::test_store(dir.path());
         let now = at("2026-12-01T10:00Z");
         for i in 0..GUESSES {
             let address: IpAddr = format!("2001:db8:1:2::{:x}", i + 1).parse().unwrap();
-            limiter.begin(address, &Attempt::Guess, now).unwrap();
+            begin(&store, address, &Attempt::Guess, now)
+                .unwrap()
+                .unwrap();
         }
         let same_block: IpAddr = "2001:db8:1:2:ffff::9".parse().unwrap();
         let other_block: IpAddr = "2001:db8:1:3::1".parse().unwrap();
-        assert!(limiter.begin(same_block, &Attempt::Guess, now).is_err());
-        assert!(limiter.begin(other_block, &Attempt::Guess, now).is_ok());
+        assert!(
+            begin(&store, same_block, &Attempt::Guess, now)
+                .unwrap()
+                .is_err()
+        );
+        assert!(
+            begin(&store, other_block, &Attempt::Guess, now)
+                .unwrap()
+                .is_ok()
+        );
     }
 }

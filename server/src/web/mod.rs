@@ -27,7 +27,6 @@ mod viewer;
 
 pub use assets::Assets;
 pub use error::Error;
-pub use limiter::SignInLimiter;
 
 pub use viewer::SESSION_COOKIE;
 
@@ -59,7 +58,6 @@ pub struct AppState {
     pub assets: Assets,
     pub grader: Arc<Grader>,
     pub clock: Arc<dyn Clock>,
-    pub limiter: SignInLimiter,
     /// Behind a TLS reverse proxy: cookies are `Secure`, and the client's address is the
     /// last one the proxy added to `X-Forwarded-For`.
     pub behind_https: bool,

@@ -16,21 +16,23 @@ use super::submit::language_field;
 use super::viewer::Viewer;
 use super::{AppState, Error, blocking, lab_field};
 use crate::sandbox::{Code, Tried, check_size};
+use crate::store::Window;
 use axum::Json;
 use axum::extract::State;
 use jiff::{SignedDuration, Timestamp};
 use labs::grading::Outputs;
 use serde::Deserialize;
-use std::collections::{HashMap, VecDeque};
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 use tokio::sync::{OwnedSemaphorePermit, Semaphore};
 
 /// Phases one asker may run in a minute: a whole run of the tests and of the loop, four
 /// times (the CPU they take is held by `--parallel` besides).
 pub const PER_MINUTE: usize = 60;
-const WINDOW: SignedDuration = SignedDuration::from_mins(1);
-/// Askers remembered at most; beyond it the quietest are forgotten first.
-const MAX_KEYS: usize = 100_000;
+const PHASES: Window = Window {
+    scope: "phase",
+    share: PER_MINUTE,
+    length: SignedDuration::from_mins(1),
+};
 
 /// The body of `POST /api/phases`.
 #[derive(Deserialize)]
@@ -46,11 +48,8 @@ pub struct Ask {
     source: String,
 }
 
-/// The phases run for askers, as the server bounds them.
+/// The phases running at once, as this process bounds them (the CPU is its machine's).
 pub struct Trials {
-    /// When each asker's recent phases started.
-    recent: Mutex<HashMap<String, VecDeque<Timestamp>>>,
-    /// The phases running at once.
     running: Arc<Semaphore>,
 }
 
@@ -58,7 +57,6 @@ impl Trials {
     /// At most `parallel` phases at once.
     pub fn new(parallel: usize) -> Trials {
         Trials {
-            recent: Mutex::new(HashMap::new()),
             running: Arc::new(Semaphore::new(parallel.max(1))),
         }
     }
@@ -70,33 +68,19 @@ impl Trials {
             .await
             .map_err(|e| crate::store::Error::Task(e.to_string()).into())
     }
+}
 
-    /// Counts a phase of `asker` at `now`, or says when the next one is allowed.
-    fn admit(&self, asker: String, now: Timestamp) -> Result<(), Error> {
-        let mut recent = self.recent.lock().unwrap_or_else(|e| e.into_inner());
-        if recent.len() >= MAX_KEYS && !recent.contains_key(&asker) {
-            let quietest = recent
-                .iter()
-                .min_by_key(|(_, times)| times.back().copied())
-                .map(|(key, _)| key.clone());
-            if let Some(key) = quietest {
-                recent.remove(&key);
-            }
-        }
-        let times = recent.entry(asker).or_default();
-        while times.front().is_some_and(|&at| at + WINDOW <= now) {
-            times.pop_front();
-        }
-        if times.len() >= PER_MINUTE {
-            let wait = times[0] + WINDOW - now;
-            return Err(Error::TooManyRequests(format!(
-                "you have run {PER_MINUTE} tests or runs on the server in the last minute, the most it takes: try again in {} s",
-                wait.as_secs().max(1)
-            )));
-        }
-        times.push_back(now);
-        Ok(())
-    }
+/// Counts a phase of `asker` at `now` (in the database: every web process counts the
+/// same), or says when the next one is let.
+async fn admit(state: &Arc<AppState>, asker: String, now: Timestamp) -> Result<(), Error> {
+    let counted = blocking(state, move |store| store.count_event(&PHASES, &asker, now)).await?;
+    counted.map_err(|free_at| {
+        Error::TooManyRequests(format!(
+            "you have run {PER_MINUTE} tests or runs on the server in the last minute, the most it takes: try again in {} s",
+            free_at.duration_since(now).as_secs().max(1)
+        ))
+    })?;
+    Ok(())
 }
 
 pub async fn run(
@@ -125,7 +109,7 @@ pub async fn run(
     let language = language_field(ask.language.as_deref())?;
     check_size(&ask.source)
         .map_err(|problem| Error::TooLarge(format!("field `source`: {problem}")))?;
-    state.trials.admit(asker, state.clock.now())?;
+    admit(&state, asker, state.clock.now()).await?;
     let _running = state.trials.slot().await?;
     let grader = Arc::clone(&state.grader);
     let tried = tokio::task::spawn_blocking(move || {

@@ -2,7 +2,7 @@
 //! session lives in the database, so a restart signs nobody out; its key is in an
 //! HttpOnly, SameSite=Lax cookie, `Secure` behind HTTPS.
 
-use super::limiter::{Attempt, Refusal};
+use super::limiter::{self, Attempt, Refusal};
 use super::pages::{Nav, html};
 use super::viewer::{Viewer, session_key};
 use super::{AppState, Error, SESSION_COOKIE, blocking};
@@ -114,9 +114,14 @@ async fn check(
         Some(found) => Attempt::Code(found.selector.clone()),
         None => Attempt::Guess,
     };
-    if let Err(refusal) = state.limiter.begin(address, &attempt, now) {
-        return Ok(Err(Refused::too_many(&refusal)));
-    }
+    let event = match blocking(state, move |store| {
+        limiter::begin(store, address, &attempt, now)
+    })
+    .await?
+    {
+        Ok(event) => event,
+        Err(refusal) => return Ok(Err(Refused::too_many(&refusal))),
+    };
     let Ok(Ok(_turn)) = tokio::time::timeout(CHECK_WAIT, CODE_CHECKS.acquire()).await else {
         return Ok(Err(Refused(
             StatusCode::SERVICE_UNAVAILABLE,
@@ -134,7 +139,7 @@ async fn check(
     };
     match blocking(state, move |store| store.use_code(found, now)).await? {
         CodeCheck::Valid(member) => {
-            state.limiter.succeeded(address, &attempt, now);
+            blocking(state, move |store| store.forget_event(event)).await?;
             Ok(Ok(member))
         }
         CodeCheck::Refused => Ok(Err(Refused::wrong_code())),

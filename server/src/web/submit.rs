@@ -107,6 +107,7 @@ pub async fn accept(
             submitted_at: now,
             late_seconds,
             penalty,
+            grader: grader.version(exercise),
         })
     })
     .await

@@ -16,7 +16,7 @@ use estlab::grading::{Grader, Secret};
 use estlab::sandbox::Sandbox;
 use estlab::store::{Member, NewMember, Role, Status, Store, Submission};
 use estlab::web::phases::Trials;
-use estlab::web::{AppState, Assets, SESSION_COOKIE, SignInLimiter};
+use estlab::web::{AppState, Assets, SESSION_COOKIE};
 use jiff::{SignedDuration, Timestamp};
 use labs::Exercise;
 use serde_json::{Value, json};
@@ -123,7 +123,6 @@ impl App {
             assets: assets(),
             grader,
             clock: Arc::clone(&clock) as Arc<dyn Clock>,
-            limiter: SignInLimiter::default(),
             behind_https: false,
             datasets: Default::default(),
             trials: Trials::new(1),
@@ -312,7 +311,12 @@ impl App {
     /// Waits until every regrade begun is done; panics after `GRADING_BOUND`.
     pub async fn regrades_done(&self) {
         let give_up = Instant::now() + GRADING_BOUND;
-        while let Some((regrade, submission)) = self.store().next_regrade_item().unwrap() {
+        let grader = &self.state.grader;
+        while let Some((regrade, submission)) = self
+            .store()
+            .next_regrade_item(Timestamp::MAX, &grader.versions())
+            .unwrap()
+        {
             assert!(
                 Instant::now() < give_up,
                 "regrade {regrade} did not regrade submission {submission} within {GRADING_BOUND:?}"
