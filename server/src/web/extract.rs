@@ -67,8 +67,72 @@ impl Body {
         let bytes = axum::body::to_bytes(self.0, MAX_BODY)
             .await
             .map_err(|e| refused(what, &e))?;
-        serde_json::from_slice(&bytes).map_err(|e| Error::BadRequest(format!("{what}: {e}")))
+        let value = serde_json::from_slice(&bytes)
+            .map_err(|e| Error::BadRequest(format!("{what}: {e}")))?;
+        // No field takes it, no engine reads it, and PostgreSQL's text cannot keep it.
+        if let Some(nul) = escaped_nul(&bytes) {
+            return Err(Error::BadRequest(format!(
+                "field `{}`: line {} holds a NUL character (byte 0), which no text here may hold: send plain text",
+                nul.field, nul.line
+            )));
+        }
+        Ok(value)
     }
+}
+
+/// Where a JSON text holds a NUL character (only written `\u0000`: JSON holds no raw
+/// control character): the member whose string holds it, and the line of that string.
+#[derive(Debug, PartialEq)]
+struct Nul {
+    field: String,
+    line: usize,
+}
+
+/// The first NUL character of a JSON text (`json`, already read as valid), if any: its
+/// strings are scanned escape by escape, each member's name remembered for the value
+/// after it.
+fn escaped_nul(json: &[u8]) -> Option<Nul> {
+    let mut field = String::new();
+    let mut at = 0;
+    while let Some(open) = json[at..].iter().position(|&b| b == b'"') {
+        let start = at + open + 1;
+        let (mut end, mut line, mut nul) = (start, 1, None);
+        while end < json.len() && json[end] != b'"' {
+            if json[end] == b'\\' {
+                match json.get(end + 1) {
+                    Some(b'n') => line += 1,
+                    Some(b'u') if json.get(end + 2..end + 6) == Some(b"0000") => {
+                        nul.get_or_insert(line);
+                    }
+                    _ => {}
+                }
+                end += 2;
+            } else {
+                end += 1;
+            }
+        }
+        let next = json[(end + 1).min(json.len())..]
+            .iter()
+            .find(|b| !b.is_ascii_whitespace());
+        let is_name = next == Some(&b':');
+        let text = String::from_utf8_lossy(&json[start..end.min(json.len())]);
+        if let Some(line) = nul {
+            let field = if is_name {
+                format!("{text} (a name)")
+            } else {
+                field
+            };
+            return Some(Nul { field, line });
+        }
+        if is_name {
+            field = text.into_owned();
+        }
+        at = end + 1;
+        if at >= json.len() {
+            break;
+        }
+    }
+    None
 }
 
 /// Why a body could not be read: too large, too slow, or cut off.
@@ -97,5 +161,36 @@ impl<T: DeserializeOwned, S: Send + Sync> FromRequestParts<S> for Query<T> {
             .await
             .map(|axum::extract::Query(value)| Query(value))
             .map_err(|refused| Error::BadRequest(format!("the query: {}", refused.body_text())))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn nul(json: &str) -> Option<Nul> {
+        escaped_nul(json.as_bytes())
+    }
+
+    #[test]
+    fn a_nul_character_is_found_with_its_member_and_line() {
+        assert_eq!(
+            nul(r#"{"lab": "odometry", "source": "a\nb\u0000c"}"#),
+            Some(Nul {
+                field: "source".into(),
+                line: 2
+            })
+        );
+        assert_eq!(
+            nul(r#"{"marks": [{"comment": "\u0000"}]}"#),
+            Some(Nul {
+                field: "comment".into(),
+                line: 1
+            })
+        );
+        // The text `\u0000` (an escaped backslash, then `u0000`) is no NUL character.
+        assert_eq!(nul(r#"{"source": "let s = '\\u0000';\n"}"#), None);
+        assert_eq!(nul(r#"{"source": "\"\u0001\"", "n": 0}"#), None);
+        assert_eq!(nul("[]"), None);
     }
 }
