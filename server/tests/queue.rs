@@ -7,7 +7,7 @@
 use estlab::clock::{Clock, FixedClock};
 use estlab::grading::{Grader, Policy, Secret, Work};
 use estlab::sandbox::Sandbox;
-use estlab::store::{Error, NewSubmission, Status};
+use estlab::store::{Error, Holder, NewSubmission, Status};
 use jiff::Timestamp;
 use labs::Exercise;
 use std::path::{Path, PathBuf};
@@ -89,12 +89,27 @@ async fn another_students_submission_is_graded_before_a_flooders_second() {
     let dir = tempfile::tempdir().unwrap();
     let grader = grader(dir.path(), Sandbox::new(estlab(), 1), one_at_a_time());
     let store = grader.store();
-    // First, a submission that a web process of another release took: this grader would
-    // grade it differently, and leaves it to a grader of that release.
+    // First, a submission that a web process of another release took, one of whose
+    // graders runs: this grader would grade it differently, and leaves it to that one.
+    let other_release = "estlab 0.0.1 plan 000000000000";
+    store
+        .heartbeat(
+            &Holder::this_process(),
+            &[other_release],
+            Timestamp::MAX - jiff::SignedDuration::from_hours(1),
+        )
+        .unwrap();
     let elsewhere = store
         .insert(&NewSubmission {
-            grader: "estlab 0.0.1 plan 000000000000",
+            grader: other_release,
             ..submission(&grader, "alan", Exercise::Odometry, &quick("alan"))
+        })
+        .unwrap();
+    // And one of a release whose graders are all gone (an upgrade): taken over.
+    let taken_over = store
+        .insert(&NewSubmission {
+            grader: "estlab 0.0.0 plan 000000000000",
+            ..submission(&grader, "barbara", Exercise::Odometry, &quick("barbara"))
         })
         .unwrap();
     // The submissions a stop left waiting: a flooder's two (one per exercise) first, then
@@ -113,7 +128,7 @@ async fn another_students_submission_is_graded_before_a_flooders_second() {
             .unwrap()
     })
     .collect();
-    assert_eq!(grader.resume().unwrap(), 4);
+    assert_eq!(grader.resume().unwrap(), 5);
     until("every submission of this release graded", || {
         store
             .all_submissions()
@@ -122,9 +137,14 @@ async fn another_students_submission_is_graded_before_a_flooders_second() {
             .all(|s| s.status == Status::Graded || s.id == elsewhere)
     })
     .await;
-    // The first in line, and never taken.
+    // The first in line, and never taken; the other graded here, as this grader grades.
     let left = store.get(elsewhere, false).unwrap().unwrap();
     assert_eq!(left.summary.status, Status::Queued);
+    let taken = store.get(taken_over, false).unwrap().unwrap();
+    assert_eq!(
+        taken.grader.as_deref(),
+        Some(grader.version(Exercise::Odometry))
+    );
 
     let mut graded: Vec<(String, i64)> = ids
         .iter()

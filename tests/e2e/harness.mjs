@@ -167,8 +167,10 @@ function startEstlab(command, dataDir, args, ready) {
   if (!existsSync(estlabBinary)) throw new Error(`${estlabBinary} is not built (cargo build -p estlab)`);
   const child = spawn(estlabBinary, [command, '--data', dataDir, ...args], {
     stdio: ['ignore', 'pipe', 'pipe'],
-    env: withDatabase(dataDir),
+    // A grading's line in the log is what the tests count, whatever the shell's RUST_LOG.
+    env: { ...withDatabase(dataDir), RUST_LOG: 'warn,estlab=info' },
   });
+  child.closed = new Promise((done) => child.once('close', done));
   let stderr = '';
   child.stderr.on('data', (chunk) => { stderr += chunk; });
   return new Promise((resolve, reject) => {
@@ -222,6 +224,13 @@ export function cpuOf(pid) {
   // "pid (comm) state ppid ...": utime, stime, cutime and cstime are fields 14 to 17, in 1/100 s.
   const fields = stat.slice(stat.lastIndexOf(')') + 2).split(' ');
   return fields.slice(11, 15).map(Number).reduce((a, b) => a + b, 0) / 100;
+}
+
+/** CPU seconds the whole machine has been busy (every core, every process), from /proc/stat. */
+export function machineCpu() {
+  // "cpu user nice system idle iowait irq softirq steal ...", in 1/100 s.
+  const [user, nice, system, , , irq, softirq, steal] = readFileSync('/proc/stat', 'utf8').split('\n')[0].split(/\s+/).slice(1).map(Number);
+  return (user + nice + system + irq + softirq + steal) / 100;
 }
 
 /** The value at quantile `q` of `values` (nearest rank). */
@@ -282,10 +291,14 @@ export function waitForSubmission(server, url, { until = (s) => s.status === 'gr
   return waitFor(`submission ${url} to be ${what}`, () => submission(server, url), until, options);
 }
 
-/** Sends `signal` to `child`, unless it has exited; resolves once it has. */
+/**
+ * Sends `signal` to `child`, unless it has exited; resolves once it has and its output
+ * is read to the end (what it wrote before it ended is in its log).
+ */
 function ended(child, signal) {
-  if (child.exitCode !== null || child.signalCode !== null) return Promise.resolve();
-  return new Promise((done) => { child.once('exit', done); child.kill(signal); });
+  child.closed ??= new Promise((done) => child.once('close', done));
+  if (child.exitCode === null && child.signalCode === null) child.kill(signal);
+  return child.closed;
 }
 
 /** Headless Chromium with the flags this machine needs. */

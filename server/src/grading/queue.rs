@@ -16,7 +16,7 @@ use super::fair::{FairQueue, Lane, Policy, Tenant, Ticket, Waiting, Work};
 use super::{Secret, grader_version, priority};
 use crate::clock::Clock;
 use crate::sandbox::{Code, DidNotStart, Sandbox};
-use crate::store::{Error, Holder, Lease, NewSubmission, Store, ToGrade};
+use crate::store::{Claimable, Error, Holder, Lease, NewSubmission, Store, ToGrade};
 use jiff::Timestamp;
 use labs::Exercise;
 use std::collections::HashSet;
@@ -158,7 +158,7 @@ impl Grader {
     /// the database every `Policy::poll` from then on; returns how many submissions it
     /// found waiting.
     pub fn resume(self: &Arc<Self>) -> Result<usize, Error> {
-        self.store.end_leases_of_the_dead()?;
+        self.store.end_leases_of_the_dead(&self.holder)?;
         let found = self.find_work()?;
         self.grading.store(true, Ordering::SeqCst);
         self.regrades_pending.store(true, Ordering::SeqCst);
@@ -167,24 +167,21 @@ impl Grader {
         Ok(found)
     }
 
-    /// Queues the submissions waiting in the database that this grader may grade, unless
-    /// queued here already; returns how many it queued.
+    /// Says in the database that this grader runs, then queues the submissions waiting
+    /// there that it may grade, unless queued here already; returns how many it queued.
     fn find_work(&self) -> Result<usize, Error> {
-        let claimable = self.store.claimable(Timestamp::now())?;
+        let now = Timestamp::now();
+        self.store.heartbeat(&self.holder, &self.versions(), now)?;
+        let running = self.running_versions(now)?;
+        let claimable = self.store.claimable(now)?;
         let mut queue = self.queue();
         let mut found = 0;
         for waiting in claimable {
             let id = waiting.submission.id;
-            if let Some(wanted) = waiting.wanted_grader
-                && !self.versions.contains(&wanted)
-            {
+            if let Some(why) = self.leaves(&waiting, &running) {
                 let mut left = self.left.lock().unwrap_or_else(|e| e.into_inner());
                 if left.insert(id) {
-                    tracing::warn!(
-                        submission = id,
-                        wanted,
-                        "left for a grader of that release: this one would grade it differently"
-                    );
+                    tracing::warn!(submission = id, "left to another grader: {why}");
                 }
                 continue;
             }
@@ -194,6 +191,35 @@ impl Grader {
             }
         }
         Ok(found)
+    }
+
+    /// The versions of the graders that run (seen within a lease), this one's among them.
+    fn running_versions(&self, now: Timestamp) -> Result<HashSet<String>, Error> {
+        let lease = self.queue().policy().lease;
+        let since =
+            now - jiff::SignedDuration::try_from(lease).unwrap_or(jiff::SignedDuration::MAX);
+        self.store.live_versions(since)
+    }
+
+    /// Why this grader leaves a waiting submission to others, if it does: its web process
+    /// took it for a grader of another version, one of which runs (when none does, this
+    /// one takes it over, its result naming this grader); or this machine cannot run its
+    /// language.
+    fn leaves(&self, waiting: &Claimable, running: &HashSet<String>) -> Option<String> {
+        if let Some(wanted) = &waiting.wanted_grader
+            && !self.versions.contains(wanted)
+            && running.contains(wanted)
+        {
+            return Some(format!(
+                "taken for {wanted}, which a grader runs: this one would grade it differently"
+            ));
+        }
+        self.sandbox.language(waiting.language).err().map(|why| {
+            format!(
+                "{} files cannot be graded on this machine: {why}",
+                waiting.language.title()
+            )
+        })
     }
 
     /// Looks at the database every `Policy::poll`, for as long as the process runs: for
@@ -266,9 +292,11 @@ impl Grader {
     async fn queue_next_regrade_item(self: &Arc<Self>) {
         let grader = Arc::clone(self);
         let next = tokio::task::spawn_blocking(move || {
+            let now = Timestamp::now();
+            let running = grader.running_versions(now)?;
             grader
                 .store
-                .next_regrade_item(Timestamp::now(), &grader.versions())
+                .next_regrade_item(now, &grader.versions(), &running)
         })
         .await;
         match next {
@@ -491,10 +519,18 @@ impl Grader {
         // Its status stays graded: the student may go on submitting meanwhile.
         let job = self.store.to_grade(submission)?;
         let hidden = self.secret.hidden(submission, &job.course);
-        let result = self
-            .sandbox
-            .try_grade(job.exercise, code_of(&job), job.seed, Some(hidden))
-            .map_err(Failure::DidNotStart)?;
+        let result =
+            match self
+                .sandbox
+                .try_grade(job.exercise, code_of(&job), job.seed, Some(hidden))
+            {
+                Ok(result) => result,
+                Err(err) => {
+                    self.store
+                        .release_regrade_item(regrade, submission, &self.holder)?;
+                    return Err(Failure::DidNotStart(err));
+                }
+            };
         let score = result.gradable.then_some(result.score);
         self.store.finish_regrade_item(
             regrade,

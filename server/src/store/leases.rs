@@ -11,12 +11,16 @@
 
 use super::db::params;
 use super::submissions::{Status, Unfinished};
-use super::{Error, Store, ToGrade, known_exercises};
+use super::{Error, Store, ToGrade, known_exercises, named};
 use jiff::Timestamp;
+use labs::Language;
+use std::collections::HashSet;
 use std::time::Duration;
 
-/// Who holds a lease: one grader process, as `host/pid/tag` (its machine, its process id,
-/// and a random tag that tells it from an earlier process of the same id).
+/// Who holds a lease: one grader process, as `host/space/pid/tag`: its machine's name, the
+/// process ids it is numbered among (the machine's boot and its PID namespace: two
+/// containers of one host name number their processes apart), its process id, and a
+/// random tag that tells it from an earlier process of the same id.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Holder(String);
 
@@ -28,28 +32,37 @@ impl Holder {
         // tell this process from every one running beside it.
         let _ = getrandom::fill(&mut tag);
         let tag: String = tag.iter().map(|b| format!("{b:02x}")).collect();
-        Holder(format!("{}/{}/{tag}", host_name(), std::process::id()))
+        Holder(format!("{}/{}/{tag}", process_space(), std::process::id()))
     }
 
     pub fn as_str(&self) -> &str {
         &self.0
     }
 
-    /// The host and process id a holder's name gives.
+    /// The process space (`host/space`) and the process id a holder's name gives.
     fn process(name: &str) -> Option<(&str, i32)> {
         let mut parts = name.rsplitn(3, '/');
-        let (_tag, pid, host) = (parts.next()?, parts.next()?, parts.next()?);
-        Some((host, pid.parse().ok()?))
+        let (_tag, pid, space) = (parts.next()?, parts.next()?, parts.next()?);
+        Some((space, pid.parse().ok()?))
     }
 }
 
-/// This machine's name (the kernel's), or `localhost` where it cannot be read.
-fn host_name() -> String {
-    std::fs::read_to_string("/proc/sys/kernel/hostname")
-        .map(|name| name.trim().to_owned())
-        .ok()
-        .filter(|name| !name.is_empty() && !name.contains('/'))
-        .unwrap_or_else(|| "localhost".into())
+/// Where this process's id means this process: `host/boot.namespace`, this machine's name
+/// (the kernel's, or `localhost`), the id of its boot and the inode of its PID namespace
+/// (each `-` where it cannot be read).
+fn process_space() -> String {
+    let read = |path: &str| {
+        std::fs::read_to_string(path)
+            .map(|text| text.trim().to_owned())
+            .ok()
+            .filter(|text| !text.is_empty() && !text.contains('/'))
+    };
+    let host = read("/proc/sys/kernel/hostname").unwrap_or_else(|| "localhost".into());
+    let boot = read("/proc/sys/kernel/random/boot_id").unwrap_or_else(|| "-".into());
+    let namespace = std::fs::metadata("/proc/self/ns/pid")
+        .map(|meta| std::os::unix::fs::MetadataExt::ino(&meta).to_string())
+        .unwrap_or_else(|_| "-".into());
+    format!("{host}/{boot}.{namespace}")
 }
 
 /// Whether a process of this machine is running.
@@ -85,6 +98,7 @@ pub struct Claimable {
     /// The grader the web process that took it grades with (none: taken before graders
     /// had leases, by this release or an earlier one).
     pub wanted_grader: Option<String>,
+    pub language: Language,
 }
 
 impl Store {
@@ -92,8 +106,8 @@ impl Store {
     /// that has run out; of the exercises this release grades; oldest first.
     pub fn claimable(&self, now: Timestamp) -> Result<Vec<Claimable>, Error> {
         Ok(self.connection().query_map(
-            "SELECT id, course, student, wanted_grader FROM submissions
-             WHERE (status = 'queued' OR (status = 'grading' AND lease_until < ?2))
+            "SELECT id, course, student, wanted_grader, language FROM submissions
+             WHERE status != 'graded' AND (status = 'queued' OR lease_until < ?2)
              AND lab IN (SELECT value FROM json_each(?1)) ORDER BY id",
             params![known_exercises(), millis(now)],
             |row| {
@@ -104,6 +118,7 @@ impl Store {
                         student: row.get(2)?,
                     },
                     wanted_grader: row.get(3)?,
+                    language: named(row, 4)?,
                 })
             },
         )?)
@@ -178,12 +193,15 @@ impl Store {
         Ok(renewed == 1)
     }
 
-    /// Ends the leases of graders of this machine that are no longer running (a grader
-    /// or server killed here and started again takes its work back at once rather than
-    /// after the lease); returns how many holders ended. A holder whose process id another
-    /// process has since taken keeps its lease until it runs out.
-    pub fn end_leases_of_the_dead(&self) -> Result<usize, Error> {
-        let host = host_name();
+    /// Ends the leases of graders of this machine (of this process space) that are no
+    /// longer running, and of an earlier process of this one's id (a container's first
+    /// process, started again): a grader or server killed here and started again takes its
+    /// work back at once rather than after the lease. Returns how many holders ended. A
+    /// holder whose process id another process has since taken keeps its lease until it
+    /// runs out.
+    pub fn end_leases_of_the_dead(&self, me: &Holder) -> Result<usize, Error> {
+        let here = process_space();
+        let my_pid = i32::try_from(std::process::id()).unwrap_or(-1);
         let holders: Vec<String> = self.connection().query_map(
             "SELECT leased_by FROM submissions WHERE status = 'grading' AND leased_by IS NOT NULL
              UNION SELECT leased_by FROM regrade_items WHERE done = 0 AND leased_by IS NOT NULL",
@@ -193,7 +211,9 @@ impl Store {
         let dead: Vec<&String> = holders
             .iter()
             .filter(|name| {
-                Holder::process(name).is_some_and(|(on, pid)| on == host && !is_running(pid))
+                Holder::process(name).is_some_and(|(space, pid)| {
+                    space == here && (!is_running(pid) || (pid == my_pid && *name != me.as_str()))
+                })
             })
             .collect();
         for name in &dead {
@@ -210,6 +230,59 @@ impl Store {
             })?;
         }
         Ok(dead.len())
+    }
+}
+
+impl Store {
+    /// Gives back a regrade's item whose sandbox did not start here, for any grader.
+    pub fn release_regrade_item(
+        &self,
+        regrade: i64,
+        submission: i64,
+        holder: &Holder,
+    ) -> Result<(), Error> {
+        self.connection().execute(
+            "UPDATE regrade_items SET leased_by = NULL, lease_until = 0
+             WHERE regrade = ?1 AND submission = ?2 AND leased_by = ?3 AND done = 0",
+            params![regrade, submission, holder.as_str()],
+        )?;
+        Ok(())
+    }
+
+    /// Says that `holder` runs, grading with the versions `versions`, as of `now`; forgets
+    /// graders not seen for a day.
+    pub fn heartbeat(
+        &self,
+        holder: &Holder,
+        versions: &[&str],
+        now: Timestamp,
+    ) -> Result<(), Error> {
+        let versions = serde_json::to_string(versions).expect("names serialise");
+        let connection = self.connection();
+        connection.execute(
+            "INSERT INTO graders (holder, versions, seen) VALUES (?1, ?2, ?3)
+             ON CONFLICT (holder) DO UPDATE SET versions = excluded.versions, seen = excluded.seen",
+            params![holder.as_str(), versions, millis(now)],
+        )?;
+        connection.execute(
+            "DELETE FROM graders WHERE seen < ?1",
+            [millis(now) - 24 * 3600 * 1000],
+        )?;
+        Ok(())
+    }
+
+    /// The versions graders seen since `since` grade with.
+    pub fn live_versions(&self, since: Timestamp) -> Result<HashSet<String>, Error> {
+        let lists: Vec<String> = self.connection().query_map(
+            "SELECT versions FROM graders WHERE seen >= ?1",
+            [millis(since)],
+            |row| row.get(0),
+        )?;
+        Ok(lists
+            .iter()
+            .filter_map(|list| serde_json::from_str::<Vec<String>>(list).ok())
+            .flatten()
+            .collect())
     }
 }
 
@@ -343,24 +416,27 @@ mod tests {
         );
     }
 
-    /// Leases of a process of this machine that is not running end at once; those of a
-    /// running one, or of another machine, are kept.
+    /// Leases of a process of this machine that is not running, or of an earlier process
+    /// of this one's id, end at once; those of a running one, or of another machine (or
+    /// PID namespace), are kept.
     #[test]
     fn the_leases_of_a_dead_process_of_this_machine_end() {
         let dir = tempfile::tempdir().unwrap();
         let store = test_store(dir.path());
-        let ids: Vec<i64> = ["ada", "grace", "alan"]
+        let ids: Vec<i64> = ["ada", "grace", "alan", "barbara"]
             .iter()
             .map(|student| submit(&store, student))
             .collect();
         let mut child = std::process::Command::new("true").spawn().unwrap();
         let dead_pid = child.id();
         child.wait().unwrap();
-        let here = host_name();
+        let here = process_space();
+        let me = Holder::this_process();
         let holders = [
             holder(&format!("{here}/{dead_pid}/x")),
-            Holder::this_process(),
+            me.clone(),
             holder(&format!("elsewhere.{here}/{dead_pid}/x")),
+            holder(&format!("{here}/{}/earlier", std::process::id())),
         ];
         let now = Timestamp::now();
         for (id, holder) in ids.iter().zip(&holders) {
@@ -369,24 +445,59 @@ mod tests {
                 .unwrap()
                 .unwrap();
         }
-        assert_eq!(store.end_leases_of_the_dead().unwrap(), 1);
+        assert_eq!(store.end_leases_of_the_dead(&me).unwrap(), 2);
         let free: Vec<i64> = store
             .claimable(now)
             .unwrap()
             .iter()
             .map(|c| c.submission.id)
             .collect();
-        assert_eq!(free, [ids[0]]);
+        assert_eq!(free, [ids[0], ids[3]]);
+    }
+
+    /// A grader's versions count as running while it is seen, and a day after it was last
+    /// seen it is forgotten.
+    #[test]
+    fn the_versions_of_graders_seen_lately_are_running() {
+        let dir = tempfile::tempdir().unwrap();
+        let store = test_store(dir.path());
+        let t0 = Timestamp::from_second(1_800_000_000).unwrap();
+        let minute = jiff::SignedDuration::from_mins(1);
+        store
+            .heartbeat(
+                &holder("a/1/x"),
+                &["estlab 1 plan a", "estlab 1 plan b"],
+                t0,
+            )
+            .unwrap();
+        store
+            .heartbeat(&holder("b/1/y"), &["estlab 2 plan a"], t0 + minute)
+            .unwrap();
+        let running = store.live_versions(t0 + minute).unwrap();
+        assert_eq!(running, HashSet::from(["estlab 2 plan a".to_owned()]));
+        assert_eq!(store.live_versions(t0).unwrap().len(), 3);
+        store
+            .heartbeat(
+                &holder("b/1/y"),
+                &["estlab 2 plan a"],
+                t0 + minute * (25 * 60),
+            )
+            .unwrap();
+        let kept: i64 = store
+            .connection()
+            .query_row("SELECT count(*) FROM graders", (), |row| row.get(0))
+            .unwrap();
+        assert_eq!(kept, 1);
     }
 
     #[test]
     fn a_holder_names_its_host_and_process() {
         let me = Holder::this_process();
-        let (host, pid) = Holder::process(me.as_str()).unwrap();
-        assert_eq!(host, host_name());
+        let (space, pid) = Holder::process(me.as_str()).unwrap();
+        assert_eq!(space, process_space());
         assert_eq!(pid as u32, std::process::id());
         assert!(is_running(pid));
-        assert_eq!(Holder::process("a/b/c/12/ff"), Some(("a/b/c", 12)));
+        assert_eq!(Holder::process("a/b.c/12/ff"), Some(("a/b.c", 12)));
         assert_eq!(Holder::process("nonsense"), None);
     }
 }

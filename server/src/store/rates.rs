@@ -4,8 +4,9 @@
 //! a row (its scope, its key, its moment); a key that has had its share in the window is
 //! refused until its oldest one there leaves it. Counting and adding are one transaction,
 //! so that a burst of simultaneous requests, to whichever process, is held to the share
-//! too. Rows that left their window are deleted as the next event of their scope is
-//! counted.
+//! too, and touches the key's own rows only (on PostgreSQL a serializable transaction
+//! over the whole scope would lose races to every other key's); the rows of a scope that
+//! left their window are deleted after each event, outside it.
 
 use super::db::{OptionalExtension, params};
 use super::{Error, Store};
@@ -36,10 +37,10 @@ impl Store {
         let now = now.as_millisecond();
         let length = window.length.as_millis() as i64;
         let share = i64::try_from(window.share).unwrap_or(i64::MAX);
-        self.transaction(|connection| {
+        let counted = self.transaction(|connection| {
             connection.execute(
-                "DELETE FROM rate_events WHERE scope = ?1 AND at <= ?2",
-                params![window.scope, now - length],
+                "DELETE FROM rate_events WHERE scope = ?1 AND key = ?2 AND at <= ?3",
+                params![window.scope, key, now - length],
             )?;
             if share == 0 {
                 return Ok(Err(
@@ -66,7 +67,12 @@ impl Store {
                 |row| row.get(0),
             )?;
             Ok(Ok(Event(id)))
-        })
+        })?;
+        self.connection().execute(
+            "DELETE FROM rate_events WHERE scope = ?1 AND at <= ?2",
+            params![window.scope, now - length],
+        )?;
+        Ok(counted)
     }
 
     /// Takes back an event counted (a sign-in that succeeded is not held against anyone).

@@ -13,6 +13,7 @@ use jiff::Timestamp;
 use labs::Exercise;
 use labs::grading::GradeResult;
 use serde::{Deserialize, Serialize};
+use std::collections::HashSet;
 use ts_rs::TS;
 
 /// What a regrade covers.
@@ -171,24 +172,28 @@ impl Store {
         })
     }
 
-    /// The next item a grader of the versions `graders` may take at `now` (none held under
-    /// a lease that runs on): of the oldest unfinished regrade whose grader is one of
-    /// them, if any. A regrade asked of another release's grader waits for one of it.
+    /// The next item a grader of the versions `mine` may take at `now` (none held under a
+    /// lease that runs on): of the oldest unfinished regrade asked of one of them, or of a
+    /// grader none of whose version runs (`running`), if any. A regrade asked of another
+    /// release's grader waits for it while one runs.
     pub fn next_regrade_item(
         &self,
         now: Timestamp,
-        graders: &[&str],
+        mine: &[&str],
+        running: &HashSet<String>,
     ) -> Result<Option<(i64, i64)>, Error> {
-        let graders = serde_json::to_string(graders).expect("names serialise");
+        let mine = serde_json::to_string(mine).expect("names serialise");
+        let running = serde_json::to_string(running).expect("names serialise");
         Ok(self
             .connection()
             .query_row(
                 "SELECT i.regrade, i.submission FROM regrade_items i
                  JOIN regrades r ON r.id = i.regrade
                  WHERE i.done = 0 AND i.lease_until < ?1
-                 AND r.grader IN (SELECT value FROM json_each(?2))
+                 AND (r.grader IN (SELECT value FROM json_each(?2))
+                    OR r.grader NOT IN (SELECT value FROM json_each(?3)))
                  ORDER BY i.regrade, i.submission LIMIT 1",
-                params![now.as_millisecond(), graders],
+                params![now.as_millisecond(), mine, running],
                 |row| Ok((row.get(0)?, row.get(1)?)),
             )
             .optional()?)

@@ -299,7 +299,15 @@ const MIGRATIONS: &[Step] = &[
         at INTEGER NOT NULL
     );
     CREATE INDEX rate_events_by_key ON rate_events (scope, key, at);
-    CREATE INDEX rate_events_by_moment ON rate_events (scope, at);"),
+    CREATE INDEX rate_events_by_moment ON rate_events (scope, at);
+    -- The graders running (`leases::Holder`), with the versions they grade (a JSON
+    -- array), seen at each look at the database: a submission is left for a grader of
+    -- its version only while one runs.
+    CREATE TABLE graders (
+        holder TEXT PRIMARY KEY,
+        versions TEXT NOT NULL,
+        seen INTEGER NOT NULL
+    );"),
 ];
 
 /// Brings the schema up to the newest version, one migration per transaction.
@@ -307,6 +315,7 @@ pub fn migrate(connection: &Connection) -> db::Result<()> {
     match connection.engine() {
         Engine::Sqlite => {
             let version: i64 = connection.query_row("PRAGMA user_version", (), |row| row.get(0))?;
+            known(version)?;
             for (i, step) in MIGRATIONS.iter().enumerate().skip(version as usize) {
                 let (Schema(sql) | OldRows(sql)) = step;
                 connection.execute_batch(&format!(
@@ -331,6 +340,19 @@ pub fn migrate(connection: &Connection) -> db::Result<()> {
     }
 }
 
+/// Refuses a schema of a later release: this one would read and write its rows without
+/// knowing what they mean (a release before graders had leases would grade beside the
+/// graders, unleased).
+fn known(version: i64) -> db::Result<()> {
+    if version > MIGRATIONS.len() as i64 {
+        return Err(db::Error::Schema(format!(
+            "its schema is version {version}, of a later estlab release; this release knows versions up to {}: run the later release",
+            MIGRATIONS.len()
+        )));
+    }
+    Ok(())
+}
+
 /// The key of PostgreSQL's advisory lock that migrations take (EL2320, the course).
 const MIGRATION_LOCK: i64 = 2320;
 
@@ -342,6 +364,7 @@ fn migrate_postgres(connection: &Connection) -> db::Result<()> {
     )?;
     let version: i64 =
         connection.query_row("SELECT version FROM estlab_schema", (), |row| row.get(0))?;
+    known(version)?;
     for (i, step) in MIGRATIONS.iter().enumerate().skip(version as usize) {
         let sql = match step {
             Schema(sql) => postgres_ddl(sql),

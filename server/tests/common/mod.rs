@@ -314,7 +314,7 @@ impl App {
         let grader = &self.state.grader;
         while let Some((regrade, submission)) = self
             .store()
-            .next_regrade_item(Timestamp::MAX, &grader.versions())
+            .next_regrade_item(Timestamp::MAX, &grader.versions(), &Default::default())
             .unwrap()
         {
             assert!(

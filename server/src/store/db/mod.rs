@@ -21,6 +21,9 @@ pub enum Error {
     /// A column whose value is not what the query reads it as.
     #[error("column {column}: {reason}")]
     Column { column: usize, reason: String },
+    /// A database this release cannot use as it is.
+    #[error("{0}")]
+    Schema(String),
 }
 
 pub type Result<T> = std::result::Result<T, Error>;
