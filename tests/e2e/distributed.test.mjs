@@ -274,3 +274,38 @@ test('a web process killed mid-request: what it answered for is stored and grade
     await stopAll(all);
   }
 });
+
+test('a web process killed while it makes a report\'s runs: another makes them once its lease has run out', bounded, async () => {
+  const dataDir = tempDir();
+  const args = [...WEB, '--lease', LEASE];
+  const all = { web: [await startServer({ dataDir, args }), await startServer({ dataDir, args })], grading: [] };
+  all.grading.push(await startGrader({ dataDir, args: GRADER }));
+  try {
+    const [doomed, other] = all.web;
+    const { students: [student], token } = setUpCourse(other, { course: COURSE, title: 'Estimation, a report', prefix: 'r', count: 1, role: 'assistant' });
+    student.cookie = await signIn(other, student.code);
+    const answer = await post(other, student.cookie, correct);
+    assert.equal(answer.status, 202, JSON.stringify(answer.body));
+    await waitFor('the submission to be graded', () => courseSubmissions(other, token),
+      (list) => list.every((s) => s.status === 'graded'), { timeout: 240_000, interval: 250 });
+    const runs = (web) => getJson(web, `/api/courses/${COURSE}/labs/${LAB}/report/runs`, { cookie: student.cookie });
+
+    // The doomed process begins making the runs (under its lease) and dies.
+    const begun = await runs(doomed);
+    assert.equal(begun.status, 200, JSON.stringify(begun.body));
+    await doomed.kill();
+    const states = [begun.body.state];
+    const made = await waitFor('the other web process to make the runs', async () => {
+      const read = await runs(other);
+      assert.equal(read.status, 200, JSON.stringify(read.body));
+      states.push(read.body.state);
+      return read.body;
+    }, (body) => body.state === 'made' || body.state === 'failed', { timeout: 240_000, interval: 500 });
+    assert.equal(made.state, 'made', `the runs: ${JSON.stringify(made).slice(0, 300)}`);
+    assert.equal(made.submission, answer.body.id);
+    console.log(`report's runs: asked of the doomed process (${begun.body.state}), then of the other: ${[...new Set(states.slice(1))].join(' then ')}`);
+  } finally {
+    all.web = all.web.slice(1);
+    await stopAll(all);
+  }
+});

@@ -463,8 +463,8 @@ impl Grader {
         }
     }
 
-    /// A lease of this grader's from now.
-    fn lease(&self) -> Lease<'_> {
+    /// A lease of this process's from now (a grading's, or a report's runs being made).
+    pub fn lease(&self) -> Lease<'_> {
         Lease {
             holder: &self.holder,
             from: Timestamp::now(),

@@ -21,7 +21,7 @@ mod submissions;
 pub use access::{CodeCheck, FoundCode, TokenInfo};
 pub use answers::SavedAnswer;
 pub use courses::{Assignment, Course, Member, NewMember, Role, RosterChange};
-pub use leases::{Claimable, Holder, Lease};
+pub use leases::{Claimable, Holder, Lease, ReportMaking};
 pub use rates::{Event, Window};
 pub use regrades::{Change, EarlierResult, Regrade, Scope};
 pub use reports::Closed;

@@ -307,6 +307,15 @@ const MIGRATIONS: &[Step] = &[
         holder TEXT PRIMARY KEY,
         versions TEXT NOT NULL,
         seen INTEGER NOT NULL
+    );
+    -- A student's report's runs being made (one student's at a time), under a lease of
+    -- the web process making them, or why its last try failed, to be told once.
+    CREATE TABLE report_makings (
+        member INTEGER PRIMARY KEY REFERENCES members (id),
+        submission INTEGER NOT NULL,
+        leased_by TEXT,
+        lease_until INTEGER NOT NULL DEFAULT 0,
+        failed TEXT
     );"),
 ];
 

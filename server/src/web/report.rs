@@ -22,7 +22,7 @@ use crate::courses::questions::{self, QuestionSet};
 use crate::courses::report::{self, Part, PartMark, State as ReportState, Stored};
 use crate::courses::rounds::Tally;
 use crate::sandbox::{Code, Tried};
-use crate::store::{Closed, Member, Role, SavedAnswer, Store, SubmissionSummary};
+use crate::store::{Closed, Member, ReportMaking, Role, SavedAnswer, Store, SubmissionSummary};
 use askama::Template;
 use axum::Json;
 use axum::extract::{Path, State};
@@ -33,9 +33,8 @@ use labs::{Exercise, Language};
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use serde_json::value::RawValue;
-use std::collections::hash_map::Entry;
-use std::collections::{BTreeMap, HashMap};
-use std::sync::{Arc, Mutex};
+use std::collections::BTreeMap;
+use std::sync::Arc;
 use tokio::sync::Semaphore;
 use ts_rs::TS;
 
@@ -574,22 +573,19 @@ pub enum ReportRuns {
     Failed { submission: i64, reason: String },
 }
 
-/// The reports' runs being made, one submission's at a time (a place of its own, so that
-/// neither gradings nor the askers' phases wait for a report) and one a student (by
-/// member: the submission asked for, waiting or being made), and why the last try of a
-/// submission's failed.
+/// The reports' runs this process makes: one submission's at a time (a place of its own,
+/// so that neither gradings nor the askers' phases wait for a report). Whose runs are
+/// being made (one student's at a time, under the lease of the process making them) and
+/// why a try failed are the database's (`store::ReportMaking`), so that every web
+/// process answers a student alike and a process that died leaves the making to another.
 pub struct Making {
     slot: Semaphore,
-    running: Mutex<HashMap<i64, i64>>,
-    failed: Mutex<HashMap<i64, String>>,
 }
 
 impl Default for Making {
     fn default() -> Making {
         Making {
             slot: Semaphore::new(1),
-            running: Mutex::default(),
-            failed: Mutex::default(),
         }
     }
 }
@@ -625,20 +621,20 @@ async fn runs_of(
             outputs,
         });
     }
-    let making = &state.reports;
-    if let Some(reason) = lock(&making.failed).remove(&submission) {
-        return Ok(ReportRuns::Failed { submission, reason });
+    let grader = Arc::clone(&state.grader);
+    let making = blocking(state, move |store| {
+        store.begin_report_making(student, submission, &grader.lease())
+    })
+    .await?;
+    match making {
+        ReportMaking::Failed(reason) => Ok(ReportRuns::Failed { submission, reason }),
+        // A student's next submission waits until their last is made (asked again then).
+        ReportMaking::Running { .. } => Ok(ReportRuns::Making { submission }),
+        ReportMaking::Yours => {
+            tokio::spawn(make_runs(Arc::clone(state), (student, submission), lab));
+            Ok(ReportRuns::Making { submission })
+        }
     }
-    // A student's next submission waits until their last is made (asked again then).
-    if let Entry::Vacant(entry) = lock(&making.running).entry(student) {
-        entry.insert(submission);
-        tokio::spawn(make_runs(Arc::clone(state), (student, submission), lab));
-    }
-    Ok(ReportRuns::Making { submission })
-}
-
-fn lock<T>(mutex: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
-    mutex.lock().unwrap_or_else(|e| e.into_inner())
 }
 
 /// Why a report's runs are not made on a server where the submission's language does not run.
@@ -646,9 +642,9 @@ const UNAVAILABLE: &str =
     "files in this language cannot be run on this server: its sandbox for them does not start here";
 
 /// Runs a submission's code on the whole data sets of its report's runs, one submission
-/// at a time, and keeps the outputs (unless another ask made them meanwhile); a failure
-/// of the server's is kept to be told once, in words for the student (the log has the
-/// detail).
+/// at a time, renewing its lease meanwhile, and keeps the outputs (unless another ask made
+/// them meanwhile); a failure of the server's is kept to be told once, in words for the
+/// student (the log has the detail).
 async fn make_runs(state: Arc<AppState>, (student, submission): (i64, i64), lab: Exercise) {
     let grader = state.grader.version(lab).to_owned();
     let made = async {
@@ -690,18 +686,43 @@ async fn make_runs(state: Arc<AppState>, (student, submission): (i64, i64), lab:
         })
         .await
         .map_err(|e| e.to_string())
-    }
-    .await;
-    if let Err(detail) = made {
+    };
+    tokio::pin!(made);
+    let every = state.grader.lease().length / 3;
+    let made = loop {
+        tokio::select! {
+            made = &mut made => break made,
+            () = tokio::time::sleep(every) => {
+                let grader = Arc::clone(&state.grader);
+                let renewed = blocking(&state, move |store| {
+                    store.renew_report_making(student, &grader.lease())
+                })
+                .await;
+                if !matches!(renewed, Ok(true)) {
+                    tracing::warn!(submission, "the making of a report's runs lost its lease");
+                }
+            }
+        }
+    };
+    let failed = made.err().map(|detail| {
         tracing::warn!(submission, %detail, "a report's runs were not made");
-        let reason = if detail.starts_with(UNAVAILABLE) {
+        if detail.starts_with(UNAVAILABLE) {
             UNAVAILABLE
         } else {
             "the server could not run the code this time (its sandbox failed: not the code's doing)"
-        };
-        lock(&state.reports.failed).insert(submission, reason.to_owned());
+        }
+    });
+    let grader = Arc::clone(&state.grader);
+    let ended = blocking(&state, move |store| {
+        store.end_report_making(student, grader.lease().holder, failed)
+    })
+    .await;
+    if let Err(err) = ended {
+        tracing::warn!(
+            submission,
+            "the making of a report's runs could not be ended: {err}"
+        );
     }
-    lock(&state.reports.running).remove(&student);
 }
 
 /// `GET .../report/runs`: the runs of the student's own report.
