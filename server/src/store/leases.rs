@@ -9,7 +9,6 @@
 //! Lease times are milliseconds since 1970 by the graders' clocks, which are kept in step
 //! (NTP) far closer than a lease's length.
 
-use super::db::OptionalExtension;
 use super::db::params;
 use super::submissions::{Status, Unfinished};
 use super::{Error, Store, ToGrade, known_exercises, named};
@@ -38,6 +37,12 @@ impl Holder {
 
     pub fn as_str(&self) -> &str {
         &self.0
+    }
+
+    /// A holder of the name `name`, for the tests.
+    #[cfg(test)]
+    pub(super) fn named(name: &str) -> Holder {
+        Holder(name.into())
     }
 
     /// The process space (`host/space`) and the process id a holder's name gives.
@@ -73,7 +78,7 @@ fn is_running(pid: i32) -> bool {
     sent == 0 || std::io::Error::last_os_error().raw_os_error() == Some(libc::EPERM)
 }
 
-fn millis(at: Timestamp) -> i64 {
+pub(super) fn millis(at: Timestamp) -> i64 {
     at.as_millisecond()
 }
 
@@ -87,7 +92,7 @@ pub struct Lease<'a> {
 
 impl Lease<'_> {
     /// Its end, in milliseconds since 1970.
-    fn until(&self) -> i64 {
+    pub(super) fn until(&self) -> i64 {
         millis(self.from).saturating_add(i64::try_from(self.length.as_millis()).unwrap_or(i64::MAX))
     }
 }
@@ -234,90 +239,7 @@ impl Store {
     }
 }
 
-/// Where the making of a student's report's runs stands, as a web process asks for them.
-#[derive(Debug, PartialEq)]
-pub enum ReportMaking {
-    /// This process is to make them, under the lease it was given.
-    Yours,
-    /// Another process (or this one) is making a submission's runs of the student's.
-    Running { submission: i64 },
-    /// The last try at this submission's runs failed: the reason, told once (the next
-    /// ask tries again).
-    Failed(String),
-}
-
 impl Store {
-    /// Begins the making of the runs of `member`'s report of `submission` under `lease`,
-    /// unless a making of the student's runs is under way (one student's at a time) or
-    /// the last try at these failed (told now, once).
-    pub fn begin_report_making(
-        &self,
-        member: i64,
-        submission: i64,
-        lease: &Lease,
-    ) -> Result<ReportMaking, Error> {
-        self.transaction(|connection| {
-            let row: Option<(i64, i64, Option<String>)> = connection
-                .query_row(
-                    "SELECT submission, lease_until, failed FROM report_makings WHERE member = ?1",
-                    [member],
-                    |row| Ok((row.get(0)?, row.get(1)?, row.get(2)?)),
-                )
-                .optional()?;
-            match row {
-                Some((of, _, Some(reason))) if of == submission => {
-                    connection.execute("DELETE FROM report_makings WHERE member = ?1", [member])?;
-                    return Ok(ReportMaking::Failed(reason));
-                }
-                Some((of, until, None)) if until >= millis(lease.from) => {
-                    return Ok(ReportMaking::Running { submission: of });
-                }
-                _ => {}
-            }
-            connection.execute(
-                "INSERT INTO report_makings (member, submission, leased_by, lease_until, failed)
-                 VALUES (?1, ?2, ?3, ?4, NULL)
-                 ON CONFLICT (member) DO UPDATE SET submission = excluded.submission,
-                 leased_by = excluded.leased_by, lease_until = excluded.lease_until, failed = NULL",
-                params![member, submission, lease.holder.as_str(), lease.until()],
-            )?;
-            Ok(ReportMaking::Yours)
-        })
-    }
-
-    /// Renews the lease of a making of `member`'s runs; false when its holder lost it.
-    pub fn renew_report_making(&self, member: i64, lease: &Lease) -> Result<bool, Error> {
-        let renewed = self.connection().execute(
-            "UPDATE report_makings SET lease_until = ?3
-             WHERE member = ?1 AND leased_by = ?2 AND failed IS NULL",
-            params![member, lease.holder.as_str(), lease.until()],
-        )?;
-        Ok(renewed == 1)
-    }
-
-    /// Ends `holder`'s making of `member`'s runs: done (the runs are kept), or failed
-    /// for a reason to tell the student at their next ask.
-    pub fn end_report_making(
-        &self,
-        member: i64,
-        holder: &Holder,
-        failed: Option<&str>,
-    ) -> Result<(), Error> {
-        let connection = self.connection();
-        match failed {
-            None => connection.execute(
-                "DELETE FROM report_makings WHERE member = ?1 AND leased_by = ?2",
-                params![member, holder.as_str()],
-            )?,
-            Some(reason) => connection.execute(
-                "UPDATE report_makings SET failed = ?3, leased_by = NULL, lease_until = 0
-                 WHERE member = ?1 AND leased_by = ?2",
-                params![member, holder.as_str(), reason],
-            )?,
-        };
-        Ok(())
-    }
-
     /// Gives back a regrade's item whose sandbox did not start here, for any grader.
     pub fn release_regrade_item(
         &self,
@@ -396,7 +318,7 @@ mod tests {
     }
 
     fn holder(name: &str) -> Holder {
-        Holder(name.into())
+        Holder::named(name)
     }
 
     fn lease(holder: &Holder, from: Timestamp) -> Lease<'_> {
@@ -537,88 +459,6 @@ mod tests {
             .map(|c| c.submission.id)
             .collect();
         assert_eq!(free, [ids[0], ids[3]]);
-    }
-
-    /// One making of a student's runs at a time, by whoever holds its lease; another
-    /// process takes over a making whose lease ran out; a failure is told once, and only
-    /// for the submission that failed.
-    #[test]
-    fn a_students_runs_are_made_by_one_process_at_a_time() {
-        let dir = tempfile::tempdir().unwrap();
-        let store = test_store(dir.path());
-        store
-            .create_course("el2320", "Applied Estimation", Timestamp::UNIX_EPOCH)
-            .unwrap();
-        let member = store
-            .add_member(
-                "el2320",
-                &crate::store::NewMember {
-                    login: "ada",
-                    name: "Ada",
-                    email: "ada@example.org",
-                    role: crate::store::Role::Student,
-                },
-            )
-            .unwrap()
-            .id;
-        let (web_a, web_b) = (holder("a/1/x"), holder("b/1/y"));
-        let t0 = Timestamp::from_second(1_800_000_000).unwrap();
-        let later = |seconds| t0 + jiff::SignedDuration::from_secs(seconds);
-        assert_eq!(
-            store
-                .begin_report_making(member, 7, &lease(&web_a, t0))
-                .unwrap(),
-            ReportMaking::Yours
-        );
-        assert_eq!(
-            store
-                .begin_report_making(member, 8, &lease(&web_b, later(1)))
-                .unwrap(),
-            ReportMaking::Running { submission: 7 }
-        );
-        assert!(
-            store
-                .renew_report_making(member, &lease(&web_a, later(20)))
-                .unwrap()
-        );
-        assert!(
-            !store
-                .renew_report_making(member, &lease(&web_b, later(20)))
-                .unwrap()
-        );
-        // Web process a died: after its lease, b makes them.
-        assert_eq!(
-            store
-                .begin_report_making(member, 7, &lease(&web_b, later(51)))
-                .unwrap(),
-            ReportMaking::Yours
-        );
-        store
-            .end_report_making(member, &web_a, Some("not a's to end"))
-            .unwrap();
-        store
-            .end_report_making(member, &web_b, Some("the sandbox failed"))
-            .unwrap();
-        // Told once, for that submission; then tried again.
-        assert_eq!(
-            store
-                .begin_report_making(member, 7, &lease(&web_a, later(52)))
-                .unwrap(),
-            ReportMaking::Failed("the sandbox failed".into())
-        );
-        assert_eq!(
-            store
-                .begin_report_making(member, 7, &lease(&web_a, later(53)))
-                .unwrap(),
-            ReportMaking::Yours
-        );
-        store.end_report_making(member, &web_a, None).unwrap();
-        assert_eq!(
-            store
-                .begin_report_making(member, 9, &lease(&web_b, later(54)))
-                .unwrap(),
-            ReportMaking::Yours
-        );
     }
 
     /// A grader's versions count as running while it is seen, and a day after it was last

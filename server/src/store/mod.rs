@@ -21,10 +21,10 @@ mod submissions;
 pub use access::{CodeCheck, FoundCode, TokenInfo};
 pub use answers::SavedAnswer;
 pub use courses::{Assignment, Course, Member, NewMember, Role, RosterChange};
-pub use leases::{Claimable, Holder, Lease, ReportMaking};
+pub use leases::{Claimable, Holder, Lease};
 pub use rates::{Event, Window};
 pub use regrades::{Change, EarlierResult, Regrade, Scope};
-pub use reports::Closed;
+pub use reports::{Closed, ReportMaking};
 pub use reviews::{Mark, NewRound, Round, SheetAnswer, StoredPair};
 pub use staff::{
     AuditEntry, Extension, Granted, NewExtension, NewWaiver, Rejudged, Waived, Waiver,
