@@ -248,6 +248,7 @@ struct Server {
 impl Server {
     fn start(descriptors: u64) -> Server {
         let data = tempfile::tempdir().unwrap();
+        common::fixed_secret(data.path());
         let mut command = Command::new(env!("CARGO_BIN_EXE_estlab"));
         command
             .args([

@@ -23,6 +23,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 mod command;
+mod common;
 mod student;
 
 use command::estlab;
@@ -108,6 +109,7 @@ impl Gradescope {
     fn new(lab: &'static str) -> Gradescope {
         let root = tempfile::tempdir().unwrap();
         let zip = root.path().join("autograder.zip");
+        let secret = common::fixed_secret(&root.path().join("server"));
         let said = succeeded(
             &estlab(&[
                 "package",
@@ -116,6 +118,8 @@ impl Gradescope {
                 lab,
                 "--out",
                 zip.to_str().unwrap(),
+                "--secret",
+                secret.to_str().unwrap(),
             ]),
             "estlab package gradescope",
         );
@@ -437,10 +441,13 @@ struct ExternalGrading {
 fn prairielearn_grades_as_estlab_grade_does_from_the_question_folder() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("pl");
+    let secret = common::fixed_secret(&dir.path().join("server"));
     let said = succeeded(
         &estlab(&[
             "package",
             "prairielearn",
+            "--secret",
+            secret.to_str().unwrap(),
             "--out",
             out.to_str().unwrap(),
             "--image",

@@ -15,7 +15,7 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 mod common;
-use common::store_in;
+use common::{fixed_secret, store_in};
 
 /// How long a test waits for what it expects before it gives up (a hang, not a time
 /// measured: nothing here asserts how long anything took).
@@ -69,7 +69,7 @@ fn grader(dir: &Path, sandbox: Sandbox, policy: Policy) -> Arc<Grader> {
     Grader::with_policy(
         store_in(dir),
         sandbox,
-        Secret::load_or_create(dir).unwrap(),
+        Secret::read(&fixed_secret(dir)).unwrap(),
         policy,
         clock,
     )

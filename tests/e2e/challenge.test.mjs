@@ -8,17 +8,16 @@ import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { test } from 'node:test';
 import {
-  bounded, dataDirWithSecret, estlab, getJson, laptop, openIn, openPage, phone, root, setUpCourse, signIn, signedInContext, submit,
+  bounded, estlab, getJson, laptop, openIn, openPage, phone, root, setUpCourse, signIn, signedInContext, submit,
   waitFor, withServerAndBrowser,
 } from './harness.mjs';
 
 let server;
 let browser;
-// The held-out trial is drawn from the server's secret: with a fixed one it is one known
-// trial, on which the poor tuning below does worse than the defaults. (Over 150 random
-// classes it did worse on 148: on a trial where another robot confuses the sensor, even
-// the defaults can lose their way.)
-withServerAndBrowser((s, b) => { server = s; browser = b; }, { dataDir: dataDirWithSecret(Buffer.alloc(32, 7)) });
+// The held-out trials are drawn from the server's secret (the harness's fixed one). Ranked
+// by the mean over five, the poor tuning below does worse than the defaults for every
+// one of 2,000 classes; by one trial alone, it did better for 15 of them (BENCHMARKS.md).
+withServerAndBrowser((s, b) => { server = s; browser = b; });
 
 const LAB = 'sensor-fusion';
 const COURSE = 'fusion-class';
@@ -64,7 +63,7 @@ test('the class is ranked on its held-out trial; a student sees their own place;
   const staff = await signedInContext(browser, server, teacher, laptop);
   const page = await openIn(staff, `${server.url}/courses/${COURSE}/${LAB}`);
   assert.equal(await page.locator('#challenge').isVisible(), true);
-  assert.match(await page.locator('#challenge-about').textContent(), /RMS position error over a held-out trial of \d+ steps/);
+  assert.match(await page.locator('#challenge-about').textContent(), /RMS position error averaged over 5 held-out trials \(\d+ steps in all\)/);
   const ranking = await page.locator('#challenge-table tbody tr').evaluateAll((trs) => trs.map((tr) => [...tr.cells].map((c) => c.textContent)));
   assert.deepEqual(ranking.map((row) => row.slice(0, 2)), [['1', `Student ${students[0].id} (${students[0].id})`], ['2', `Student ${students[1].id} (${students[1].id})`]]);
   assert.ok(await page.locator('#ranked').isChecked());
@@ -78,7 +77,7 @@ test('the class is ranked on its held-out trial; a student sees their own place;
   // The switch, from the page: the student sees their figure without a rank.
   await page.locator('#ranked').uncheck();
   await page.waitForFunction(() => document.querySelector('#ranked-status').textContent.startsWith('Students see their own figure only'));
-  assert.match(await challengeLine(pupil), /^\d+\.\d{4} m; the reference filter .*your course shows no ranks now/);
+  assert.match(await challengeLine(pupil), /^\d+\.\d{4} ± \d+\.\d{4} m; the reference filter .*your course shows no ranks now/);
   const class_ = (await getJson(server, `/api/courses/${COURSE}/labs/${LAB}/class`, { cookie: teacher })).body;
   assert.equal(class_.ranked, false);
   assert.deepEqual(page.problems, []);

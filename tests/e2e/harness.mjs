@@ -165,6 +165,7 @@ export function tempDir() {
  */
 function startEstlab(command, dataDir, args, ready) {
   if (!existsSync(estlabBinary)) throw new Error(`${estlabBinary} is not built (cargo build -p estlab)`);
+  fixSecret(dataDir);
   const child = spawn(estlabBinary, [command, '--data', dataDir, ...args], {
     stdio: ['ignore', 'pipe', 'pipe'],
     // A grading's line in the log is what the tests count, whatever the shell's RUST_LOG.
@@ -544,15 +545,19 @@ export const phone = { width: 390, height: 844 };
 export const laptop = { width: 1400, height: 1000 };
 
 /**
- * A data directory holding `secret` (32 bytes) as the server's secret, so that what the
- * server draws from it (hidden cases, a class's held-out trial) is the same at every run.
+ * The secret every server and grader a test starts grades with, unless the test put
+ * another in its data directory: what a server draws from it (a submission's hidden
+ * cases, a class's held-out trials) is then the same at every run, and so is what a test
+ * asserts of it. `scripts/test` checks that no test starts one otherwise.
  */
-export function dataDirWithSecret(secret) {
-  assert.equal(secret.length, 32, 'a secret of 32 bytes');
-  const dir = tempDir();
-  writeFileSync(join(dir, 'secret'), secret, { mode: 0o600 });
-  return dir;
+export const TEST_SECRET = Buffer.alloc(32, 7);
+
+/** Puts TEST_SECRET in `dataDir` unless it holds a secret already. */
+function fixSecret(dataDir) {
+  const file = join(dataDir, 'secret');
+  if (!existsSync(file)) writeFileSync(file, TEST_SECRET, { mode: 0o600 });
 }
+
 
 /**
  * A server and a browser for a whole test file: started before its first test and handed

@@ -111,15 +111,22 @@ impl Settings {
     }
 }
 
+/// The distribution function of the chi-square distribution with 3 degrees of freedom,
+/// `F(x) = erf(sqrt(x/2)) - sqrt(2x/pi) exp(-x/2)`: the gate's probability of a threshold.
+pub fn chi2cdf_3(x: f64) -> f64 {
+    if x == f64::INFINITY {
+        return 1.0;
+    }
+    libm::erf((x / 2.0).sqrt()) - (2.0 * x / std::f64::consts::PI).sqrt() * libm::exp(-x / 2.0)
+}
+
 /// The quantile of the chi-square distribution with 3 degrees of freedom, by bisection of
-/// its distribution function `F(x) = erf(sqrt(x/2)) - sqrt(2x/pi) exp(-x/2)`.
+/// its distribution function [`chi2cdf_3`].
 pub fn chi2inv_3(p: f64) -> f64 {
     if p >= 1.0 {
         return f64::INFINITY;
     }
-    let cdf = |x: f64| {
-        libm::erf((x / 2.0).sqrt()) - (2.0 * x / std::f64::consts::PI).sqrt() * libm::exp(-x / 2.0)
-    };
+    let cdf = chi2cdf_3;
     let (mut low, mut high) = (0.0, 1.0);
     while cdf(high) < p {
         high *= 2.0;

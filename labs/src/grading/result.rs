@@ -38,13 +38,17 @@ pub struct GradeResult {
 /// of a course), lower the better. It ranks the class; it does not grade.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, TS)]
 pub struct Challenge {
-    /// What the figure measures, for a person: "the RMS position error over a held-out
-    /// trial of 1043 steps".
+    /// What the figure measures, for a person: "the RMS position error averaged over 5
+    /// held-out trials (1900 steps in all)".
     pub measure: String,
     /// The unit of the figures ("m").
     pub unit: String,
     /// The student's figure; none when the run gave none (`message` says why).
     pub figure: Option<f64>,
+    /// How much the figure varies between the runs it is a mean of (their standard
+    /// deviation), where it has a figure over several; none in results graded over one.
+    #[serde(default)]
+    pub spread: Option<f64>,
     /// The reference's figure over the same run, with its default settings.
     pub reference: f64,
     /// The settings used and the other figures of the run, or why it has no figure.

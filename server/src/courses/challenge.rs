@@ -1,6 +1,6 @@
 //! The class challenge of an exercise that has one (`labs::grading::Challenge`): every
-//! submission's filter also runs over a trial its class never sees, and the class is
-//! ranked by that figure, lowest first. A student's figure is that of the latest of their
+//! submission's filter also runs over trials its class never sees, and the class is
+//! ranked by that figure (a mean over the trials, its spread beside), lowest first. A student's figure is that of the latest of their
 //! submissions with the score that counts for their grade (a better tuning submitted
 //! after full marks counts); staff see the whole ranking, a student their own place
 //! (unless staff switched the ranks off), never another student's.
@@ -20,6 +20,8 @@ pub struct Entry {
     /// The submission the figure is of: the one that counts for the student's grade.
     pub submission: i64,
     pub figure: f64,
+    /// How much the figure varies between the runs it is a mean of.
+    pub spread: Option<f64>,
     /// 1 for the lowest figure; equal figures share a rank.
     pub rank: usize,
 }
@@ -44,8 +46,10 @@ pub struct ClassChallenge {
 pub struct StudentChallenge {
     pub measure: String,
     pub unit: String,
-    /// The figure of the submission that counts.
+    /// The figure of the submission that counts, and how much it varies between the runs
+    /// it is a mean of.
     pub figure: f64,
+    pub spread: Option<f64>,
     pub reference: f64,
     /// Whether the course shows its students their rank.
     pub ranks_shown: bool,
@@ -101,6 +105,7 @@ pub fn ranking(
                 student: student.to_owned(),
                 submission: counting.id,
                 figure,
+                spread: counting.challenge_spread,
                 rank: 0,
             }),
             None => without_figure += 1,
@@ -151,6 +156,7 @@ pub fn standing(
         measure: challenge.measure.clone(),
         unit: challenge.unit.clone(),
         figure,
+        spread: challenge.spread,
         reference: challenge.reference,
         ranks_shown: ranked,
         rank: ranked
@@ -198,6 +204,7 @@ mod tests {
             final_score: Some(score),
             waiver: None,
             challenge: figure,
+            challenge_spread: figure.map(|f| f / 10.0),
         }
     }
 
@@ -255,13 +262,14 @@ mod tests {
             measure: "the RMS position error".into(),
             unit: "m".into(),
             figure: Some(0.2),
+            spread: Some(0.03),
             reference: 0.15,
             message: String::new(),
         });
         let ranked = standing(&result, &ranking, "ana", true).unwrap();
         assert_eq!(
-            (ranked.rank, ranked.of, ranked.figure),
-            (Some(2), Some(2), 0.2)
+            (ranked.rank, ranked.of, ranked.figure, ranked.spread),
+            (Some(2), Some(2), 0.2, Some(0.03))
         );
         let hidden = standing(&result, &ranking, "ana", false).unwrap();
         assert_eq!(

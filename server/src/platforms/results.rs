@@ -93,7 +93,10 @@ pub struct PrairieLearnTest {
 /// reference's with the message.
 fn challenge_test(challenge: &Challenge) -> (String, String) {
     let figure = challenge.figure.map_or("no figure".to_owned(), |f| {
-        format!("{f:.4} {}", challenge.unit)
+        let spread = challenge
+            .spread
+            .map_or(String::new(), |s| format!(" ± {s:.4}"));
+        format!("{f:.4}{spread} {}", challenge.unit)
     });
     (
         format!("Class challenge (no points): {}", challenge.measure),

@@ -231,16 +231,18 @@ impl Store {
                  SELECT id, grader, score, result, graded_at, ?2 FROM submissions WHERE id = ?1",
                 params![submission, regrade],
             )?;
+            let (figure, spread) = challenge_figure(result);
             transaction.execute(
                 "UPDATE submissions SET result = ?2, score = ?3, grader = ?4, challenge = ?5,
-                 graded_at = ?6 WHERE id = ?1",
+                 challenge_spread = ?7, graded_at = ?6 WHERE id = ?1",
                 params![
                     submission,
                     text,
                     score,
                     grader,
-                    challenge_figure(result),
-                    moment(Timestamp::now())
+                    figure,
+                    moment(Timestamp::now()),
+                    spread
                 ],
             )?;
             transaction.execute(

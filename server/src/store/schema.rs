@@ -317,6 +317,9 @@ const MIGRATIONS: &[Step] = &[
         lease_until INTEGER NOT NULL DEFAULT 0,
         failed TEXT
     );"),
+    // 13: the class challenge over several runs: the spread of a submission's figure (the
+    // runs' standard deviation), shown beside it; none for a figure over one run.
+    Schema("ALTER TABLE submissions ADD COLUMN challenge_spread REAL;"),
 ];
 
 /// Brings the schema up to the newest version, one migration per transaction.

@@ -395,6 +395,7 @@ mod tests {
             final_score: score.map(|s| s * (1.0 - penalty)),
             waiver: None,
             challenge: None,
+            challenge_spread: None,
         }
     }
 

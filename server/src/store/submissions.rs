@@ -108,6 +108,8 @@ pub struct SubmissionSummary {
     /// Its figure in the class challenge (lower the better), where the exercise has one
     /// and its run gave one.
     pub challenge: Option<f64>,
+    /// How much that figure varies between the runs it is a mean of.
+    pub challenge_spread: Option<f64>,
 }
 
 /// A stored submission with its result; its source only for those who may read it.
@@ -129,9 +131,12 @@ pub struct Submission {
     pub source: Option<String>,
 }
 
-/// The figure of a result's class challenge, as the submission keeps it.
-pub(super) fn challenge_figure(result: &GradeResult) -> Option<f64> {
-    result.challenge.as_ref().and_then(|c| c.figure)
+/// The figure of a result's class challenge and its spread, as the submission keeps them.
+pub(super) fn challenge_figure(result: &GradeResult) -> (Option<f64>, Option<f64>) {
+    result
+        .challenge
+        .as_ref()
+        .map_or((None, None), |c| (c.figure, c.spread))
 }
 
 /// How submission times are written: UTC to the millisecond, as estlab 0.1.0 wrote them.
@@ -151,8 +156,8 @@ pub(super) const SUMMARY_FROM: &str = "submissions s
 pub(super) const SUMMARY_COLUMNS: &str = "s.id, s.course, s.student, s.lab, s.status,
     s.submitted_at, s.late_seconds, s.penalty, s.score,
     a.due, a.cutoff, a.late_penalty, a.counts, e.due, e.cutoff,
-    w.reason, w.waived_by, w.waived_at, s.challenge, s.language";
-pub(super) const SUMMARY_WIDTH: usize = 20;
+    w.reason, w.waived_by, w.waived_at, s.challenge, s.language, s.challenge_spread";
+pub(super) const SUMMARY_WIDTH: usize = 21;
 
 pub(super) fn summary(row: &Row) -> db::Result<SubmissionSummary> {
     let score: Option<f64> = row.get(8)?;
@@ -185,6 +190,7 @@ pub(super) fn summary(row: &Row) -> db::Result<SubmissionSummary> {
         waiver,
         challenge: row.get(18)?,
         language: named(row, 19)?,
+        challenge_spread: row.get(20)?,
     })
 }
 
@@ -255,18 +261,21 @@ impl Store {
         holder: &Holder,
     ) -> Result<(), Error> {
         let text = serde_json::to_string(result).expect("results serialise");
+        let (figure, spread) = challenge_figure(result);
         let written = self.connection().execute(
             "UPDATE submissions SET status = 'graded', result = ?2, score = ?3, grader = ?4,
-             challenge = ?5, graded_at = ?6, leased_by = NULL, lease_until = 0
+             challenge = ?5, challenge_spread = ?8, graded_at = ?6, leased_by = NULL,
+             lease_until = 0
              WHERE id = ?1 AND status = 'grading' AND leased_by = ?7",
             params![
                 id,
                 text,
                 result.gradable.then_some(result.score),
                 grader,
-                challenge_figure(result),
+                figure,
                 moment(Timestamp::now()),
-                holder.as_str()
+                holder.as_str(),
+                spread
             ],
         )?;
         if written == 0 {

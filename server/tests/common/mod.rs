@@ -32,6 +32,22 @@ pub const CORRECT: &str = include_str!("../../../tests/student/correct.js");
 /// The catalogue of classic mistakes, each a change to correct.js.
 pub const MISTAKES: &str = include_str!("../../../tests/student/mistakes.json");
 
+/// The secret every test's server, grader and package grades with (a submission's hidden
+/// cases and a class's held-out trials are drawn from it): fixed, so that what a test
+/// asserts of them holds at every run. `scripts/test` checks that no test draws its own.
+pub const TEST_SECRET: [u8; 32] = [7; 32];
+
+/// The secret file of the data directory `dir`: [`TEST_SECRET`], unless the test put
+/// another there first.
+pub fn fixed_secret(dir: &Path) -> PathBuf {
+    let path = dir.join("secret");
+    if !path.exists() {
+        std::fs::create_dir_all(dir).unwrap();
+        std::fs::write(&path, TEST_SECRET).unwrap();
+    }
+    path
+}
+
 /// How long a test waits for one grading before it gives up.
 pub const GRADING_BOUND: Duration = Duration::from_secs(120);
 
@@ -109,7 +125,7 @@ impl App {
     fn over(dir: tempfile::TempDir, clock: Arc<FixedClock>) -> App {
         let store = store_in(dir.path());
         let url = database_url(dir.path());
-        let secret = Secret::load_or_create(dir.path()).unwrap();
+        let secret = Secret::read(&fixed_secret(dir.path())).unwrap();
         let sandbox = Sandbox::new(PathBuf::from(env!("CARGO_BIN_EXE_estlab")), 1);
         let grader = Grader::new(
             store,

@@ -337,18 +337,20 @@ function showChallenge(answer, names) {
   const without = challenge.without_figure === 0
     ? ''
     : ` ${challenge.without_figure} student(s) with a graded submission have no figure: their filter did not finish ` +
-      'the held-out trial, or was graded before the challenge (a regrade runs it).';
+      'the held-out trials, or was graded before the challenge (a regrade runs it).';
   byId('challenge-about').textContent =
-    `Each submission's filter also ran, with its own settings, over a trial the class never sees: ` +
-    `${challenge.measure}, lower the better, of each student's latest submission with the score that counts. ` +
+    `Each submission's filter also ran, with its own settings, over trials the class never sees: ` +
+    `${challenge.measure}, lower the better, of each student's latest submission with the score that counts; ` +
+    'beside it, how much it varies between the trials (its standard deviation over them). ' +
     `The reference filter with its default settings: ${fmt(challenge.reference, 4)} ${unit}. It earns no points.${without}`;
   byId('ranked', HTMLInputElement).checked = answer.ranked;
-  fillTable(byId('challenge-table', HTMLTableElement), ['Rank', 'Student', `Figure (${unit})`, 'Submission'],
+  fillTable(byId('challenge-table', HTMLTableElement), ['Rank', 'Student', `Figure (${unit})`, `Spread (${unit})`, 'Submission'],
     challenge.ranking.map((e) => [
       String(e.rank),
       link(`/courses/${course}/${lab}/students/${encodeURIComponent(e.student)}`,
         `${names.get(e.student) ?? e.student} (${e.student})`),
       fmt(e.figure, 4),
+      e.spread === null ? '–' : fmt(e.spread, 4),
       String(e.submission),
     ]));
 }

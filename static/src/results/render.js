@@ -282,9 +282,10 @@ export function renderSubmission(box, submission, { comparison = '', open = fals
  */
 function challengeNote(challenge) {
   const box = element('div', 'challenge');
+  const spread = challenge.spread === null ? '' : ` ± ${fmt(challenge.spread, 4)}`;
   const figure = challenge.figure === null
     ? 'no figure'
-    : `${fmt(challenge.figure, 4)} ${challenge.unit}`;
+    : `${fmt(challenge.figure, 4)}${spread} ${challenge.unit}`;
   box.append(element('p', null,
     `Class challenge (no points): ${challenge.measure}, ${figure}; the reference filter ` +
     `${fmt(challenge.reference, 4)} ${challenge.unit}.`));

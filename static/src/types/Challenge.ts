@@ -7,8 +7,8 @@
  */
 export type Challenge = { 
 /**
- * What the figure measures, for a person: "the RMS position error over a held-out
- * trial of 1043 steps".
+ * What the figure measures, for a person: "the RMS position error averaged over 5
+ * held-out trials (1900 steps in all)".
  */
 measure: string, 
 /**
@@ -19,6 +19,11 @@ unit: string,
  * The student's figure; none when the run gave none (`message` says why).
  */
 figure: number | null, 
+/**
+ * How much the figure varies between the runs it is a mean of (their standard
+ * deviation), where it has a figure over several; none in results graded over one.
+ */
+spread: number | null, 
 /**
  * The reference's figure over the same run, with its default settings.
  */

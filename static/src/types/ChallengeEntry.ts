@@ -9,6 +9,10 @@ export type ChallengeEntry = { student: string,
  */
 submission: number, figure: number, 
 /**
+ * How much the figure varies between the runs it is a mean of.
+ */
+spread: number | null, 
+/**
  * 1 for the lowest figure; equal figures share a rank.
  */
 rank: number, };

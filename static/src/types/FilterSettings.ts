@@ -2,7 +2,7 @@
 
 /**
  * The settings of the filter a run uses: those of the plan, or over the class's held-out
- * trial those the student's `tuning()` returns, in the same shape. An infinite number
+ * trials those the student's `tuning()` returns, in the same shape. An infinite number
  * is the string "Infinity" in JSON, which the loop reads back as a number.
  */
 export type FilterSettings = { k_xy: number, k_theta: number, c_xy: number, 

@@ -5,9 +5,10 @@
  */
 export type StudentChallenge = { measure: string, unit: string, 
 /**
- * The figure of the submission that counts.
+ * The figure of the submission that counts, and how much it varies between the runs
+ * it is a mean of.
  */
-figure: number, reference: number, 
+figure: number, spread: number | null, reference: number, 
 /**
  * Whether the course shows its students their rank.
  */

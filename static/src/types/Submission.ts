@@ -45,4 +45,8 @@ waiver: Waiver | null,
  * Its figure in the class challenge (lower the better), where the exercise has one
  * and its run gave one.
  */
-challenge: number | null, };
+challenge: number | null, 
+/**
+ * How much that figure varies between the runs it is a mean of.
+ */
+challenge_spread: number | null, };

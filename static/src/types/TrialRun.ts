@@ -4,7 +4,7 @@ import type { TrialStepData } from "./TrialStepData";
 
 /**
  * One run of the fusion loop with the student's functions: with `settings`, or when the
- * run has none (the class's held-out trial) those `tuning()` returns, and from
+ * run has none (the class's held-out trials) those `tuning()` returns, and from
  * `mu = start` and `sigma = start_sigma`, at every step
  *
  * (after the first) {mu_bar, sigma_bar} = predict(mu, sigma, odom_prev, odom, k_xy, k_theta);

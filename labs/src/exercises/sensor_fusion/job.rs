@@ -6,7 +6,7 @@ use serde::{Deserialize, Serialize};
 use ts_rs::TS;
 
 /// The settings of the filter a run uses: those of the plan, or over the class's held-out
-/// trial those the student's `tuning()` returns, in the same shape. An infinite number
+/// trials those the student's `tuning()` returns, in the same shape. An infinite number
 /// is the string "Infinity" in JSON, which the loop reads back as a number.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, TS)]
 pub struct FilterSettings {
@@ -34,7 +34,7 @@ pub struct TrialStepData {
 }
 
 /// One run of the fusion loop with the student's functions: with `settings`, or when the
-/// run has none (the class's held-out trial) those `tuning()` returns, and from
+/// run has none (the class's held-out trials) those `tuning()` returns, and from
 /// `mu = start` and `sigma = start_sigma`, at every step
 ///
 /// (after the first) {mu_bar, sigma_bar} = predict(mu, sigma, odom_prev, odom, k_xy, k_theta);

@@ -42,7 +42,7 @@ estlabHarness.defineLoop('fusion', (tools) => {
   }
 
   /// The fusion loop over a trial: with the run's settings, or those of the student's
-  /// `tuning()` where the run has none (the class's held-out trial, asked before any of
+  /// `tuning()` where the run has none (the class's held-out trials, asked before any of
   /// its data reaches the student's code), from the odometry's first pose, every step
   /// predicts with the odometry's motion since the step before, and a reading the detector
   /// made corrects the belief when it is in the field of view and within the gate.

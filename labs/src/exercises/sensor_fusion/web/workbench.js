@@ -57,7 +57,7 @@ function beliefOf(run, every) {
  */
 function collectRun(grader, phase, output) {
   // The browser runs the graded trials, which carry their settings (only the server's
-  // held-out trial asks the student's tuning()).
+  // held-out trials ask the student's tuning()).
   const settings = phase.settings;
   if (settings === null) throw new Error(`the trial ${phase.name} has no settings to show`);
   const reported = JSON.stringify(output);
