@@ -10,8 +10,11 @@
 //! `Policy::demote_after`) are charged `Policy::heavy`, or who has a grading running in
 //! the background, is graded in the background lane (outside the `parallel` slots, at a
 //! low CPU priority), and so is a grading that is still running after
-//! `Policy::demote_after`: a file that runs
-//! every phase to its limit holds a slot for a few seconds at most, never a minute.
+//! `Policy::demote_after` while the background has a free place: a file that runs every
+//! phase to its limit holds a slot for a few seconds at most while the background has
+//! room. The background's places are a bound, not a start rate: however many gradings
+//! overrun, no more than `parallel + background` sandboxes run at once (a demotion that
+//! would go over leaves the grading in its slot).
 
 use std::collections::{HashMap, HashSet};
 use std::time::{Duration, Instant};
@@ -55,9 +58,10 @@ pub enum Lane {
 pub struct Policy {
     /// Gradings at once in the foreground.
     pub parallel: usize,
-    /// Gradings started at once in the background (a demoted one may go over).
+    /// Gradings at once in the background, demoted ones included.
     pub background: usize,
-    /// A foreground grading still running after this moves to the background.
+    /// A foreground grading still running after this moves to the background, when the
+    /// background has a free place.
     pub demote_after: Duration,
     /// A tenant charged this much (decayed) for long gradings is graded in the background.
     pub heavy: Duration,
@@ -275,9 +279,10 @@ impl FairQueue {
 
     /// Moves a foreground grading that has run `demote_after` to the background, freeing
     /// its slot, and charges its tenant that time now (so that their next file starts in
-    /// the background). Returns whether it moved.
+    /// the background). Returns whether it moved: not when the background is full (the
+    /// grading keeps its slot, and is asked again later).
     pub fn demote(&mut self, ticket: &mut Ticket, now: Instant) -> bool {
-        if ticket.lane != Lane::Foreground {
+        if ticket.lane != Lane::Foreground || self.background >= self.policy.background {
             return false;
         }
         self.foreground -= 1;
@@ -513,6 +518,43 @@ mod tests {
         queue.finish(long, TO_THE_LIMITS, start + TO_THE_LIMITS);
         let charge = queue.charge(&student("mallory"), start + TO_THE_LIMITS);
         assert!((charge - 18.0).abs() < 0.5, "{charge}");
+    }
+
+    /// A burst where every grading overruns (a loaded machine, or files that all run to
+    /// their limits): demotions fill the background and stop there, so the sandboxes
+    /// running never pass `parallel + background`, and everything is graded in the end.
+    #[test]
+    fn overrunning_gradings_never_run_more_sandboxes_than_the_lanes_hold() {
+        let start = Instant::now();
+        let policy = policy(2);
+        let cap = policy.parallel + policy.background;
+        let mut queue = FairQueue::new(policy);
+        for id in 0..100 {
+            queue.push(Work::Submission(id), student(&format!("s{}", id % 30)));
+        }
+        let mut running: Vec<Ticket> = Vec::new();
+        let mut now = start;
+        let mut graded = 0;
+        while graded < 100 {
+            while let Some(ticket) = queue.take(now) {
+                running.push(ticket);
+            }
+            assert!(running.len() <= cap, "{} sandboxes at once", running.len());
+            now += queue.policy().demote_after;
+            for ticket in &mut running {
+                queue.demote(ticket, now);
+            }
+            let background = running
+                .iter()
+                .filter(|t| t.lane == Lane::Background)
+                .count();
+            assert!(background <= queue.policy().background);
+            // The oldest ends; the others go on overrunning.
+            let done = running.remove(0);
+            queue.finish(done, TO_THE_LIMITS, now);
+            graded += 1;
+        }
+        assert!(queue.waiting().is_empty() && running.is_empty());
     }
 
     #[test]

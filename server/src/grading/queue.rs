@@ -25,7 +25,8 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 use tokio::sync::Notify;
 
-/// How often a background grading's worker is looked for and lowered in priority.
+/// How often a background grading's worker is looked for and lowered in priority, and a
+/// foreground one past `demote_after` asks again for a place in the background.
 const SWEEP: Duration = Duration::from_millis(100);
 
 /// Stores submissions and grades them.
@@ -316,7 +317,8 @@ impl Grader {
     }
 
     /// Grades one ticket's work in a blocking task; moves it to the background once it
-    /// has run `demote_after`, and there keeps its worker at the background priority;
+    /// has run `demote_after` and the background has a free place, and there keeps its
+    /// worker at the background priority;
     /// renews its lease at each third of it; then settles it with the queue.
     async fn run(self: Arc<Self>, mut ticket: Ticket) {
         let started = Instant::now();
@@ -337,9 +339,13 @@ impl Grader {
         };
         let mut renew_at = started + lease / 3;
         let outcome = loop {
+            // Until it may move to the background, then (in the background, or in its
+            // slot while the background is full) at every sweep.
             let wait = match ticket.lane {
-                Lane::Foreground => demote_after.saturating_sub(started.elapsed()),
-                Lane::Background => SWEEP,
+                Lane::Foreground if started.elapsed() < demote_after => {
+                    demote_after - started.elapsed()
+                }
+                _ => SWEEP,
             }
             .min(renew_at.saturating_duration_since(Instant::now()));
             tokio::select! {
