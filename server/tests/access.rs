@@ -719,8 +719,8 @@ async fn sign_in_limits_and_codes() {
 /// the due date is on time, one a day and a minute late is taken with two days'
 /// penalty (and its score, and the score that counts, are cut by it), and one after the
 /// cutoff is refused and not stored; that a student dropped from the roster may no
-/// longer submit but still reads what they submitted; and that a course that has not
-/// opened the exercise takes nothing.
+/// longer submit nor run a file on the server, but still reads what they submitted; and
+/// that a course that has not opened the exercise takes nothing.
 #[tokio::test(flavor = "multi_thread")]
 async fn deadlines_penalties_and_the_roster() {
     let app = App::new();
@@ -807,6 +807,14 @@ async fn deadlines_penalties_and_the_roster() {
     assert_eq!(answer.status, StatusCode::FORBIDDEN, "{}", answer.body);
     assert!(answer.error().contains("roster"), "{}", answer.body);
     assert_eq!(app.count(), before);
+    let phase = app
+        .send(Req::post("/api/phases").who(&who).json(json!({
+            "lab": "ekf-localization", "language": "python", "seed": 7,
+            "phase": "calculate_odometry", "source": "def calculate_odometry(e_R, e_L, E_T, B, R_R, R_L, delta_t, mu):\n    while True: pass\n",
+        })))
+        .await;
+    assert_eq!(phase.status, StatusCode::FORBIDDEN, "{}", phase.body);
+    assert!(phase.error().contains("roster"), "{}", phase.body);
     for id in [on_time, late] {
         let read = app
             .send(Req::get(&format!("/api/submissions/{id}")).who(&who))

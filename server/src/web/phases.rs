@@ -5,8 +5,8 @@
 //! is stored and nothing is graded here, and only the shown cases run (the variant's
 //! seed is the asker's to say; the hidden cases are the submission's).
 //!
-//! Who may: on a server with courses, whoever is signed in (staff try files too); on a
-//! server without, anyone. Each asker (a member, or an address's block when nobody is
+//! Who may: on a server with courses, whoever is signed in (staff try files too) but a
+//! student dropped from the roster; on a server without, anyone. Each asker (a member, or an address's block when nobody is
 //! signed in) may run [`PER_MINUTE`] phases a minute, and the server runs at most as many
 //! at once as it grades in the foreground, so that trying files never starves grading.
 
@@ -91,6 +91,13 @@ pub async fn run(
 ) -> Result<Json<Outputs>, Error> {
     let courses = blocking(&state, |store| store.any_course()).await?;
     let asker = match &viewer {
+        Viewer::Member(member) if member.dropped && !member.role.is_staff() => {
+            return Err(Error::Forbidden(format!(
+                "you are no longer on the roster of {}: your files run on the server no more \
+                 (Run tests in JavaScript runs in your browser); ask your teacher",
+                member.course
+            )));
+        }
         Viewer::Member(member) => format!("member {}", member.id),
         Viewer::Token(_) => {
             return Err(Error::Forbidden(
