@@ -5,11 +5,11 @@
 //! `grading::fair`.
 
 use estlab::clock::{Clock, FixedClock};
-use estlab::grading::{Grader, Policy, Secret, Work};
+use estlab::grading::{Busy, Grader, PhaseAsked, Policy, Secret, Tenant, Work};
 use estlab::sandbox::Sandbox;
 use estlab::store::{Error, Holder, NewSubmission, Status};
 use jiff::Timestamp;
-use labs::Exercise;
+use labs::{Exercise, Language};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -232,4 +232,72 @@ async fn a_sandbox_that_cannot_start_leaves_the_submission_waiting_until_it_can(
     assert!(result.gradable, "{:?}", result.reason);
     assert_eq!(result.score, 0.0);
     assert!(grader.waiting().is_empty());
+}
+
+/// Phases asked for on the workbench take their turn with everything else the sandbox
+/// does: a student whose endless loops wait in line does not hold a classmate's run
+/// behind all of them (first come, first served did), and a run that cannot start within
+/// its asker's patience leaves the line with its place, its code not run.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn another_students_phase_runs_before_a_flooders_next_ones() {
+    let dir = tempfile::tempdir().unwrap();
+    let grader = grader(dir.path(), Sandbox::new(estlab(), 1), one_at_a_time());
+    let finished: Arc<std::sync::Mutex<Vec<&str>>> = Arc::default();
+    let ask = |who: &'static str, source: &str, patience: Duration| {
+        let (grader, finished) = (Arc::clone(&grader), Arc::clone(&finished));
+        let asked = PhaseAsked {
+            exercise: Exercise::Odometry,
+            language: Language::JavaScript,
+            source: source.to_owned(),
+            seed: 7,
+            phase: "wheel_noise".to_owned(),
+        };
+        let tenant = Tenant::Student {
+            course: "el2320".into(),
+            student: who.into(),
+        };
+        tokio::spawn(async move {
+            let outcome = grader.phase(tenant, asked, patience).await;
+            if outcome.is_ok() {
+                finished.lock().unwrap().push(who);
+            }
+            outcome
+        })
+    };
+    let endless = "function wheel_noise() { for (;;) {} }";
+    let flood: Vec<_> = (0..3).map(|_| ask("mallory", endless, BOUND)).collect();
+    until("Mallory's first taken, two waiting", || {
+        grader.waiting().len() == 2
+    })
+    .await;
+
+    // Ada's run cannot start while Mallory's holds the one place: with no patience, she
+    // is told her place (Mallory's next ones go behind her) and her run leaves the line.
+    let busy = ask("ada", &quick("ada"), Duration::ZERO).await.unwrap();
+    let Err(Busy { place }) = busy else {
+        panic!("started at once beside an endless loop: {busy:?}")
+    };
+    assert!(place <= 2, "{place}");
+    assert!(
+        grader
+            .waiting()
+            .iter()
+            .all(|w| !matches!(&w.tenant, Tenant::Student { student, .. } if student == "ada")),
+        "{:?}",
+        grader.waiting()
+    );
+
+    // With patience, her run goes next, before Mallory's second and third.
+    let ada = ask("ada", &quick("ada"), BOUND).await.unwrap();
+    let outputs = ada.expect("in time").expect("run");
+    assert!(outputs.functions[0].error.is_some(), "{outputs:?}");
+    for looped in flood {
+        let outputs = looped.await.unwrap().expect("in time").expect("run");
+        let stopped = outputs.functions[0].stopped.as_ref().expect("stopped");
+        assert_eq!(stopped.cause, labs::grading::Cause::Time);
+    }
+    assert_eq!(
+        *finished.lock().unwrap(),
+        ["mallory", "ada", "mallory", "mallory"]
+    );
 }

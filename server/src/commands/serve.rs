@@ -6,7 +6,6 @@ use crate::clock::{Clock, SystemClock};
 use crate::datasets::Datasets;
 use crate::error::Error;
 use crate::web::connections::{self, Limits, raise_descriptor_limit};
-use crate::web::phases::Trials;
 use crate::web::{self, AppState, Assets};
 use std::net::SocketAddr;
 use std::path::PathBuf;
@@ -94,14 +93,12 @@ async fn serve(args: &Args) -> Result<(), Error> {
             println!("estlab: grading {waiting} submission(s) found waiting");
         }
     }
-    let parallel = args.grading.parallel();
     let app = web::router(Arc::new(AppState {
         assets,
         grader,
         clock,
         behind_https: args.behind_https,
         datasets: Arc::new(datasets),
-        trials: Trials::new(parallel),
         reports: Default::default(),
     }));
     println!(

@@ -1,6 +1,13 @@
-//! The order of grading: students take turns, and a student whose gradings run long gets
-//! a smaller share. This is the bookkeeping only (no clock, no threads: every call is
-//! given the moment), so that the order is tested as an order.
+//! The order of the work the sandbox does: students take turns, and a student whose work
+//! runs long gets a smaller share. This is the bookkeeping only (no clock, no threads:
+//! every call is given the moment), so that the order is tested as an order.
+//!
+//! The work is of three kinds, each a lane of its priority ([`Work::rank`]): a phase a
+//! student asked for interactively (Run tests on the server, someone waits for it), then
+//! a submission's grading, then a regrade's item. The share comes first: among tenants
+//! alike in what they run and were charged (a student new to the queue, say), the
+//! higher lane goes first, and so it does among a tenant's own works; but no lane lets a
+//! student who used the sandbox more go before one who used it less.
 //!
 //! Each student of a course (and the regrades, as one more) is a *tenant*, charged the
 //! time its gradings took, decayed by half every `HALF_LIFE`. The next grading is the
@@ -26,22 +33,41 @@ const HALF_LIFE: Duration = Duration::from_secs(120);
 /// `MAX_RETRY` (the wait doubles at each failure).
 const MAX_RETRY: Duration = Duration::from_secs(60);
 
-/// Whose grading it is: the gradings are shared out between these.
+/// Whose work it is: the sandbox's time is shared out between these.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub enum Tenant {
     Student {
         course: String,
         student: String,
     },
+    /// Whoever asks from an address's block, on a server without courses.
+    Address(String),
     /// Every regrade, together: a class's regrade is one more turn-taker.
     Regrades,
 }
 
-/// What is to be graded.
+/// What the sandbox is to do.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Work {
+    /// A phase of a student's file asked for interactively, by its number in this process.
+    Phase(u64),
     Submission(i64),
-    RegradeItem { regrade: i64, submission: i64 },
+    RegradeItem {
+        regrade: i64,
+        submission: i64,
+    },
+}
+
+impl Work {
+    /// Its lane's priority, 0 first: someone waits for a phase; a grading is awaited; a
+    /// regrade changes what was graded already.
+    pub fn rank(self) -> u8 {
+        match self {
+            Work::Phase(_) => 0,
+            Work::Submission(_) => 1,
+            Work::RegradeItem { .. } => 2,
+        }
+    }
 }
 
 /// Where a grading runs.
@@ -225,9 +251,29 @@ impl FairQueue {
         }
     }
 
-    /// The next grading that may start now, if any, marked as running: the ready one whose
-    /// tenant has the fewest running, then the smallest charge, then arrived first, among
-    /// those whose lane has a free place.
+    /// Where a waiting work stands in the order of [`FairQueue::take`]: the ready one whose
+    /// tenant has the fewest running, then the smallest charge, then of the highest lane,
+    /// then arrived first.
+    fn key(&self, waiting: &Waiting, now: Instant) -> (usize, f64, u8, u64) {
+        self.key_with(&self.running, waiting, now)
+    }
+
+    fn key_with(
+        &self,
+        running: &HashMap<Tenant, usize>,
+        waiting: &Waiting,
+        now: Instant,
+    ) -> (usize, f64, u8, u64) {
+        (
+            running.get(&waiting.tenant).copied().unwrap_or(0),
+            self.charge(&waiting.tenant, now),
+            waiting.work.rank(),
+            waiting.arrival,
+        )
+    }
+
+    /// The next work that may start now, if any, marked as running: the first by
+    /// [`FairQueue::key`] among those whose lane has a free place.
     pub fn take(&mut self, now: Instant) -> Option<Ticket> {
         let free = |lane| match lane {
             Lane::Foreground => self.foreground < self.policy.parallel,
@@ -241,14 +287,10 @@ impl FairQueue {
             .map(|(i, w)| (i, self.lane(&w.tenant, now)))
             .filter(|&(_, lane)| free(lane))
             .min_by(|&(a, _), &(b, _)| {
-                let key = |w: &Waiting| {
-                    (
-                        self.running.get(&w.tenant).copied().unwrap_or(0),
-                        self.charge(&w.tenant, now),
-                        w.arrival,
-                    )
-                };
-                let (a, b) = (key(&self.waiting[a]), key(&self.waiting[b]));
+                let (a, b) = (
+                    self.key(&self.waiting[a], now),
+                    self.key(&self.waiting[b], now),
+                );
                 a.partial_cmp(&b).expect("charges are finite")
             })?;
         let waiting = self.waiting.remove(index);
@@ -265,6 +307,41 @@ impl FairQueue {
             arrival: waiting.arrival,
             charged: Duration::ZERO,
         })
+    }
+
+    /// Its place in line, as things stand (1: it is next): the works waiting taken one
+    /// after another in the order of [`FairQueue::take`], each counted as running once
+    /// taken; none when it is not waiting.
+    pub fn place(&self, work: Work, now: Instant) -> Option<usize> {
+        let mut running = self.running.clone();
+        let mut left: Vec<&Waiting> = self.waiting.iter().collect();
+        for place in 1.. {
+            let (index, next) = left.iter().enumerate().min_by(|(_, a), (_, b)| {
+                let (a, b) = (
+                    self.key_with(&running, a, now),
+                    self.key_with(&running, b, now),
+                );
+                a.partial_cmp(&b).expect("charges are finite")
+            })?;
+            if next.work == work {
+                return Some(place);
+            }
+            *running.entry(next.tenant.clone()).or_default() += 1;
+            left.remove(index);
+        }
+        unreachable!("the line is finite")
+    }
+
+    /// Takes a waiting work out of the queue (its asker no longer waits); returns whether
+    /// it was waiting (not running, nor ended).
+    pub fn cancel(&mut self, work: Work) -> bool {
+        let before = self.waiting.len();
+        self.waiting.retain(|w| w.work != work);
+        let cancelled = self.waiting.len() < before;
+        if cancelled {
+            self.held.remove(&work);
+        }
+        cancelled
     }
 
     /// The earliest moment after `now` at which a grading waiting after a failed start
@@ -599,6 +676,49 @@ mod tests {
         assert_eq!(*waits.last().unwrap(), MAX_RETRY);
         assert_eq!(queue.waiting()[0].failed_starts, 11);
         assert_eq!(grade(&mut queue, now, QUICK), Work::Submission(1));
+    }
+
+    /// Someone waits for a phase: among students alike in their share, phases go first,
+    /// then gradings, then regrades; but a student with a phase running, or charged for
+    /// one, goes behind another's grading; and a cancelled phase leaves the line.
+    #[test]
+    fn interactive_phases_go_first_but_students_still_take_turns() {
+        let start = Instant::now();
+        let mut queue = FairQueue::new(policy(1));
+        queue.push(
+            Work::RegradeItem {
+                regrade: 1,
+                submission: 9,
+            },
+            Tenant::Regrades,
+        );
+        queue.push(Work::Submission(1), student("ada"));
+        queue.push(Work::Phase(1), student("mallory"));
+        queue.push(Work::Phase(2), student("mallory"));
+        queue.push(Work::Phase(3), student("grace"));
+        assert_eq!(queue.place(Work::Phase(1), start), Some(1));
+        assert_eq!(queue.place(Work::Phase(3), start), Some(2));
+        assert_eq!(queue.place(Work::Submission(7), start), None);
+        let order: Vec<Work> = (0..3)
+            .map(|i| grade(&mut queue, start + QUICK * i, QUICK))
+            .collect();
+        // Mallory's second phase waits behind Grace's first and, once Mallory has been
+        // charged, behind Ada's grading too.
+        assert_eq!(order, [Work::Phase(1), Work::Phase(3), Work::Submission(1)]);
+        assert!(queue.cancel(Work::Phase(2)));
+        assert!(!queue.cancel(Work::Phase(2)));
+        assert_eq!(
+            grade(&mut queue, start + QUICK * 3, QUICK),
+            Work::RegradeItem {
+                regrade: 1,
+                submission: 9
+            }
+        );
+        assert!(queue.waiting().is_empty());
+        assert!(
+            queue.push(Work::Phase(2), student("mallory")),
+            "held no more"
+        );
     }
 
     #[test]

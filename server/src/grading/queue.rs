@@ -1,8 +1,9 @@
-//! Grading of stored submissions in the background, in the order `fair` keeps: students
-//! take turns, a student whose gradings run long is graded behind the others and in the
-//! background lane, and regrades take their turn as one more student, item by item. One
-//! dispatcher task starts each grading in a blocking task that waits for its sandbox
-//! worker process, so that the server's other requests are answered meanwhile. A grading
+//! The sandbox's work in the order `fair` keeps: phases students asked for on the
+//! workbench (`asked`), gradings of stored submissions, and regrades, which take their
+//! turn as one more student, item by item. Students take turns, and a student whose work
+//! runs long goes behind the others and in the background lane. One dispatcher task
+//! starts each in a blocking task that waits for its sandbox worker process, so that the
+//! server's other requests are answered meanwhile. A grading
 //! whose sandbox did not start waits and is tried again: a fault of the server's own
 //! never becomes a student's result.
 //!
@@ -12,6 +13,7 @@
 //! other processes queued or left when they died. A submission taken by a web process of
 //! another release (another `grader_version`) is left for a grader of that release.
 
+use super::asked::Asked;
 use super::fair::{FairQueue, Lane, Policy, Tenant, Ticket, Waiting, Work};
 use super::{Secret, grader_version, priority};
 use crate::clock::Clock;
@@ -41,7 +43,11 @@ pub struct Grader {
     queue: Mutex<FairQueue>,
     /// Wakes the dispatcher: a grading arrived, ended or moved to the background, or a
     /// regrade started.
-    wake: Notify,
+    pub(super) wake: Notify,
+    /// Whether the dispatcher runs: from the first phase asked or from `resume`.
+    dispatching: AtomicBool,
+    /// The phases asked for, until they start.
+    pub(super) asked: Asked,
     /// Whether the regrades may have an item for the queue (set when a regrade starts,
     /// when an item is done, and at each look at the database).
     regrades_pending: AtomicBool,
@@ -108,6 +114,8 @@ impl Grader {
             secret,
             queue: Mutex::new(FairQueue::new(policy)),
             wake: Notify::new(),
+            dispatching: AtomicBool::new(false),
+            asked: Asked::default(),
             regrades_pending: AtomicBool::new(false),
             holder: Holder::this_process(),
             grading: AtomicBool::new(false),
@@ -163,9 +171,17 @@ impl Grader {
         let found = self.find_work()?;
         self.grading.store(true, Ordering::SeqCst);
         self.regrades_pending.store(true, Ordering::SeqCst);
-        tokio::spawn(Arc::clone(self).dispatch());
+        self.start_dispatching();
         tokio::spawn(Arc::clone(self).watch());
         Ok(found)
+    }
+
+    /// Starts the dispatcher, unless it runs: a process that grades starts it at once, one
+    /// that leaves grading to graders at the first phase asked of it.
+    pub(super) fn start_dispatching(self: &Arc<Self>) {
+        if !self.dispatching.swap(true, Ordering::SeqCst) {
+            tokio::spawn(Arc::clone(self).dispatch());
+        }
     }
 
     /// Says in the database that this grader runs, then queues the submissions waiting
@@ -251,12 +267,12 @@ impl Grader {
         self.queue().waiting().to_vec()
     }
 
-    fn queue(&self) -> MutexGuard<'_, FairQueue> {
+    pub(super) fn queue(&self) -> MutexGuard<'_, FairQueue> {
         // The queue's bookkeeping never panics halfway; a poisoned lock is still whole.
         self.queue.lock().unwrap_or_else(|e| e.into_inner())
     }
 
-    fn enqueue(&self, work: Work, tenant: Tenant) {
+    pub(super) fn enqueue(&self, work: Work, tenant: Tenant) {
         self.queue().push(work, tenant);
         self.wake.notify_one();
     }
@@ -419,6 +435,8 @@ impl Grader {
         let renewed = tokio::task::spawn_blocking(move || {
             let lease = grader.lease();
             match work {
+                // A phase is nothing stored: it holds no lease.
+                Work::Phase(_) => Ok(true),
                 Work::Submission(id) => grader.store.renew_submission(id, &lease),
                 Work::RegradeItem {
                     regrade,
@@ -461,6 +479,10 @@ impl Grader {
 
     fn grade(&self, work: Work) -> Result<Graded, Failure> {
         match work {
+            Work::Phase(number) => {
+                self.run_asked(number);
+                Ok(Graded::Here)
+            }
             Work::Submission(id) => self.grade_submission(id),
             Work::RegradeItem {
                 regrade,

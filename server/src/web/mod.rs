@@ -63,8 +63,6 @@ pub struct AppState {
     pub behind_https: bool,
     /// The real data sets of `--datasets DIR` (none without it).
     pub datasets: Arc<Datasets>,
-    /// The phases askers run on the server (`POST /api/phases`).
-    pub trials: phases::Trials,
     /// The reports' runs being made (`GET .../report/runs`).
     pub reports: report::Making,
 }

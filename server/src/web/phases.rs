@@ -6,16 +6,20 @@
 //! seed is the asker's to say; the hidden cases are the submission's).
 //!
 //! Who may: on a server with courses, whoever is signed in (staff try files too) but a
-//! student dropped from the roster; on a server without, anyone. Each asker (a member, or an address's block when nobody is
-//! signed in) may run [`PER_MINUTE`] phases a minute, and the server runs at most as many
-//! at once as it grades in the foreground, so that trying files never starves grading.
+//! student dropped from the roster; on a server without, anyone. Each asker (a member,
+//! or an address's block when nobody is signed in) may run [`PER_MINUTE`] phases a
+//! minute. The phase takes its turn with the process's gradings (`grading::Grader::phase`):
+//! the highest lane, its asker's share counted with their gradings', so that neither
+//! trying files nor one student's endless loops starve anybody; one that has not started
+//! within [`PATIENCE`] is taken out of the line and the asker told their place in it.
 
 use super::address::block;
 use super::extract::{Body, ClientAddress};
 use super::submit::language_field;
 use super::viewer::Viewer;
 use super::{AppState, Error, blocking, lab_field};
-use crate::sandbox::{Code, Tried, check_size};
+use crate::grading::{Busy, PhaseAsked, Tenant};
+use crate::sandbox::{Tried, check_size};
 use crate::store::Window;
 use axum::Json;
 use axum::extract::State;
@@ -23,16 +27,20 @@ use jiff::{SignedDuration, Timestamp};
 use labs::grading::Outputs;
 use serde::Deserialize;
 use std::sync::Arc;
-use tokio::sync::{OwnedSemaphorePermit, Semaphore};
+use std::time::Duration;
 
 /// Phases one asker may run in a minute: a whole run of the tests and of the loop, four
-/// times (the CPU they take is held by `--parallel` besides).
+/// times.
 pub const PER_MINUTE: usize = 60;
 const PHASES: Window = Window {
     scope: "phase",
     share: PER_MINUTE,
     length: SignedDuration::from_mins(1),
 };
+
+/// How long a phase waits for its turn before its asker is told the server is busy: long
+/// enough for a few gradings ahead of it, short of what a person waits for a button.
+pub const PATIENCE: Duration = Duration::from_secs(20);
 
 /// The body of `POST /api/phases`.
 #[derive(Deserialize)]
@@ -46,28 +54,6 @@ pub struct Ask {
     /// The function whose tests run, or the run's name (`o3/sequential`).
     phase: String,
     source: String,
-}
-
-/// The phases running at once, as this process bounds them (the CPU is its machine's).
-pub struct Trials {
-    running: Arc<Semaphore>,
-}
-
-impl Trials {
-    /// At most `parallel` phases at once.
-    pub fn new(parallel: usize) -> Trials {
-        Trials {
-            running: Arc::new(Semaphore::new(parallel.max(1))),
-        }
-    }
-
-    /// A place among the phases running at once, held until it is dropped: waits for one.
-    pub async fn slot(&self) -> Result<OwnedSemaphorePermit, Error> {
-        Arc::clone(&self.running)
-            .acquire_owned()
-            .await
-            .map_err(|e| crate::store::Error::Task(e.to_string()).into())
-    }
 }
 
 /// Counts a phase of `asker` at `now` (in the database: every web process counts the
@@ -90,7 +76,7 @@ pub async fn run(
     body: Body,
 ) -> Result<Json<Outputs>, Error> {
     let courses = blocking(&state, |store| store.any_course()).await?;
-    let asker = match &viewer {
+    let (asker, tenant) = match &viewer {
         Viewer::Member(member) if member.dropped && !member.role.is_staff() => {
             return Err(Error::Forbidden(format!(
                 "you are no longer on the roster of {}: your files run on the server no more \
@@ -98,7 +84,13 @@ pub async fn run(
                 member.course
             )));
         }
-        Viewer::Member(member) => format!("member {}", member.id),
+        Viewer::Member(member) => (
+            format!("member {}", member.id),
+            Tenant::Student {
+                course: member.course.clone(),
+                student: member.login.clone(),
+            },
+        ),
         Viewer::Token(_) => {
             return Err(Error::Forbidden(
                 "an API token reads a course; it runs no student's file".into(),
@@ -109,7 +101,13 @@ pub async fn run(
                 "sign in to run your file on the server: this server runs courses".into(),
             ));
         }
-        Viewer::Anonymous => format!("address {}", block(address)),
+        Viewer::Anonymous => {
+            let block = block(address);
+            (
+                format!("address {block}"),
+                Tenant::Address(block.to_string()),
+            )
+        }
     };
     let ask: Ask = body.json(&viewer, "the body").await?;
     let exercise = lab_field(&ask.lab)?;
@@ -117,17 +115,25 @@ pub async fn run(
     check_size(&ask.source)
         .map_err(|problem| Error::TooLarge(format!("field `source`: {problem}")))?;
     admit(&state, asker, state.clock.now()).await?;
-    let _running = state.trials.slot().await?;
-    let grader = Arc::clone(&state.grader);
-    let tried = tokio::task::spawn_blocking(move || {
-        let code = Code {
-            language,
-            text: &ask.source,
-        };
-        grader.sandbox().phase(exercise, code, ask.seed, &ask.phase)
-    })
-    .await
-    .map_err(|e| crate::store::Error::Task(e.to_string()))?;
+    let asked = PhaseAsked {
+        exercise,
+        language,
+        source: ask.source,
+        seed: ask.seed,
+        phase: ask.phase,
+    };
+    let tried = state
+        .grader
+        .phase(tenant, asked, PATIENCE)
+        .await
+        .map_err(|Busy { place }| {
+            Error::Unavailable(format!(
+                "the server is busy: your run waited {} s and was {} in line for a sandbox; \
+                 try again in a minute (your code was not run)",
+                PATIENCE.as_secs(),
+                ordinal(place)
+            ))
+        })?;
     tried.map(Json).map_err(|tried| match tried {
         Tried::NoSuchPhase(_) => Error::BadRequest(format!("field `phase`: {tried}")),
         Tried::Unavailable(_) => Error::Unavailable(format!(
@@ -141,4 +147,35 @@ pub async fn run(
             ))
         }
     })
+}
+
+/// 1st, 2nd, 3rd, 4th, ..., 11th, 12th, 13th, 21st.
+fn ordinal(n: usize) -> String {
+    let suffix = match (n % 10, n % 100) {
+        (_, 11..=13) => "th",
+        (1, _) => "st",
+        (2, _) => "nd",
+        (3, _) => "rd",
+        _ => "th",
+    };
+    format!("{n}{suffix}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::ordinal;
+
+    #[test]
+    fn places_read_as_english_ordinals() {
+        let said: Vec<String> = [1, 2, 3, 4, 11, 12, 13, 21, 22, 102, 111]
+            .map(ordinal)
+            .into();
+        assert_eq!(
+            said,
+            [
+                "1st", "2nd", "3rd", "4th", "11th", "12th", "13th", "21st", "22nd", "102nd",
+                "111th"
+            ]
+        );
+    }
 }

@@ -15,7 +15,6 @@ use estlab::courses::roster;
 use estlab::grading::{Grader, Secret};
 use estlab::sandbox::Sandbox;
 use estlab::store::{Member, NewMember, Role, Status, Store, Submission};
-use estlab::web::phases::Trials;
 use estlab::web::{AppState, Assets, SESSION_COOKIE};
 use jiff::{SignedDuration, Timestamp};
 use labs::Exercise;
@@ -141,7 +140,6 @@ impl App {
             clock: Arc::clone(&clock) as Arc<dyn Clock>,
             behind_https: false,
             datasets: Default::default(),
-            trials: Trials::new(1),
             reports: Default::default(),
         });
         let router = estlab::web::router(Arc::clone(&state));
