@@ -364,3 +364,77 @@ async fn a_flood_of_connections_is_refused_and_never_fails_a_grading() {
     assert_eq!(graded["result"]["gradable"], true, "{graded}");
     drop(flood);
 }
+
+/// One student sending many bodies slowly (here: bodies that never arrive) holds a few
+/// turns of their own, never the shared pool: a few of their bodies are being read, the
+/// rest wait on their own turns, and a classmate's submission is read and taken
+/// meanwhile. (With one pool for everyone signed in, 64 of them were read at once and
+/// held it all.)
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn one_persons_slow_bodies_cost_only_them() {
+    use axum::body::Body;
+    use tower::ServiceExt;
+    let app = App::new();
+    app.open_course("el2320");
+    app.assign(
+        "el2320",
+        labs::Exercise::EkfLocalization,
+        &common::open_policy(app.now()),
+    );
+    let (mallory, ada) = (app.enrol("el2320", "mallory"), app.enrol("el2320", "ada"));
+    let (mallory, ada) = (app.signed_in(&mallory).await, app.signed_in(&ada).await);
+    // How many of Mallory's bodies the server has begun to read.
+    let reading = std::sync::Arc::new(std::sync::atomic::AtomicUsize::new(0));
+    let stalled: Vec<_> = (0..80)
+        .map(|_| {
+            let (parts, _) = common::Req::post("/api/submissions")
+                .who(&mallory)
+                .json(serde_json::json!({}))
+                .build()
+                .into_parts();
+            let (reading, mut counted) = (std::sync::Arc::clone(&reading), false);
+            let never = futures::stream::poll_fn(move |_| {
+                if !std::mem::replace(&mut counted, true) {
+                    reading.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+                }
+                std::task::Poll::<Option<Result<Vec<u8>, std::io::Error>>>::Pending
+            });
+            let request = axum::http::Request::from_parts(parts, Body::from_stream(never));
+            tokio::spawn(app.router.clone().oneshot(request))
+        })
+        .collect();
+    let read = || reading.load(std::sync::atomic::Ordering::SeqCst);
+    timeout(BOUND, async {
+        while read() == 0 {
+            tokio::task::yield_now().await;
+        }
+    })
+    .await
+    .expect("the server began to read Mallory's bodies");
+    let answer = timeout(
+        BOUND,
+        app.submit_to(&ada, labs::Exercise::EkfLocalization, &quick_source("ada")),
+    )
+    .await
+    .expect("Ada's submission was read beside Mallory's stalled bodies");
+    assert_eq!(
+        answer.status,
+        axum::http::StatusCode::ACCEPTED,
+        "{}",
+        answer.body
+    );
+    for request in &stalled {
+        assert!(
+            !request.is_finished(),
+            "a body that never arrives is still awaited"
+        );
+    }
+    assert!(
+        (1..=2).contains(&read()),
+        "{} of Mallory's bodies read at once",
+        read()
+    );
+    for request in stalled {
+        request.abort();
+    }
+}

@@ -8,9 +8,10 @@ use super::viewer::Viewer;
 use axum::extract::{FromRequest, FromRequestParts, Request};
 use axum::http::request::Parts;
 use serde::de::DeserializeOwned;
+use std::collections::HashMap;
 use std::convert::Infallible;
-use std::sync::LazyLock;
-use tokio::sync::Semaphore;
+use std::sync::{Arc, LazyLock, Mutex};
+use tokio::sync::{OwnedSemaphorePermit, Semaphore, SemaphorePermit};
 
 /// The largest request body: a submission of the largest source, JSON-escaped.
 pub const MAX_BODY: usize = 4 << 20;
@@ -22,6 +23,69 @@ pub const MAX_BODY: usize = 4 << 20;
 /// deadline.
 static ANONYMOUS_BODIES: LazyLock<Semaphore> = LazyLock::new(|| Semaphore::new(16));
 static SIGNED_IN_BODIES: LazyLock<Semaphore> = LazyLock::new(|| Semaphore::new(64));
+
+/// Bodies one person signed in (or one token) reads at once, before their place in the
+/// shared pool: the rest of one person's bodies wait on their own turns, so that a
+/// person sending many bodies slowly costs only themselves.
+const PER_PERSON: usize = 2;
+
+/// The turns of each person reading bodies now, by who they are.
+static PEOPLE: LazyLock<Mutex<HashMap<String, Arc<Semaphore>>>> = LazyLock::new(Mutex::default);
+
+/// A body's turn to be read: its person's (when someone is signed in), then the pool's.
+struct Turn {
+    _pool: SemaphorePermit<'static>,
+    own: Option<(String, OwnedSemaphorePermit)>,
+}
+
+impl Turn {
+    async fn take(viewer: &Viewer) -> Result<Turn, tokio::sync::AcquireError> {
+        let person = match viewer {
+            Viewer::Anonymous => None,
+            Viewer::Member(member) => Some(format!("member {}", member.id)),
+            Viewer::Token(token) => Some(format!("token {}", token.id)),
+        };
+        let own = match person {
+            Some(person) => {
+                let turns = Arc::clone(
+                    people()
+                        .entry(person.clone())
+                        .or_insert_with(|| Arc::new(Semaphore::new(PER_PERSON))),
+                );
+                Some((person, turns.acquire_owned().await?))
+            }
+            None => None,
+        };
+        let pool = match viewer {
+            Viewer::Anonymous => &ANONYMOUS_BODIES,
+            Viewer::Member(_) | Viewer::Token(_) => &SIGNED_IN_BODIES,
+        };
+        Ok(Turn {
+            _pool: pool.acquire().await?,
+            own,
+        })
+    }
+}
+
+impl Drop for Turn {
+    /// Gives back the person's turn, and forgets the person once nobody of theirs waits.
+    fn drop(&mut self) {
+        if let Some((person, permit)) = self.own.take() {
+            let turns = Arc::clone(permit.semaphore());
+            drop(permit);
+            let mut people = people();
+            // Held by the map and here alone: no body of theirs reads or waits.
+            if Arc::strong_count(&turns) == 2 {
+                people.remove(&person);
+            }
+        }
+    }
+}
+
+fn people() -> std::sync::MutexGuard<'static, HashMap<String, Arc<Semaphore>>> {
+    // Inserts and removes never panic halfway; a poisoned map is still whole.
+    PEOPLE.lock().unwrap_or_else(|e| e.into_inner())
+}
 
 /// The client's address, as the limits count it (see `address::client_address`).
 pub struct ClientAddress(pub std::net::IpAddr);
@@ -56,12 +120,7 @@ impl Body {
     /// Reads the body, at most `MAX_BODY`, as JSON of type `T`; an error names `what` the
     /// body is and where it is wrong (serde names the field, the line and the column).
     pub async fn json<T: DeserializeOwned>(self, viewer: &Viewer, what: &str) -> Result<T, Error> {
-        let turns = match viewer {
-            Viewer::Anonymous => &ANONYMOUS_BODIES,
-            Viewer::Member(_) | Viewer::Token(_) => &SIGNED_IN_BODIES,
-        };
-        let _turn = turns
-            .acquire()
+        let _turn = Turn::take(viewer)
             .await
             .map_err(|e| Error::BadRequest(format!("{what}: {e}")))?;
         let bytes = axum::body::to_bytes(self.0, MAX_BODY)
