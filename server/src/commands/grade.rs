@@ -77,10 +77,14 @@ pub fn run(args: &Args) -> Result<(), Error> {
         (None, None) => 1,
     };
     let secret = args.secret.as_deref().map(Secret::read).transpose()?;
-    let grader = grader_version(args.lab, secret.as_ref());
     let sandbox = Sandbox::current(cores())
         .map_err(Error::io("the estlab executable"))?
         .with_javascript(args.javascript);
+    let grader = grader_version(
+        args.lab,
+        secret.as_ref(),
+        sandbox.reach(Language::JavaScript),
+    );
     // Without a secret there are no hidden cases: the result says so.
     let key = secret.is_some().then_some(args.submission);
     let hidden = secret.map(|secret| secret.hidden(args.submission, &args.course));

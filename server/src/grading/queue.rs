@@ -20,7 +20,7 @@ use crate::clock::Clock;
 use crate::sandbox::{Code, DidNotStart, Sandbox};
 use crate::store::{Claimable, Error, Holder, Lease, NewSubmission, Store, ToGrade};
 use jiff::Timestamp;
-use labs::Exercise;
+use labs::{Exercise, Language};
 use std::collections::HashSet;
 use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
@@ -107,7 +107,9 @@ impl Grader {
         Arc::new(Grader {
             versions: Exercise::ALL
                 .iter()
-                .map(|&exercise| grader_version(exercise, Some(&secret)))
+                .map(|&exercise| {
+                    grader_version(exercise, Some(&secret), sandbox.reach(Language::JavaScript))
+                })
                 .collect(),
             store,
             sandbox,

@@ -6,7 +6,7 @@
 
 use crate::store::Error;
 use labs::Exercise;
-use labs::grading::{Hidden, Plan};
+use labs::grading::{Hidden, Plan, Reach};
 use sha2::{Digest, Sha256};
 use std::io::Write;
 use std::os::unix::fs::OpenOptionsExt;
@@ -125,15 +125,26 @@ fn failed(path: &Path) -> impl Fn(std::io::Error) -> Error + '_ {
     }
 }
 
-/// The version of an exercise's grader: the release, and a hash of the job of one plan of
-/// the exercise (with the hidden cases the secret draws, if there is one), so that it
-/// changes when the exercise's cases, its runs or the secret change, and only then.
-pub fn grader_version(exercise: Exercise, secret: Option<&Secret>) -> String {
+/// The version of an exercise's grader: the release, a hash of the job of one plan of the
+/// exercise (with the hidden cases the secret draws, if there is one) as far into its
+/// data sets as students' JavaScript gets (`javascript`: on V8, the whole; on QuickJS,
+/// the first readings), and that engine, so that it changes when the exercise's cases,
+/// its runs, the secret or the engine change, and only then: a file correct for the
+/// first readings that drifts later is graded otherwise on the two engines, and their
+/// results never pass for one grader's.
+pub fn grader_version(exercise: Exercise, secret: Option<&Secret>, javascript: Reach) -> String {
     let hidden = secret.map(|secret| secret.hidden(0, ""));
-    let job = Plan::new(exercise, 1, hidden).job();
+    let job = Plan::reaching(exercise, 1, hidden, javascript).job();
     let digest = Sha256::digest(serde_json::to_vec(&job).expect("jobs serialise"));
     let hash: String = digest[..6].iter().map(|b| format!("{b:02x}")).collect();
-    format!("estlab {} plan {hash}", env!("CARGO_PKG_VERSION"))
+    let engine = match javascript {
+        Reach::Whole => "V8",
+        Reach::Prefix => "QuickJS",
+    };
+    format!(
+        "estlab {} plan {hash}, JavaScript on {engine}",
+        env!("CARGO_PKG_VERSION")
+    )
 }
 
 #[cfg(test)]
@@ -142,15 +153,28 @@ mod tests {
 
     /// Each exercise's grader has a version of its own, so that a change to one exercise
     /// leaves the others' results as graded by the same grader; another secret is another
-    /// grader.
+    /// grader, and so is one whose students' JavaScript runs on the other engine.
     #[test]
-    fn each_exercise_and_secret_has_its_grader_version() {
+    fn each_exercise_secret_and_engine_has_its_grader_version() {
         let (one, other) = (Secret([1; BYTES]), Secret([2; BYTES]));
-        let ekf = grader_version(Exercise::EkfLocalization, Some(&one));
-        assert_eq!(ekf, grader_version(Exercise::EkfLocalization, Some(&one)));
-        assert_ne!(ekf, grader_version(Exercise::Odometry, Some(&one)));
-        assert_ne!(ekf, grader_version(Exercise::EkfLocalization, Some(&other)));
-        assert_ne!(ekf, grader_version(Exercise::EkfLocalization, None));
+        let version = |exercise, secret, reach| grader_version(exercise, secret, reach);
+        let ekf = version(Exercise::EkfLocalization, Some(&one), Reach::Whole);
+        assert_eq!(
+            ekf,
+            version(Exercise::EkfLocalization, Some(&one), Reach::Whole)
+        );
+        assert_ne!(ekf, version(Exercise::Odometry, Some(&one), Reach::Whole));
+        assert_ne!(
+            ekf,
+            version(Exercise::EkfLocalization, Some(&other), Reach::Whole)
+        );
+        assert_ne!(ekf, version(Exercise::EkfLocalization, None, Reach::Whole));
+        let quickjs = version(Exercise::EkfLocalization, Some(&one), Reach::Prefix);
+        assert!(ekf.ends_with(", JavaScript on V8"), "{ekf}");
+        assert!(quickjs.ends_with(", JavaScript on QuickJS"), "{quickjs}");
+        // The runs go as far on both engines: the plan's hash agrees, the engine does not.
+        let odometry = |reach| version(Exercise::Odometry, Some(&one), reach);
+        assert_ne!(odometry(Reach::Whole), odometry(Reach::Prefix));
     }
 
     #[test]

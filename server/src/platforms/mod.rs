@@ -18,7 +18,7 @@ use crate::error::Error;
 use crate::grading::{Secret, grader_version};
 use crate::sandbox::{Code, JavaScript, Sandbox, check_length, cores};
 use labs::Exercise;
-use labs::grading::GradeResult;
+use labs::grading::{GradeResult, Reach};
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 use std::path::Path;
@@ -70,7 +70,8 @@ impl PackagedGrader {
         let settings = Settings::read(dir)?;
         let secret = Secret::read(&dir.join(SECRET))?;
         Ok(PackagedGrader {
-            version: grader_version(settings.lab, Some(&secret)),
+            // A package grades students' JavaScript on QuickJS.
+            version: grader_version(settings.lab, Some(&secret), Reach::Prefix),
             settings,
             secret,
         })
