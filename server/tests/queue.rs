@@ -301,3 +301,61 @@ async fn another_students_phase_runs_before_a_flooders_next_ones() {
         ["mallory", "ada", "mallory", "mallory"]
     );
 }
+
+/// A grading whose worker the machine gives no time (here: a worker that stops itself
+/// with SIGSTOP, the first time only) runs out of time by the clock with its CPU time
+/// unused: the machine's doing, never the student's verdict ("not gradable" until now).
+/// It goes back in line and the next try grades it.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_grading_the_machine_starves_waits_and_is_tried_again() {
+    let dir = tempfile::tempdir().unwrap();
+    let bin = tempfile::tempdir().unwrap();
+    let worker = bin.path().join("estlab");
+    let stopped = bin.path().join("stopped");
+    std::fs::write(
+        &worker,
+        format!(
+            "#!/bin/sh\nif /bin/mkdir {} 2>/dev/null; then kill -STOP $$; fi\nexec {} \"$@\"\n",
+            stopped.display(),
+            estlab().display()
+        ),
+    )
+    .unwrap();
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::set_permissions(&worker, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let sandbox = Sandbox::new(worker, 1).with_clock_limit(Duration::from_secs(2));
+    let grader = grader(
+        dir.path(),
+        sandbox,
+        Policy {
+            first_retry: Duration::from_millis(20),
+            ..one_at_a_time()
+        },
+    );
+    grader.resume().unwrap();
+    let source = quick("starved");
+    let id = grader
+        .submit(&submission(&grader, "ada", Exercise::Odometry, &source))
+        .unwrap();
+    until("the submission graded", || {
+        grader
+            .store()
+            .get(id, false)
+            .unwrap()
+            .unwrap()
+            .summary
+            .status
+            == Status::Graded
+    })
+    .await;
+    assert!(stopped.is_dir(), "the first worker stopped itself");
+    let result = grader
+        .store()
+        .get(id, false)
+        .unwrap()
+        .unwrap()
+        .result
+        .unwrap();
+    assert!(result.gradable, "{:?}", result.reason);
+    assert_eq!(result.score, 0.0);
+}

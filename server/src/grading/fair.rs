@@ -135,6 +135,8 @@ pub struct Waiting {
     pub tenant: Tenant,
     /// How many times its sandbox did not start.
     pub failed_starts: u32,
+    /// How many times its sandbox ran out of time by the clock, its CPU time not used up.
+    pub starved: u32,
     /// Not before this (after a failed start).
     pub not_before: Option<Instant>,
     /// Its place among arrivals (kept when a failed start puts it back).
@@ -148,6 +150,7 @@ pub struct Ticket {
     pub tenant: Tenant,
     pub lane: Lane,
     pub failed_starts: u32,
+    pub starved: u32,
     arrival: u64,
     /// Charged already (at a demotion), not to be charged twice.
     charged: Duration,
@@ -219,6 +222,7 @@ impl FairQueue {
             work,
             tenant,
             failed_starts: 0,
+            starved: 0,
             not_before: None,
             arrival: self.arrivals,
         });
@@ -304,6 +308,7 @@ impl FairQueue {
             tenant: waiting.tenant,
             lane,
             failed_starts: waiting.failed_starts,
+            starved: waiting.starved,
             arrival: waiting.arrival,
             charged: Duration::ZERO,
         })
@@ -387,13 +392,37 @@ impl FairQueue {
     /// A grading whose sandbox did not start waits again, in its place among arrivals,
     /// until its backoff has passed; its tenant is charged nothing. Returns the wait.
     pub fn retry(&mut self, ticket: Ticket, now: Instant) -> Duration {
-        self.release(&ticket);
         let failed_starts = ticket.failed_starts + 1;
-        let wait = self.policy.retry_after(failed_starts);
+        let starved = ticket.starved;
+        self.put_back(ticket, (failed_starts, starved), now)
+    }
+
+    /// A grading whose sandbox ran out of time by the clock after `took`, its CPU time
+    /// not used up (the machine's doing, not the file's), waits again as a failed start
+    /// does; its tenant is charged the time it held its place, so that a tenant whose
+    /// work keeps starving goes behind the others. Returns the wait.
+    pub fn starved(&mut self, ticket: Ticket, took: Duration, now: Instant) -> Duration {
+        let rest = took.saturating_sub(ticket.charged);
+        add_charge(&mut self.charges, &ticket.tenant, rest, now);
+        add_charge(&mut self.long, &ticket.tenant, rest, now);
+        let failed_starts = ticket.failed_starts;
+        let starved = ticket.starved + 1;
+        self.put_back(ticket, (failed_starts, starved), now)
+    }
+
+    fn put_back(
+        &mut self,
+        ticket: Ticket,
+        (failed_starts, starved): (u32, u32),
+        now: Instant,
+    ) -> Duration {
+        self.release(&ticket);
+        let wait = self.policy.retry_after(failed_starts + starved);
         self.waiting.push(Waiting {
             work: ticket.work,
             tenant: ticket.tenant,
             failed_starts,
+            starved,
             not_before: Some(now + wait),
             arrival: ticket.arrival,
         });
@@ -719,6 +748,28 @@ mod tests {
             queue.push(Work::Phase(2), student("mallory")),
             "held no more"
         );
+    }
+
+    /// A grading the machine starved waits again like one that did not start, but its
+    /// tenant is charged the time it held its place: a tenant whose work keeps starving
+    /// goes behind the others.
+    #[test]
+    fn a_starved_grading_waits_again_and_its_student_is_charged() {
+        let start = Instant::now();
+        let mut queue = FairQueue::new(policy(1));
+        queue.push(Work::Submission(1), student("mallory"));
+        queue.push(Work::Submission(2), student("ada"));
+        let ticket = queue.take(start).unwrap();
+        let now = start + TO_THE_LIMITS;
+        let wait = queue.starved(ticket, TO_THE_LIMITS, now);
+        assert_eq!(wait, queue.policy().first_retry);
+        assert_eq!(
+            (queue.waiting()[1].starved, queue.waiting()[1].failed_starts),
+            (1, 0)
+        );
+        assert!(queue.charge(&student("mallory"), now) > 17.0);
+        assert_eq!(queue.lane(&student("mallory"), now), Lane::Background);
+        assert_eq!(grade(&mut queue, now + wait, QUICK), Work::Submission(2));
     }
 
     #[test]

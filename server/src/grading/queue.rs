@@ -3,9 +3,9 @@
 //! turn as one more student, item by item. Students take turns, and a student whose work
 //! runs long goes behind the others and in the background lane. One dispatcher task
 //! starts each in a blocking task that waits for its sandbox worker process, so that the
-//! server's other requests are answered meanwhile. A grading
-//! whose sandbox did not start waits and is tried again: a fault of the server's own
-//! never becomes a student's result.
+//! server's other requests are answered meanwhile. A grading whose sandbox did not start,
+//! or that the machine starved of time, waits and is tried again: a fault of the server's
+//! own never becomes a student's result.
 //!
 //! Several graders (each a process: `estlab serve`, `estlab grader`) may share one
 //! database: each claims a grading before it starts it and renews the lease while it
@@ -17,7 +17,7 @@ use super::asked::Asked;
 use super::fair::{FairQueue, Lane, Policy, Tenant, Ticket, Waiting, Work};
 use super::{Secret, grader_version, priority};
 use crate::clock::Clock;
-use crate::sandbox::{Code, DidNotStart, Sandbox};
+use crate::sandbox::{Code, NotNow, Sandbox};
 use crate::store::{Claimable, Error, Holder, Lease, NewSubmission, Store, ToGrade};
 use jiff::Timestamp;
 use labs::{Exercise, Language};
@@ -30,6 +30,12 @@ use tokio::sync::Notify;
 /// How often a background grading's worker is looked for and lowered in priority, and a
 /// foreground one past `demote_after` asks again for a place in the background.
 const SWEEP: Duration = Duration::from_millis(100);
+
+/// How many times a grading is tried whose sandbox runs out of time by the clock, its CPU
+/// time not used up, before it ends "not gradable" (which costs the student nothing): a
+/// machine too busy once or twice is the machine's doing; every time, it may be the
+/// file's, in a way its CPU time does not show.
+const STARVED_TRIES: u32 = 3;
 
 /// Stores submissions and grades them.
 pub struct Grader {
@@ -63,8 +69,9 @@ pub struct Grader {
 
 /// Why a grading ended without a result stored.
 enum Failure {
-    /// The sandbox did not start: the grading waits and is tried again.
-    DidNotStart(DidNotStart),
+    /// The sandbox could not grade it now (it did not start, or the machine gave it too
+    /// little time): the grading waits and is tried again.
+    NotNow(NotNow),
     Store(Error),
 }
 
@@ -398,7 +405,8 @@ impl Grader {
                     self.regrades_pending.store(true, Ordering::SeqCst);
                 }
             }
-            Ok(Err(Failure::DidNotStart(err))) => {
+            Ok(Err(Failure::NotNow(err @ NotNow::DidNotStart(_)))) => {
+                self.put_back(work).await;
                 let attempt = ticket.failed_starts + 1;
                 let wait = self.queue().retry(ticket, now);
                 tracing::warn!(
@@ -407,6 +415,27 @@ impl Grader {
                     retry_in_ms = wait.as_millis() as u64,
                     "{err}: the grading waits and is tried again"
                 );
+            }
+            Ok(Err(Failure::NotNow(err @ NotNow::Starved { .. })))
+                if ticket.starved + 1 < STARVED_TRIES =>
+            {
+                self.put_back(work).await;
+                let attempt = ticket.starved + 1;
+                let wait = self.queue().starved(ticket, now - started, now);
+                tracing::warn!(
+                    ?work,
+                    attempt,
+                    retry_in_ms = wait.as_millis() as u64,
+                    "{err}: the grading waits and is tried again"
+                );
+            }
+            Ok(Err(Failure::NotNow(err @ NotNow::Starved { .. }))) => {
+                self.queue().finish(ticket, now - started, now);
+                if is_regrade {
+                    self.put_back(work).await;
+                }
+                self.failed(work, format!("{err}, {STARVED_TRIES} times"))
+                    .await;
             }
             Ok(Err(Failure::Store(Error::LeaseLost(what)))) => {
                 self.queue().finish(ticket, now - started, now);
@@ -454,6 +483,27 @@ impl Grader {
             }
             Ok(Err(err)) => tracing::warn!(?work, "the lease could not be renewed: {err}"),
             Err(err) => tracing::warn!(?work, "renewing the lease stopped: {err}"),
+        }
+    }
+
+    /// Gives back the lease of a grading that waits again, for any grader to take.
+    async fn put_back(self: &Arc<Self>, work: Work) {
+        let grader = Arc::clone(self);
+        let released = tokio::task::spawn_blocking(move || match work {
+            Work::Phase(_) => Ok(()),
+            Work::Submission(id) => grader.store.back_to_queue(id, &grader.holder),
+            Work::RegradeItem {
+                regrade,
+                submission,
+            } => grader
+                .store
+                .release_regrade_item(regrade, submission, &grader.holder),
+        })
+        .await;
+        match released {
+            Ok(Ok(())) => {}
+            Ok(Err(err)) => tracing::warn!(?work, "putting it back: {err}"),
+            Err(err) => tracing::warn!(?work, "putting it back stopped: {err}"),
         }
     }
 
@@ -514,10 +564,8 @@ impl Grader {
                 .try_grade(job.exercise, code_of(&job), job.seed, Some(hidden))
             {
                 Ok(result) => result,
-                Err(err) => {
-                    self.store.back_to_queue(id, &self.holder)?;
-                    return Err(Failure::DidNotStart(err));
-                }
+                // Still leased: `run` puts it back, or gives it up.
+                Err(err) => return Err(Failure::NotNow(err)),
             };
         let score = result.gradable.then_some(result.score);
         self.store.finish_grading(
@@ -555,11 +603,8 @@ impl Grader {
                 .try_grade(job.exercise, code_of(&job), job.seed, Some(hidden))
             {
                 Ok(result) => result,
-                Err(err) => {
-                    self.store
-                        .release_regrade_item(regrade, submission, &self.holder)?;
-                    return Err(Failure::DidNotStart(err));
-                }
+                // Still leased: `run` puts it back.
+                Err(err) => return Err(Failure::NotNow(err)),
             };
         let score = result.gradable.then_some(result.score);
         self.store.finish_regrade_item(

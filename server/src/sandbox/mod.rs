@@ -17,6 +17,23 @@ pub use worker::{
     Code, JavaScript, MAX_SOURCE, Sandbox, Tried, WorkerInput, check_length, check_size,
 };
 
+/// Why the sandbox could not grade a file now, through no doing of the file's: the
+/// grader puts the grading back in line and tries again later (`estlab grade`, which
+/// cannot, says it as "not gradable", which costs nothing).
+#[derive(Debug, thiserror::Error)]
+pub enum NotNow {
+    #[error(transparent)]
+    DidNotStart(#[from] DidNotStart),
+    /// Its worker did not finish within its allowance by the clock, though its CPU time
+    /// was not used up (the kernel ends a worker that uses it up): the machine gave it too
+    /// little of a core, or stopped it. The student's code is judged by its CPU time
+    /// alone, never by how busy the machine was.
+    #[error(
+        "the sandbox did not finish within {seconds} s by the clock, its CPU time not used up: the machine was too busy"
+    )]
+    Starved { seconds: u64 },
+}
+
 /// A worker that could not be started (`Command::spawn` failed: no descriptors left for
 /// its pipes, no memory or processes for a fork, the executable missing). The student's
 /// code has not run, so this is the server's fault, never a result: the grader waits and

@@ -6,11 +6,11 @@
 //! a generous wall-clock allowance, makes the result "not gradable", which costs the
 //! student nothing.
 
-use super::DidNotStart;
 use super::engine::LOAD_LIMIT_MS;
 use super::error::{Failure, TooLarge};
 use super::native::{Native, Tools, Unavailable};
 use super::watchdog::{OVERRUN_EXIT, OVERRUN_PREFIX};
+use super::{DidNotStart, NotNow};
 use labs::grading::{
     FunctionOutput, GradeResult, Hidden, Job, Outputs, PhaseOutput, Plan, Reach, RunOutput,
 };
@@ -124,6 +124,9 @@ pub struct Sandbox {
     /// starts: `Sandbox::language`).
     natives: Arc<BTreeMap<Language, OnceLock<Result<Tools, Unavailable>>>>,
     javascript: JavaScript,
+    /// The most a worker may take by the clock, whatever its CPU limit (the tests shorten
+    /// it); none: `WALL_CLOCK_FACTOR` times its CPU limit.
+    clock_limit: Option<Duration>,
 }
 
 impl Sandbox {
@@ -140,6 +143,7 @@ impl Sandbox {
                     .collect(),
             ),
             javascript: JavaScript::default(),
+            clock_limit: None,
         }
     }
 
@@ -152,6 +156,14 @@ impl Sandbox {
     pub fn with_javascript(self, engine: JavaScript) -> Sandbox {
         Sandbox {
             javascript: engine,
+            ..self
+        }
+    }
+
+    /// The same sandbox with workers given at most `limit` by the clock.
+    pub fn with_clock_limit(self, limit: Duration) -> Sandbox {
+        Sandbox {
+            clock_limit: Some(limit),
             ..self
         }
     }
@@ -211,15 +223,16 @@ impl Sandbox {
         self.grade_plan(&self.plan(exercise, seed, hidden, code.language), code)
     }
 
-    /// As `grade`, but a worker that did not start is an error rather than a result "not
-    /// gradable": the server's grader tries again later.
+    /// As `grade`, but a worker that did not start, or did not finish for want of the
+    /// machine's time, is an error rather than a result "not gradable": the server's
+    /// grader tries again later.
     pub fn try_grade(
         &self,
         exercise: Exercise,
         code: Code,
         seed: u64,
         hidden: Option<Hidden>,
-    ) -> Result<GradeResult, DidNotStart> {
+    ) -> Result<GradeResult, NotNow> {
         self.try_grade_plan(&self.plan(exercise, seed, hidden, code.language), code)
     }
 
@@ -243,11 +256,14 @@ impl Sandbox {
         Plan::reaching(exercise, seed, hidden, self.reach(language))
     }
 
-    fn try_grade_plan(&self, plan: &Plan, code: Code) -> Result<GradeResult, DidNotStart> {
+    fn try_grade_plan(&self, plan: &Plan, code: Code) -> Result<GradeResult, NotNow> {
         let (exercise, language) = (plan.exercise(), code.language);
         Ok(match self.outputs(exercise, code, plan.job()) {
             Ok(outputs) => plan.grade(&outputs).in_language(language),
-            Err(Tried::DidNotStart(did_not_start)) => return Err(did_not_start),
+            Err(Tried::DidNotStart(did_not_start)) => return Err(did_not_start.into()),
+            Err(Tried::Failed(Failure::Hung { seconds })) => {
+                return Err(NotNow::Starved { seconds });
+            }
             Err(failed) => GradeResult::not_gradable(exercise, plan.seed(), failed.to_string()),
         })
     }
@@ -346,7 +362,7 @@ impl Sandbox {
         job: Job,
         cpu_limit: Duration,
     ) -> Result<Outputs, Failure> {
-        let limit = cpu_limit * WALL_CLOCK_FACTOR;
+        let limit = (cpu_limit * WALL_CLOCK_FACTOR).min(self.clock_limit.unwrap_or(Duration::MAX));
         let input = serde_json::to_string(&WorkerInput {
             source: source.to_owned(),
             native,
