@@ -99,7 +99,6 @@ async fn serve(args: &Args) -> Result<(), Error> {
         clock,
         behind_https: args.behind_https,
         datasets: Arc::new(datasets),
-        reports: Default::default(),
     }));
     println!(
         "estlab is serving on http://{addr}/ (submissions in {})",

@@ -2,12 +2,13 @@
 //! runs long gets a smaller share. This is the bookkeeping only (no clock, no threads:
 //! every call is given the moment), so that the order is tested as an order.
 //!
-//! The work is of three kinds, each a lane of its priority ([`Work::rank`]): a phase a
+//! The work is of four kinds, each a lane of its priority ([`Work::rank`]): a phase a
 //! student asked for interactively (Run tests on the server, someone waits for it), then
-//! a submission's grading, then a regrade's item. The share comes first: among tenants
-//! alike in what they run and were charged (a student new to the queue, say), the
-//! higher lane goes first, and so it does among a tenant's own works; but no lane lets a
-//! student who used the sandbox more go before one who used it less.
+//! a submission's grading, then the runs of a student's report, then a regrade's item.
+//! The share comes first: among tenants alike in what they run and were charged (a
+//! student new to the queue, say), the higher lane goes first, and so it does among a
+//! tenant's own works; but no lane lets a student who used the sandbox more go before one
+//! who used it less.
 //!
 //! Each student of a course (and the regrades, as one more) is a *tenant*, charged the
 //! time its gradings took, decayed by half every `HALF_LIFE`. The next grading is the
@@ -52,6 +53,8 @@ pub enum Work {
     /// A phase of a student's file asked for interactively, by its number in this process.
     Phase(u64),
     Submission(i64),
+    /// The whole runs of a student's report, by their number in this process.
+    ReportRuns(u64),
     RegradeItem {
         regrade: i64,
         submission: i64,
@@ -60,12 +63,14 @@ pub enum Work {
 
 impl Work {
     /// Its lane's priority, 0 first: someone waits for a phase; a grading is awaited; a
-    /// regrade changes what was graded already.
+    /// report's runs are made once a submission, to be read later; a regrade changes what
+    /// was graded already.
     pub fn rank(self) -> u8 {
         match self {
             Work::Phase(_) => 0,
             Work::Submission(_) => 1,
-            Work::RegradeItem { .. } => 2,
+            Work::ReportRuns(_) => 2,
+            Work::RegradeItem { .. } => 3,
         }
     }
 }
@@ -232,6 +237,11 @@ impl FairQueue {
     /// The waiting gradings, in arrival order.
     pub fn waiting(&self) -> &[Waiting] {
         &self.waiting
+    }
+
+    /// How many works run, in both lanes: the sandboxes running.
+    pub fn running(&self) -> usize {
+        self.foreground + self.background
     }
 
     /// Whether a tenant has a grading waiting or running.

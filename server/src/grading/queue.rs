@@ -276,6 +276,11 @@ impl Grader {
         self.queue().waiting().to_vec()
     }
 
+    /// How many works run now, each in a sandbox of its own.
+    pub fn running(&self) -> usize {
+        self.queue().running()
+    }
+
     pub(super) fn queue(&self) -> MutexGuard<'_, FairQueue> {
         // The queue's bookkeeping never panics halfway; a poisoned lock is still whole.
         self.queue.lock().unwrap_or_else(|e| e.into_inner())
@@ -466,8 +471,8 @@ impl Grader {
         let renewed = tokio::task::spawn_blocking(move || {
             let lease = grader.lease();
             match work {
-                // A phase is nothing stored: it holds no lease.
-                Work::Phase(_) => Ok(true),
+                // Asked for, not stored: it holds no lease.
+                Work::Phase(_) | Work::ReportRuns(_) => Ok(true),
                 Work::Submission(id) => grader.store.renew_submission(id, &lease),
                 Work::RegradeItem {
                     regrade,
@@ -490,7 +495,7 @@ impl Grader {
     async fn put_back(self: &Arc<Self>, work: Work) {
         let grader = Arc::clone(self);
         let released = tokio::task::spawn_blocking(move || match work {
-            Work::Phase(_) => Ok(()),
+            Work::Phase(_) | Work::ReportRuns(_) => Ok(()),
             Work::Submission(id) => grader.store.back_to_queue(id, &grader.holder),
             Work::RegradeItem {
                 regrade,
@@ -531,7 +536,7 @@ impl Grader {
 
     fn grade(&self, work: Work) -> Result<Graded, Failure> {
         match work {
-            Work::Phase(number) => {
+            Work::Phase(number) | Work::ReportRuns(number) => {
                 self.run_asked(number);
                 Ok(Graded::Here)
             }

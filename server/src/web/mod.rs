@@ -63,8 +63,6 @@ pub struct AppState {
     pub behind_https: bool,
     /// The real data sets of `--datasets DIR` (none without it).
     pub datasets: Arc<Datasets>,
-    /// The reports' runs being made (`GET .../report/runs`).
-    pub reports: report::Making,
 }
 
 /// The largest sign-in form: a code is 24 characters.

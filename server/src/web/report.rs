@@ -21,7 +21,8 @@ use crate::courses::export::HandIn;
 use crate::courses::questions::{self, QuestionSet};
 use crate::courses::report::{self, Part, PartMark, State as ReportState, Stored};
 use crate::courses::rounds::Tally;
-use crate::sandbox::{Code, Tried};
+use crate::grading::Tenant;
+use crate::sandbox::Tried;
 use crate::store::{Closed, Member, ReportMaking, Role, SavedAnswer, Store, SubmissionSummary};
 use askama::Template;
 use axum::Json;
@@ -35,7 +36,6 @@ use serde::{Deserialize, Serialize};
 use serde_json::value::RawValue;
 use std::collections::BTreeMap;
 use std::sync::Arc;
-use tokio::sync::Semaphore;
 use ts_rs::TS;
 
 /// The submission whose runs a report shows.
@@ -573,23 +573,6 @@ pub enum ReportRuns {
     Failed { submission: i64, reason: String },
 }
 
-/// The reports' runs this process makes: one submission's at a time (a place of its own,
-/// so that neither gradings nor the askers' phases wait for a report). Whose runs are
-/// being made (one student's at a time, under the lease of the process making them) and
-/// why a try failed are the database's (`store::ReportMaking`), so that every web
-/// process answers a student alike and a process that died leaves the making to another.
-pub struct Making {
-    slot: Semaphore,
-}
-
-impl Default for Making {
-    fn default() -> Making {
-        Making {
-            slot: Semaphore::new(1),
-        }
-    }
-}
-
 /// The runs of the report of `member`: made once a submission (in the background, the
 /// first time they are asked for) and kept.
 async fn runs_of(
@@ -599,6 +582,10 @@ async fn runs_of(
 ) -> Result<ReportRuns, Error> {
     let grader = state.grader.version(lab).to_owned();
     let student = member.id;
+    let tenant = Tenant::Student {
+        course: member.course.clone(),
+        student: member.login.clone(),
+    };
     let found = blocking(state, move |store| {
         if store.policy_for(&member.course, lab, member.id)?.is_none() {
             return Ok(Err(not_opened()));
@@ -631,7 +618,11 @@ async fn runs_of(
         // A student's next submission waits until their last is made (asked again then).
         ReportMaking::Running { .. } => Ok(ReportRuns::Making { submission }),
         ReportMaking::Yours => {
-            tokio::spawn(make_runs(Arc::clone(state), (student, submission), lab));
+            tokio::spawn(make_runs(
+                Arc::clone(state),
+                (student, tenant, submission),
+                lab,
+            ));
             Ok(ReportRuns::Making { submission })
         }
     }
@@ -641,19 +632,21 @@ async fn runs_of(
 const UNAVAILABLE: &str =
     "files in this language cannot be run on this server: its sandbox for them does not start here";
 
-/// Runs a submission's code on the whole data sets of its report's runs, one submission
-/// at a time, renewing its lease meanwhile, and keeps the outputs (unless another ask made
-/// them meanwhile); a failure of the server's is kept to be told once, in words for the
-/// student (the log has the detail).
-async fn make_runs(state: Arc<AppState>, (student, submission): (i64, i64), lab: Exercise) {
+/// Runs a submission's code on the whole data sets of its report's runs, in the student's
+/// turn with the rest of the sandbox's work (`Grader::report_runs`), renewing its lease
+/// meanwhile, and keeps the outputs (unless another ask made them meanwhile); a failure of
+/// the server's is kept to be told once, in words for the student (the log has the
+/// detail). Whose runs are being made (one student's at a time, under the lease of the
+/// process making them) and why a try failed are the database's (`store::ReportMaking`),
+/// so that every web process answers a student alike and a process that died leaves the
+/// making to another.
+async fn make_runs(
+    state: Arc<AppState>,
+    (student, tenant, submission): (i64, Tenant, i64),
+    lab: Exercise,
+) {
     let grader = state.grader.version(lab).to_owned();
     let made = async {
-        let _slot = state
-            .reports
-            .slot
-            .acquire()
-            .await
-            .map_err(|e| e.to_string())?;
         let made_by = grader.clone();
         let stored = blocking(&state, move |store| {
             if store.report_runs(submission, &made_by)?.is_some() {
@@ -666,21 +659,16 @@ async fn make_runs(state: Arc<AppState>, (student, submission): (i64, i64), lab:
         let Some(stored) = stored else {
             return Ok(());
         };
-        let sandbox = Arc::clone(&state.grader);
         let runs: Vec<&str> = lab.declaration().report.iter().map(|r| r.run).collect();
-        let outputs = tokio::task::spawn_blocking(move || {
-            let code = Code {
-                language: stored.summary.language,
-                text: stored.source.as_deref().unwrap_or_default(),
-            };
-            sandbox.sandbox().whole_runs(lab, code, stored.seed, &runs)
-        })
-        .await
-        .map_err(|e| e.to_string())?
-        .map_err(|tried| match tried {
-            Tried::Unavailable(_) => format!("{UNAVAILABLE}: {tried}"),
-            other => other.to_string(),
-        })?;
+        let code = (stored.summary.language, stored.source.unwrap_or_default());
+        let outputs = state
+            .grader
+            .report_runs(tenant, lab, code, stored.seed, runs)
+            .await
+            .map_err(|tried| match tried {
+                Tried::Unavailable(_) => format!("{UNAVAILABLE}: {tried}"),
+                other => other.to_string(),
+            })?;
         blocking(&state, move |store| {
             store.keep_report_runs(submission, &grader, &outputs)
         })

@@ -140,7 +140,6 @@ impl App {
             clock: Arc::clone(&clock) as Arc<dyn Clock>,
             behind_https: false,
             datasets: Default::default(),
-            reports: Default::default(),
         });
         let router = estlab::web::router(Arc::clone(&state));
         App {
