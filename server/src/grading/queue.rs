@@ -295,7 +295,9 @@ impl Grader {
     /// retry of a grading whose sandbox did not start), for as long as the server runs.
     async fn dispatch(self: Arc<Self>) {
         loop {
-            if self.regrades_pending.swap(false, Ordering::SeqCst)
+            // A process that leaves grading to graders runs only what it was asked.
+            if self.grading.load(Ordering::SeqCst)
+                && self.regrades_pending.swap(false, Ordering::SeqCst)
                 && !self.queue().has(&Tenant::Regrades)
             {
                 self.queue_next_regrade_item().await;
