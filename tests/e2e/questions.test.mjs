@@ -156,6 +156,7 @@ test('a review round in class: opened, reviewed, closed, marks read', bounded, a
   await staff.getByLabel('Reviews of each sheet').fill('2');
   await staff.getByRole('button', { name: 'Open a round' }).click();
   await staff.getByRole('status').filter({ hasText: /Round \d+ is open: 3 sheets/ }).waitFor();
+  // The status is said once the round's table is drawn: its rows are there.
   assert.equal(await staff.locator('.round-table tr[data-student]').count(), 3);
 
   // Each student reviews their two sheets: the first answer right, the second wrong.

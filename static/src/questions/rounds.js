@@ -27,8 +27,9 @@ function action(text, url, body, said, redraw) {
   button.addEventListener('click', async () => {
     try {
       await postJson(url, body);
-      said.textContent = `${text}: done.`;
+      // Said once the rounds show it, so that what the status says is on the page.
       await redraw();
+      said.textContent = `${text}: done.`;
     } catch (error) {
       said.textContent = `${text}: ${error instanceof Error ? error.message : error}`;
     }
@@ -149,8 +150,8 @@ export async function showRounds(section, api, sets) {
       const round = await postJson(`${api}/rounds`, {
         part: Number(set.value), per_sheet: Number(perSheet.value), bonus_above: Number(bonus.value) / 100,
       });
-      said.textContent = `Round ${round.id} is open: ${round.students.length} sheets handed out.`;
       await redraw();
+      said.textContent = `Round ${round.id} is open: ${round.students.length} sheets handed out.`;
     } catch (error) {
       said.textContent = `No round opened: ${error instanceof Error ? error.message : error}`;
     }
