@@ -75,6 +75,38 @@ fn grader(dir: &Path, sandbox: Sandbox, policy: Policy) -> Arc<Grader> {
     )
 }
 
+/// A student of the course, as the queue takes turns.
+fn tenant(who: &str) -> Tenant {
+    Tenant::Student {
+        course: "el2320".into(),
+        student: who.into(),
+    }
+}
+
+/// The odometry's `wheel_noise` phase of `source`, asked for on the workbench.
+fn wheel_noise(source: &str) -> PhaseAsked {
+    PhaseAsked {
+        exercise: Exercise::Odometry,
+        language: Language::JavaScript,
+        source: source.to_owned(),
+        seed: 7,
+        phase: "wheel_noise".to_owned(),
+    }
+}
+
+/// A file whose `wheel_noise` never ends.
+const ENDLESS: &str = "function wheel_noise() { for (;;) {} }";
+
+/// The result of submission `id` once it is graded; panics after `BOUND`.
+async fn graded(grader: &Grader, id: i64) -> labs::grading::GradeResult {
+    let status = || grader.store().get(id, false).unwrap().unwrap();
+    until("the submission graded", || {
+        status().summary.status == Status::Graded
+    })
+    .await;
+    status().result.unwrap()
+}
+
 /// Waits until `done` holds; panics after `BOUND`.
 async fn until(what: &str, mut done: impl FnMut() -> bool) {
     let give_up = Instant::now() + BOUND;
@@ -216,19 +248,7 @@ async fn a_sandbox_that_cannot_start_leaves_the_submission_waiting_until_it_can(
 
     // The fault is gone: the next try grades it.
     std::os::unix::fs::symlink(estlab(), &worker).unwrap();
-    until("the submission graded", || {
-        grader
-            .store()
-            .get(id, false)
-            .unwrap()
-            .unwrap()
-            .summary
-            .status
-            == Status::Graded
-    })
-    .await;
-    let graded = grader.store().get(id, false).unwrap().unwrap();
-    let result = graded.result.unwrap();
+    let result = graded(&grader, id).await;
     assert!(result.gradable, "{:?}", result.reason);
     assert_eq!(result.score, 0.0);
     assert!(grader.waiting().is_empty());
@@ -245,27 +265,16 @@ async fn another_students_phase_runs_before_a_flooders_next_ones() {
     let finished: Arc<std::sync::Mutex<Vec<&str>>> = Arc::default();
     let ask = |who: &'static str, source: &str, patience: Duration| {
         let (grader, finished) = (Arc::clone(&grader), Arc::clone(&finished));
-        let asked = PhaseAsked {
-            exercise: Exercise::Odometry,
-            language: Language::JavaScript,
-            source: source.to_owned(),
-            seed: 7,
-            phase: "wheel_noise".to_owned(),
-        };
-        let tenant = Tenant::Student {
-            course: "el2320".into(),
-            student: who.into(),
-        };
+        let asked = wheel_noise(source);
         tokio::spawn(async move {
-            let outcome = grader.phase(tenant, asked, patience).await;
+            let outcome = grader.phase(tenant(who), asked, patience).await;
             if outcome.is_ok() {
                 finished.lock().unwrap().push(who);
             }
             outcome
         })
     };
-    let endless = "function wheel_noise() { for (;;) {} }";
-    let flood: Vec<_> = (0..3).map(|_| ask("mallory", endless, BOUND)).collect();
+    let flood: Vec<_> = (0..3).map(|_| ask("mallory", ENDLESS, BOUND)).collect();
     until("Mallory's first running, two waiting", || {
         grader.running() == 1 && grader.waiting().len() == 2
     })
@@ -337,25 +346,8 @@ async fn a_grading_the_machine_starves_waits_and_is_tried_again() {
     let id = grader
         .submit(&submission(&grader, "ada", Exercise::Odometry, &source))
         .unwrap();
-    until("the submission graded", || {
-        grader
-            .store()
-            .get(id, false)
-            .unwrap()
-            .unwrap()
-            .summary
-            .status
-            == Status::Graded
-    })
-    .await;
+    let result = graded(&grader, id).await;
     assert!(stopped.is_dir(), "the first worker stopped itself");
-    let result = grader
-        .store()
-        .get(id, false)
-        .unwrap()
-        .unwrap()
-        .result
-        .unwrap();
     assert!(result.gradable, "{:?}", result.reason);
     assert_eq!(result.score, 0.0);
 }
@@ -368,21 +360,12 @@ async fn report_runs_take_their_turn_with_the_rest() {
     let dir = tempfile::tempdir().unwrap();
     let grader = grader(dir.path(), Sandbox::new(estlab(), 1), one_at_a_time());
     let finished: Arc<std::sync::Mutex<Vec<String>>> = Arc::default();
-    let tenant = |who: &str| Tenant::Student {
-        course: "el2320".into(),
-        student: who.into(),
-    };
     let endless = {
         let (grader, finished) = (Arc::clone(&grader), Arc::clone(&finished));
-        let asked = PhaseAsked {
-            exercise: Exercise::Odometry,
-            language: Language::JavaScript,
-            source: "function wheel_noise() { for (;;) {} }".to_owned(),
-            seed: 7,
-            phase: "wheel_noise".to_owned(),
-        };
         tokio::spawn(async move {
-            let outcome = grader.phase(tenant("mallory"), asked, BOUND).await;
+            let outcome = grader
+                .phase(tenant("mallory"), wheel_noise(ENDLESS), BOUND)
+                .await;
             finished.lock().unwrap().push("mallory's phase".to_owned());
             outcome
         })
