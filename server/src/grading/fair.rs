@@ -11,14 +11,15 @@
 //! who used it less.
 //!
 //! Each student of a course (and the regrades, as one more) is a *tenant*, charged the
-//! time its gradings took, decayed by half every `HALF_LIFE`. The next grading is the
+//! CPU time its work's sandboxes used (read from the kernel, never the clock: a busy
+//! machine makes no one's work longer), decayed by half every `HALF_LIFE`. The next grading is the
 //! waiting one whose tenant has the fewest gradings running, then the smallest charge,
 //! then the earliest arrival: a student who was just graded goes behind one who was not,
 //! however many they keep waiting. A tenant whose long gradings (those that ran at least
 //! `Policy::demote_after`) are charged `Policy::heavy`, or who has a grading running in
 //! the background, is graded in the background lane (outside the `parallel` slots, at a
-//! low CPU priority), and so is a grading that is still running after
-//! `Policy::demote_after` while the background has a free place: a file that runs every
+//! low CPU priority), and so is a grading that has used `Policy::demote_after` of CPU
+//! time and still runs while the background has a free place: a file that runs every
 //! phase to its limit holds a slot for a few seconds at most while the background has
 //! room. The background's places are a bound, not a start rate: however many gradings
 //! overrun, no more than `parallel + background` sandboxes run at once (a demotion that
@@ -91,10 +92,11 @@ pub struct Policy {
     pub parallel: usize,
     /// Gradings at once in the background, demoted ones included.
     pub background: usize,
-    /// A foreground grading still running after this moves to the background, when the
-    /// background has a free place.
+    /// A foreground grading that has used this much CPU time and still runs moves to the
+    /// background, when the background has a free place.
     pub demote_after: Duration,
-    /// A tenant charged this much (decayed) for long gradings is graded in the background.
+    /// A tenant charged this much CPU time (decayed) for long gradings is graded in the
+    /// background.
     pub heavy: Duration,
     /// The wait after a grading's first failed start.
     pub first_retry: Duration,
@@ -369,18 +371,21 @@ impl FairQueue {
             .min()
     }
 
-    /// Moves a foreground grading that has run `demote_after` to the background, freeing
-    /// its slot, and charges its tenant that time now (so that their next file starts in
-    /// the background). Returns whether it moved: not when the background is full (the
-    /// grading keeps its slot, and is asked again later).
-    pub fn demote(&mut self, ticket: &mut Ticket, now: Instant) -> bool {
-        if ticket.lane != Lane::Foreground || self.background >= self.policy.background {
+    /// Moves a foreground grading whose sandbox has used `ran` of CPU time, at least
+    /// `demote_after`, to the background, freeing its slot, and charges its tenant that
+    /// time now (so that their next file starts in the background). Returns whether it
+    /// moved: not when it has used less, nor when the background is full (the grading
+    /// keeps its slot, and is asked again later).
+    pub fn demote(&mut self, ticket: &mut Ticket, ran: Duration, now: Instant) -> bool {
+        if ticket.lane != Lane::Foreground
+            || ran < self.policy.demote_after
+            || self.background >= self.policy.background
+        {
             return false;
         }
         self.foreground -= 1;
         self.background += 1;
         ticket.lane = Lane::Background;
-        let ran = self.policy.demote_after;
         add_charge(&mut self.charges, &ticket.tenant, ran, now);
         add_charge(&mut self.long, &ticket.tenant, ran, now);
         ticket.charged = ran;
@@ -388,7 +393,8 @@ impl FairQueue {
         true
     }
 
-    /// A grading ended after `took`: its place is free and its tenant charged.
+    /// A grading ended, its sandbox having used `took` of CPU time: its place is free and
+    /// its tenant charged.
     pub fn finish(&mut self, ticket: Ticket, took: Duration, now: Instant) {
         self.release(&ticket);
         self.held.remove(&ticket.work);
@@ -407,10 +413,10 @@ impl FairQueue {
         self.put_back(ticket, (failed_starts, starved), now)
     }
 
-    /// A grading whose sandbox ran out of time by the clock after `took`, its CPU time
-    /// not used up (the machine's doing, not the file's), waits again as a failed start
-    /// does; its tenant is charged the time it held its place, so that a tenant whose
-    /// work keeps starving goes behind the others. Returns the wait.
+    /// A grading whose sandbox ran out of time by the clock, its CPU time not used up (the
+    /// machine's doing, or a file that stops itself), waits again as a failed start does;
+    /// its tenant is charged the CPU time `took` it used, as a long grading. Returns the
+    /// wait.
     pub fn starved(&mut self, ticket: Ticket, took: Duration, now: Instant) -> Duration {
         let rest = took.saturating_sub(ticket.charged);
         add_charge(&mut self.charges, &ticket.tenant, rest, now);
@@ -616,8 +622,12 @@ mod tests {
         queue.push(Work::Submission(2), student("ada"));
         queue.push(Work::Submission(3), student("mallory"));
         assert!(queue.take(start).is_none(), "the one slot is taken");
-        let later = start + queue.policy().demote_after;
-        assert!(queue.demote(&mut long, later));
+        let later = start + Duration::from_secs(10);
+        let demote_after = queue.policy().demote_after;
+        // Long by the clock, but not yet by its CPU time (a busy machine): it stays.
+        assert!(!queue.demote(&mut long, demote_after / 2, later));
+        assert_eq!(long.lane, Lane::Foreground);
+        assert!(queue.demote(&mut long, demote_after, later));
         assert_eq!(long.lane, Lane::Background);
         // The slot is Ada's; Mallory's next file is charged the time so far and waits
         // behind, for the background.
@@ -658,7 +668,7 @@ mod tests {
             assert!(running.len() <= cap, "{} sandboxes at once", running.len());
             now += queue.policy().demote_after;
             for ticket in &mut running {
-                queue.demote(ticket, now);
+                queue.demote(ticket, queue.policy().demote_after, now);
             }
             let background = running
                 .iter()

@@ -17,7 +17,7 @@ use super::asked::Asked;
 use super::fair::{FairQueue, Lane, Policy, Tenant, Ticket, Waiting, Work};
 use super::{Secret, grader_version, priority};
 use crate::clock::Clock;
-use crate::sandbox::{Code, NotNow, Sandbox};
+use crate::sandbox::{self, Code, NotNow, Sandbox};
 use crate::store::{Claimable, Error, Holder, Lease, NewSubmission, Store, ToGrade};
 use jiff::Timestamp;
 use labs::{Exercise, Language};
@@ -27,8 +27,9 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 use tokio::sync::Notify;
 
-/// How often a background grading's worker is looked for and lowered in priority, and a
-/// foreground one past `demote_after` asks again for a place in the background.
+/// How often a running grading's worker is looked at: in the foreground, for the CPU time
+/// it has used (past `demote_after`, it asks for a place in the background); in the
+/// background, to lower its priority.
 const SWEEP: Duration = Duration::from_millis(100);
 
 /// How many times a grading is tried whose sandbox runs out of time by the clock, its CPU
@@ -281,6 +282,12 @@ impl Grader {
         self.queue().running()
     }
 
+    /// A tenant's charge now: the CPU time its work's sandboxes used, in seconds, decayed
+    /// (`fair`).
+    pub fn charge(&self, tenant: &Tenant) -> f64 {
+        self.queue().charge(tenant, Instant::now())
+    }
+
     pub(super) fn queue(&self) -> MutexGuard<'_, FairQueue> {
         // The queue's bookkeeping never panics halfway; a poisoned lock is still whole.
         self.queue.lock().unwrap_or_else(|e| e.into_inner())
@@ -348,12 +355,12 @@ impl Grader {
         }
     }
 
-    /// Grades one ticket's work in a blocking task; moves it to the background once it
-    /// has run `demote_after` and the background has a free place, and there keeps its
-    /// worker at the background priority;
-    /// renews its lease at each third of it; then settles it with the queue.
+    /// Grades one ticket's work in a blocking task; moves it to the background once its
+    /// sandbox has used `demote_after` of CPU time and the background has a free place,
+    /// and there keeps its worker at the background priority; renews its lease at each
+    /// third of it; then settles it with the queue, charging its tenant the CPU time its
+    /// sandbox used.
     async fn run(self: Arc<Self>, mut ticket: Ticket) {
-        let started = Instant::now();
         // The grading thread's id while it grades (0 before and after), whose child is
         // the worker.
         let thread = Arc::new(AtomicI32::new(0));
@@ -361,25 +368,15 @@ impl Grader {
         let work = ticket.work;
         let mut grading = tokio::task::spawn_blocking(move || {
             grading_thread.store(priority::current_thread(), Ordering::SeqCst);
+            let before = sandbox::workers_spent();
             let outcome = grader.grade(work);
             grading_thread.store(0, Ordering::SeqCst);
-            outcome
+            (outcome, sandbox::workers_spent() - before)
         });
-        let (demote_after, lease) = {
-            let queue = self.queue();
-            (queue.policy().demote_after, queue.policy().lease)
-        };
-        let mut renew_at = started + lease / 3;
+        let lease = self.queue().policy().lease;
+        let mut renew_at = Instant::now() + lease / 3;
         let outcome = loop {
-            // Until it may move to the background, then (in the background, or in its
-            // slot while the background is full) at every sweep.
-            let wait = match ticket.lane {
-                Lane::Foreground if started.elapsed() < demote_after => {
-                    demote_after - started.elapsed()
-                }
-                _ => SWEEP,
-            }
-            .min(renew_at.saturating_duration_since(Instant::now()));
+            let wait = SWEEP.min(renew_at.saturating_duration_since(Instant::now()));
             tokio::select! {
                 outcome = &mut grading => break outcome,
                 () = tokio::time::sleep(wait) => {}
@@ -388,17 +385,22 @@ impl Grader {
                 self.renew(work).await;
                 renew_at = Instant::now() + lease / 3;
             }
-            if ticket.lane == Lane::Foreground
-                && started.elapsed() >= demote_after
-                && self.queue().demote(&mut ticket, Instant::now())
-            {
-                tracing::info!(?work, "still grading: moved to the background");
-                self.wake.notify_one();
-            }
             match thread.load(Ordering::SeqCst) {
                 0 => {}
+                tid if ticket.lane == Lane::Foreground => {
+                    let ran = sandbox::started_by(tid);
+                    if self.queue().demote(&mut ticket, ran, Instant::now()) {
+                        tracing::info!(?work, "still grading: moved to the background");
+                        self.wake.notify_one();
+                    }
+                }
                 tid => priority::lower_children_of(tid),
             }
+        };
+        let (outcome, spent) = match outcome {
+            Ok((outcome, spent)) => (Ok(outcome), spent),
+            // A panic: what it used is unknown; what it was charged at a demotion stays.
+            Err(err) => (Err(err), Duration::ZERO),
         };
         let now = Instant::now();
         let is_regrade = matches!(work, Work::RegradeItem { .. });
@@ -407,7 +409,7 @@ impl Grader {
                 if graded == Graded::Elsewhere {
                     tracing::debug!(?work, "held or graded by another grader");
                 }
-                self.queue().finish(ticket, now - started, now);
+                self.queue().finish(ticket, spent, now);
                 if is_regrade {
                     self.regrades_pending.store(true, Ordering::SeqCst);
                 }
@@ -428,7 +430,7 @@ impl Grader {
             {
                 self.put_back(work).await;
                 let attempt = ticket.starved + 1;
-                let wait = self.queue().starved(ticket, now - started, now);
+                let wait = self.queue().starved(ticket, spent, now);
                 tracing::warn!(
                     ?work,
                     attempt,
@@ -437,7 +439,7 @@ impl Grader {
                 );
             }
             Ok(Err(Failure::NotNow(err @ NotNow::Starved { .. }))) => {
-                self.queue().finish(ticket, now - started, now);
+                self.queue().finish(ticket, spent, now);
                 if is_regrade {
                     self.put_back(work).await;
                 }
@@ -445,7 +447,7 @@ impl Grader {
                     .await;
             }
             Ok(Err(Failure::Store(Error::LeaseLost(what)))) => {
-                self.queue().finish(ticket, now - started, now);
+                self.queue().finish(ticket, spent, now);
                 tracing::warn!(
                     ?work,
                     "{what} is no longer this grader's: its result is not written"
@@ -455,11 +457,11 @@ impl Grader {
                 }
             }
             Ok(Err(Failure::Store(err))) => {
-                self.queue().finish(ticket, now - started, now);
+                self.queue().finish(ticket, spent, now);
                 self.failed(work, err.to_string()).await;
             }
             Err(err) => {
-                self.queue().finish(ticket, now - started, now);
+                self.queue().finish(ticket, spent, now);
                 self.failed(work, format!("stopped: {err}")).await;
             }
         }

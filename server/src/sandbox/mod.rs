@@ -10,6 +10,7 @@ mod native;
 mod watchdog;
 mod worker;
 
+pub use cpu::{started_by, workers_spent};
 pub use engine::carry_out;
 pub use error::{Failure, TooLarge};
 pub use native::Unavailable;

@@ -6,6 +6,7 @@
 //! a generous wall-clock allowance, makes the result "not gradable", which costs the
 //! student nothing.
 
+use super::cpu;
 use super::engine::LOAD_LIMIT_MS;
 use super::error::{Failure, TooLarge};
 use super::native::{Native, Tools, Unavailable};
@@ -389,13 +390,15 @@ impl Sandbox {
             text
         })?;
 
+        // Reaped here (not by `child`), so that its CPU time is counted: `workers_spent`.
+        let pid = child.id() as libc::pid_t;
         let started = Instant::now();
         let status = loop {
-            match child.try_wait() {
+            match cpu::reap(pid, false) {
                 Ok(Some(status)) => break status,
                 Ok(None) if started.elapsed() > limit => {
                     let _ = child.kill();
-                    let _ = child.wait();
+                    let _ = cpu::reap(pid, true);
                     return Err(Failure::Hung {
                         seconds: limit.as_secs(),
                     });

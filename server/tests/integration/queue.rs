@@ -309,12 +309,21 @@ async fn another_students_phase_runs_before_a_flooders_next_ones() {
         *finished.lock().unwrap(),
         ["mallory", "ada", "mallory", "mallory"]
     );
+    // Each is charged the CPU time its sandbox used: Mallory's three loops ran to their
+    // limit of 2 s each (6 s, a little decayed since), Ada's run threw at once.
+    let (mallory, ada) = (
+        grader.charge(&tenant("mallory")),
+        grader.charge(&tenant("ada")),
+    );
+    assert!(mallory >= 4.0, "Mallory charged {mallory} s");
+    assert!(ada < 1.0, "Ada charged {ada} s");
 }
 
 /// A grading whose worker the machine gives no time (here: a worker that stops itself
 /// with SIGSTOP, the first time only) runs out of time by the clock with its CPU time
 /// unused: the machine's doing, never the student's verdict ("not gradable" until now).
-/// It goes back in line and the next try grades it.
+/// It goes back in line and the next try grades it, and its student is charged only
+/// the CPU time used.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_grading_the_machine_starves_waits_and_is_tried_again() {
     let dir = tempfile::tempdir().unwrap();
@@ -350,6 +359,10 @@ async fn a_grading_the_machine_starves_waits_and_is_tried_again() {
     assert!(stopped.is_dir(), "the first worker stopped itself");
     assert!(result.gradable, "{:?}", result.reason);
     assert_eq!(result.score, 0.0);
+    // The stopped worker held its place for 2 s by the clock without computing: its
+    // student is charged CPU time, not that.
+    let charge = grader.charge(&tenant("ada"));
+    assert!(charge < 1.0, "charged {charge} s");
 }
 
 /// A report's runs take their turn with the rest (until now each web process made them

@@ -29,6 +29,10 @@ const MAX_REPORT: usize = 32 << 20;
 /// waits for it, over all the calls of its phase (a wait per call would let a file that
 /// sleeps a little less in each of a run's hundreds of calls outlast its worker).
 pub const SLEEP_LIMIT: Duration = Duration::from_secs(2);
+/// How long bubblewrap is given to end once the interpreter is killed, before it is
+/// killed too (it ends at once, unless the machine is very busy: then only the count of
+/// the interpreter's CPU time is lost).
+const REAP_WAIT: Duration = Duration::from_secs(1);
 /// How often the engine's thread looks while it waits.
 const LOOK: Duration = Duration::from_millis(5);
 /// CPU time for the interpreter to start and load its libraries (NumPy: about 0.1 s).
@@ -122,6 +126,8 @@ pub struct Interpreter {
     /// How long it has been found asleep while the engine waited for it, once started
     /// (None while it starts).
     asleep: Option<Duration>,
+    /// When it was last looked at, and its CPU time then.
+    looked: Option<(Instant, Duration)>,
     /// Where it says what it is doing, if it does (JavaScript on V8).
     progress: Option<Progress>,
 }
@@ -159,6 +165,7 @@ impl Interpreter {
             complaints: Some(complaints),
             silent: None,
             asleep: None,
+            looked: None,
             progress,
         };
         let setup = serde_json::to_string(&Setup {
@@ -338,8 +345,12 @@ impl Interpreter {
         if over() {
             return Err(Silent::OverTime);
         }
+        let look = (Instant::now(), self.clock.read().unwrap_or_default());
+        let since = self.looked.replace(look);
         if let Some(asleep) = &mut self.asleep
-            && !running(self.pid)
+            && since.is_some_and(|(at, cpu)| {
+                waits_of_its_own(state(self.pid), look.1.saturating_sub(cpu), look.0 - at)
+            })
         {
             *asleep += LOOK;
             if *asleep >= SLEEP_LIMIT {
@@ -378,8 +389,10 @@ impl Interpreter {
     }
 
     /// Ends the interpreter (through its pidfd, which names it and no later process of
-    /// its number: it may have cleared the signal that ends it with bubblewrap) and
-    /// bubblewrap.
+    /// its number: it may have cleared the signal that ends it with bubblewrap), then
+    /// bubblewrap. Bubblewrap is left [`REAP_WAIT`] to wait for the interpreter and end
+    /// on its own: the interpreter's CPU time then counts in bubblewrap's, and so in the
+    /// worker's, which the server charges its student (`cpu::workers_spent`).
     fn stop(&mut self) {
         // SAFETY: pidfd_send_signal reads a descriptor of ours and no pointer (none given).
         unsafe {
@@ -390,6 +403,10 @@ impl Interpreter {
                 std::ptr::null::<libc::siginfo_t>(),
                 0,
             );
+        }
+        let give_up = Instant::now() + REAP_WAIT;
+        while matches!(self.child.try_wait(), Ok(None)) && Instant::now() < give_up {
+            std::thread::sleep(LOOK);
         }
         let _ = self.child.kill();
         let _ = self.child.wait();
@@ -414,15 +431,22 @@ fn ready(fd: std::os::fd::RawFd, events: libc::c_short, wait: Duration) -> bool 
     ready > 0
 }
 
-/// Whether the process runs or waits only for a processor: `R` in `/proc/PID/stat`, the
-/// state after the command's name in parentheses. Every other state is a wait of its own
-/// making: asleep (`S`, `D`), stopped (`T`, `t`), or a main thread that has ended (`Z`)
-/// while another thread of it waits. A busy machine makes a process wait runnable, `R`.
-fn running(pid: libc::pid_t) -> bool {
-    std::fs::read_to_string(format!("/proc/{pid}/stat")).is_ok_and(|stat| {
-        stat.rsplit_once(')')
-            .is_some_and(|(_, rest)| rest.trim_start().starts_with('R'))
-    })
+/// Whether an interpreter found in `state` (in `/proc/PID/stat`), having computed `cpu`
+/// of the `wall` time since the last look, waits of its own making: it computed for less
+/// than half that time, and it is neither running nor waiting for a processor (`R`: a
+/// busy machine) nor for the kernel (`D`: pages it touches being made or swapped in, as
+/// a file allocating much makes it wait). Its own waits are the rest: asleep (`S`),
+/// stopped (`T`, `t`), or a main thread that has ended (`Z`) while another waits.
+fn waits_of_its_own(state: Option<char>, cpu: Duration, wall: Duration) -> bool {
+    !matches!(state, Some('R' | 'D')) && cpu * 2 < wall
+}
+
+/// The state of a process, the letter after its command in `/proc/PID/stat`; none once
+/// it is gone.
+fn state(pid: libc::pid_t) -> Option<char> {
+    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).ok()?;
+    let (_, rest) = stat.rsplit_once(')')?;
+    rest.trim_start().chars().next()
 }
 
 /// The last line of what an interpreter wrote on stderr, as the end of a message.
@@ -440,4 +464,31 @@ fn drain(stderr: std::process::ChildStderr) -> String {
     let _ = (&mut stderr).take(COMPLAINTS).read_to_end(&mut kept);
     let _ = std::io::copy(&mut stderr, &mut std::io::sink());
     String::from_utf8_lossy(&kept).into_owned()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const LOOKED: Duration = Duration::from_millis(5);
+
+    #[test]
+    fn a_sleeping_interpreter_waits_of_its_own() {
+        for state in ['S', 'T', 't', 'Z'] {
+            assert!(waits_of_its_own(Some(state), Duration::ZERO, LOOKED), "{state}");
+        }
+        assert!(waits_of_its_own(None, Duration::ZERO, LOOKED), "gone");
+        // A little computing between sleeps is still sleeping.
+        let sip = Duration::from_micros(200);
+        assert!(waits_of_its_own(Some('S'), sip, LOOKED));
+    }
+
+    #[test]
+    fn an_interpreter_that_computes_or_waits_for_the_machine_does_not() {
+        assert!(!waits_of_its_own(Some('R'), Duration::ZERO, LOOKED), "a busy machine");
+        assert!(!waits_of_its_own(Some('D'), Duration::ZERO, LOOKED), "pages swapped in");
+        // Found asleep, but it computed most of the time since (pages made, a lock
+        // passed between its threads).
+        assert!(!waits_of_its_own(Some('S'), Duration::from_millis(4), LOOKED));
+    }
 }
