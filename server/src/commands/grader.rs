@@ -8,6 +8,9 @@ use super::data::Data;
 use super::grading;
 use super::serve::{init_logging, stop_asked};
 use crate::error::Error;
+use crate::web::{self, connections};
+use connections::{Limits, raise_descriptor_limit};
+use std::net::SocketAddr;
 
 /// Grade the submissions of a database that web processes share.
 #[derive(clap::Args)]
@@ -18,6 +21,10 @@ pub struct Args {
     data: Data,
     #[command(flatten)]
     grading: grading::Grading,
+    /// Serve `/metrics` (the sandbox's lanes, CPU time, outcomes) on this address, for
+    /// Prometheus: it asks for the token in the data directory's `metrics-token`.
+    #[arg(long, value_name = "ADDR")]
+    metrics: Option<SocketAddr>,
 }
 
 pub fn run(args: &Args) -> Result<(), Error> {
@@ -33,7 +40,19 @@ pub fn run(args: &Args) -> Result<(), Error> {
             grader.holder(),
             args.grading.parallel()
         );
-        stop_asked().await;
+        match args.metrics {
+            Some(addr) => {
+                let listener = tokio::net::TcpListener::bind(addr)
+                    .await
+                    .map_err(Error::io(addr.to_string()))?;
+                let addr = listener.local_addr().map_err(Error::io(addr.to_string()))?;
+                println!("estlab grader: metrics on http://{addr}/metrics");
+                let limits = Limits::for_server(raise_descriptor_limit(), false);
+                let router = web::metrics::router(grader);
+                connections::serve(listener, router, limits, stop_asked()).await;
+            }
+            None => stop_asked().await,
+        }
         Ok(())
     })
 }

@@ -9,8 +9,14 @@ use crate::grading::{Grader, Policy, Secret};
 use crate::sandbox::{JavaScript, Sandbox, cores};
 use crate::store::Store;
 use labs::Language;
+use std::io::Write;
+use std::os::unix::fs::OpenOptionsExt;
+use std::path::Path;
 use std::sync::Arc;
 use std::time::Duration;
+
+/// The file in the data directory that holds the token `/metrics` asks for.
+pub const METRICS_TOKEN: &str = "metrics-token";
 
 #[derive(clap::Args)]
 pub struct Grading {
@@ -87,7 +93,31 @@ impl Grading {
             lease: Duration::from_secs(self.lease.max(1)),
             ..Policy::new(parallel)
         };
+        write_metrics_token(&data.dir, &secret)?;
         let clock: Arc<dyn Clock> = Arc::new(SystemClock);
         Ok(Grader::with_policy(store, sandbox, secret, policy, clock))
     }
+}
+
+/// Writes the token `/metrics` asks for into the data directory's `metrics-token`
+/// (readable by the server's user only), for Prometheus to send (its scrape's
+/// `authorization: {credentials_file: ...}`).
+fn write_metrics_token(dir: &Path, secret: &Secret) -> Result<(), Error> {
+    let path = dir.join(METRICS_TOKEN);
+    let token = secret.metrics_token();
+    if std::fs::read_to_string(&path).ok().as_deref() != Some(token.as_str()) {
+        let written = std::fs::OpenOptions::new()
+            .write(true)
+            .create(true)
+            .truncate(true)
+            .mode(0o600)
+            .open(&path)
+            .and_then(|mut file| file.write_all(token.as_bytes()));
+        written.map_err(Error::io(&path))?;
+    }
+    println!(
+        "estlab: /metrics answers to the token in {}",
+        path.display()
+    );
+    Ok(())
 }

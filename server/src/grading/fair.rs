@@ -146,6 +146,8 @@ pub struct Waiting {
     pub starved: u32,
     /// Not before this (after a failed start).
     pub not_before: Option<Instant>,
+    /// When it first arrived (kept when it is put back).
+    pub since: Instant,
     /// Its place among arrivals (kept when a failed start puts it back).
     arrival: u64,
 }
@@ -158,6 +160,7 @@ pub struct Ticket {
     pub lane: Lane,
     pub failed_starts: u32,
     pub starved: u32,
+    since: Instant,
     arrival: u64,
     /// Charged already (at a demotion), not to be charged twice.
     charged: Duration,
@@ -218,9 +221,9 @@ impl FairQueue {
         &self.policy
     }
 
-    /// Adds a grading at the end of the arrivals, unless it is waiting or running already;
-    /// returns whether it was added.
-    pub fn push(&mut self, work: Work, tenant: Tenant) -> bool {
+    /// Adds a grading at the end of the arrivals at `now`, unless it is waiting or running
+    /// already; returns whether it was added.
+    pub fn push(&mut self, work: Work, tenant: Tenant, now: Instant) -> bool {
         if !self.held.insert(work) {
             return false;
         }
@@ -231,6 +234,7 @@ impl FairQueue {
             failed_starts: 0,
             starved: 0,
             not_before: None,
+            since: now,
             arrival: self.arrivals,
         });
         true
@@ -321,6 +325,7 @@ impl FairQueue {
             lane,
             failed_starts: waiting.failed_starts,
             starved: waiting.starved,
+            since: waiting.since,
             arrival: waiting.arrival,
             charged: Duration::ZERO,
         })
@@ -440,6 +445,7 @@ impl FairQueue {
             failed_starts,
             starved,
             not_before: Some(now + wait),
+            since: ticket.since,
             arrival: ticket.arrival,
         });
         wait
@@ -517,12 +523,12 @@ mod tests {
         let start = Instant::now();
         let mut queue = FairQueue::new(policy(1));
         // The flooder's two files (one per exercise) arrived first.
-        queue.push(Work::Submission(1), student("mallory"));
-        queue.push(Work::Submission(2), student("mallory"));
+        queue.push(Work::Submission(1), student("mallory"), start);
+        queue.push(Work::Submission(2), student("mallory"), start);
         let first = queue.take(start).unwrap();
         assert_eq!(first.work, Work::Submission(1));
         // Only one slot: nothing else starts while it runs.
-        queue.push(Work::Submission(3), student("ada"));
+        queue.push(Work::Submission(3), student("ada"), start);
         assert!(queue.take(start).is_none());
         queue.finish(first, QUICK, start + QUICK);
         // Ada arrived after mallory's second, and goes first.
@@ -540,7 +546,7 @@ mod tests {
         let mut id = 0;
         for name in ["mallory", "mallory", "eve", "eve", "ada", "grace"] {
             id += 1;
-            queue.push(Work::Submission(id), student(name));
+            queue.push(Work::Submission(id), student(name), start);
         }
         let order: Vec<Work> = (0..6)
             .map(|i| grade(&mut queue, start + QUICK * i, QUICK))
@@ -554,16 +560,16 @@ mod tests {
         let start = Instant::now();
         let mut queue = FairQueue::new(policy(1));
         // Mallory's file ran every phase to its limit; Ada's last four were quick ones.
-        queue.push(Work::Submission(1), student("mallory"));
+        queue.push(Work::Submission(1), student("mallory"), start);
         grade(&mut queue, start, TO_THE_LIMITS);
         let mut now = start + TO_THE_LIMITS;
         for id in 2..6 {
-            queue.push(Work::Submission(id), student("ada"));
+            queue.push(Work::Submission(id), student("ada"), start);
             grade(&mut queue, now, QUICK);
             now += QUICK;
         }
-        queue.push(Work::Submission(10), student("mallory"));
-        queue.push(Work::Submission(11), student("ada"));
+        queue.push(Work::Submission(10), student("mallory"), start);
+        queue.push(Work::Submission(11), student("ada"), start);
         assert_eq!(queue.lane(&student("mallory"), now), Lane::Background);
         assert_eq!(queue.lane(&student("ada"), now), Lane::Foreground);
         assert!(queue.charge(&student("mallory"), now) > queue.charge(&student("ada"), now));
@@ -587,7 +593,7 @@ mod tests {
         let mut queue = FairQueue::new(policy(1));
         let mut now = start;
         for id in 0..50 {
-            queue.push(Work::Submission(id), student("ada"));
+            queue.push(Work::Submission(id), student("ada"), start);
             grade(&mut queue, now, QUICK);
             now += QUICK * 2;
         }
@@ -602,14 +608,14 @@ mod tests {
             background: 1,
             ..policy(1)
         });
-        queue.push(Work::Submission(1), student("mallory"));
+        queue.push(Work::Submission(1), student("mallory"), start);
         grade(&mut queue, start, TO_THE_LIMITS * 3);
-        queue.push(Work::Submission(2), student("eve"));
+        queue.push(Work::Submission(2), student("eve"), start);
         let now = start + TO_THE_LIMITS * 3;
         grade(&mut queue, now, TO_THE_LIMITS);
         let now = now + TO_THE_LIMITS;
-        queue.push(Work::Submission(3), student("mallory"));
-        queue.push(Work::Submission(4), student("eve"));
+        queue.push(Work::Submission(3), student("mallory"), start);
+        queue.push(Work::Submission(4), student("eve"), start);
         assert_eq!(grade(&mut queue, now, QUICK), Work::Submission(4));
     }
 
@@ -617,10 +623,10 @@ mod tests {
     fn a_grading_that_runs_long_frees_its_slot_and_its_student_goes_to_the_background() {
         let start = Instant::now();
         let mut queue = FairQueue::new(policy(1));
-        queue.push(Work::Submission(1), student("mallory"));
+        queue.push(Work::Submission(1), student("mallory"), start);
         let mut long = queue.take(start).unwrap();
-        queue.push(Work::Submission(2), student("ada"));
-        queue.push(Work::Submission(3), student("mallory"));
+        queue.push(Work::Submission(2), student("ada"), start);
+        queue.push(Work::Submission(3), student("mallory"), start);
         assert!(queue.take(start).is_none(), "the one slot is taken");
         let later = start + Duration::from_secs(10);
         let demote_after = queue.policy().demote_after;
@@ -656,7 +662,11 @@ mod tests {
         let cap = policy.parallel + policy.background;
         let mut queue = FairQueue::new(policy);
         for id in 0..100 {
-            queue.push(Work::Submission(id), student(&format!("s{}", id % 30)));
+            queue.push(
+                Work::Submission(id),
+                student(&format!("s{}", id % 30)),
+                start,
+            );
         }
         let mut running: Vec<Ticket> = Vec::new();
         let mut now = start;
@@ -687,7 +697,7 @@ mod tests {
     fn a_charge_fades_so_a_student_comes_back_to_the_foreground() {
         let start = Instant::now();
         let mut queue = FairQueue::new(policy(1));
-        queue.push(Work::Submission(1), student("mallory"));
+        queue.push(Work::Submission(1), student("mallory"), start);
         grade(&mut queue, start, TO_THE_LIMITS);
         assert_eq!(queue.lane(&student("mallory"), start), Lane::Background);
         let much_later = start + HALF_LIFE * 4;
@@ -701,8 +711,8 @@ mod tests {
     fn a_grading_that_did_not_start_waits_in_its_place_with_a_growing_bounded_backoff() {
         let start = Instant::now();
         let mut queue = FairQueue::new(policy(1));
-        queue.push(Work::Submission(1), student("ada"));
-        queue.push(Work::Submission(2), student("grace"));
+        queue.push(Work::Submission(1), student("ada"), start);
+        queue.push(Work::Submission(2), student("grace"), start);
         let ticket = queue.take(start).unwrap();
         let wait = queue.retry(ticket, start);
         assert_eq!(wait, queue.policy().first_retry);
@@ -740,11 +750,12 @@ mod tests {
                 submission: 9,
             },
             Tenant::Regrades,
+            start,
         );
-        queue.push(Work::Submission(1), student("ada"));
-        queue.push(Work::Phase(1), student("mallory"));
-        queue.push(Work::Phase(2), student("mallory"));
-        queue.push(Work::Phase(3), student("grace"));
+        queue.push(Work::Submission(1), student("ada"), start);
+        queue.push(Work::Phase(1), student("mallory"), start);
+        queue.push(Work::Phase(2), student("mallory"), start);
+        queue.push(Work::Phase(3), student("grace"), start);
         assert_eq!(queue.place(Work::Phase(1), start), Some(1));
         assert_eq!(queue.place(Work::Phase(3), start), Some(2));
         assert_eq!(queue.place(Work::Submission(7), start), None);
@@ -765,7 +776,7 @@ mod tests {
         );
         assert!(queue.waiting().is_empty());
         assert!(
-            queue.push(Work::Phase(2), student("mallory")),
+            queue.push(Work::Phase(2), student("mallory"), start),
             "held no more"
         );
     }
@@ -777,8 +788,8 @@ mod tests {
     fn a_starved_grading_waits_again_and_its_student_is_charged() {
         let start = Instant::now();
         let mut queue = FairQueue::new(policy(1));
-        queue.push(Work::Submission(1), student("mallory"));
-        queue.push(Work::Submission(2), student("ada"));
+        queue.push(Work::Submission(1), student("mallory"), start);
+        queue.push(Work::Submission(2), student("ada"), start);
         let ticket = queue.take(start).unwrap();
         let now = start + TO_THE_LIMITS;
         let wait = queue.starved(ticket, TO_THE_LIMITS, now);
@@ -796,7 +807,7 @@ mod tests {
     fn a_lone_grading_starts_at_once() {
         let start = Instant::now();
         let mut queue = FairQueue::new(policy(1));
-        queue.push(Work::Submission(1), student("ada"));
+        queue.push(Work::Submission(1), student("ada"), start);
         let ticket = queue.take(start).unwrap();
         assert_eq!(ticket.lane, Lane::Foreground);
         assert!(!queue.has(&Tenant::Regrades));
@@ -811,18 +822,21 @@ mod tests {
     fn a_work_is_held_once_until_it_ends() {
         let start = Instant::now();
         let mut queue = FairQueue::new(policy(2));
-        assert!(queue.push(Work::Submission(1), student("ada")));
-        assert!(!queue.push(Work::Submission(1), student("ada")));
+        assert!(queue.push(Work::Submission(1), student("ada"), start));
+        assert!(!queue.push(Work::Submission(1), student("ada"), start));
         let ticket = queue.take(start).unwrap();
-        assert!(!queue.push(Work::Submission(1), student("ada")), "running");
+        assert!(
+            !queue.push(Work::Submission(1), student("ada"), start),
+            "running"
+        );
         assert!(queue.take(start).is_none());
         queue.retry(ticket, start);
         assert!(
-            !queue.push(Work::Submission(1), student("ada")),
+            !queue.push(Work::Submission(1), student("ada"), start),
             "waiting again"
         );
         let ticket = queue.take(start + Duration::from_secs(1)).unwrap();
         queue.finish(ticket, QUICK, start + QUICK);
-        assert!(queue.push(Work::Submission(1), student("ada")));
+        assert!(queue.push(Work::Submission(1), student("ada"), start));
     }
 }

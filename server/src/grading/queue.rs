@@ -15,6 +15,7 @@
 
 use super::asked::Asked;
 use super::fair::{FairQueue, Lane, Policy, Tenant, Ticket, Waiting, Work};
+use super::metrics::{Metrics, Outcome};
 use super::{Secret, grader_version, priority};
 use crate::clock::Clock;
 use crate::sandbox::{self, Code, NotNow, Sandbox};
@@ -66,6 +67,7 @@ pub struct Grader {
     /// The submissions left for a grader of another release, said once each in the log.
     left: Mutex<HashSet<i64>>,
     clock: Arc<dyn Clock>,
+    metrics: Metrics,
 }
 
 /// Why a grading ended without a result stored.
@@ -131,6 +133,7 @@ impl Grader {
             grading: AtomicBool::new(false),
             left: Mutex::new(HashSet::new()),
             clock,
+            metrics: Metrics::new(),
         })
     }
 
@@ -213,7 +216,7 @@ impl Grader {
                 continue;
             }
             let tenant = student(&waiting.submission.course, &waiting.submission.student);
-            if queue.push(Work::Submission(id), tenant) {
+            if queue.push(Work::Submission(id), tenant, Instant::now()) {
                 found += 1;
             }
         }
@@ -282,6 +285,26 @@ impl Grader {
         self.queue().running()
     }
 
+    /// The token `/metrics` asks for (`Secret::metrics_token`).
+    pub fn metrics_token(&self) -> String {
+        self.secret.metrics_token()
+    }
+
+    /// This process's metrics of its sandbox work now, in Prometheus's text format.
+    pub fn metrics(&self) -> String {
+        let (waiting, running, cap) = {
+            let queue = self.queue();
+            let policy = queue.policy();
+            (
+                queue.waiting().to_vec(),
+                queue.running(),
+                policy.parallel + policy.background,
+            )
+        };
+        self.metrics
+            .render(&waiting, (running, cap), Instant::now())
+    }
+
     /// A tenant's charge now: the CPU time its work's sandboxes used, in seconds, decayed
     /// (`fair`).
     pub fn charge(&self, tenant: &Tenant) -> f64 {
@@ -294,7 +317,7 @@ impl Grader {
     }
 
     pub(super) fn enqueue(&self, work: Work, tenant: Tenant) {
-        self.queue().push(work, tenant);
+        self.queue().push(work, tenant, Instant::now());
         self.wake.notify_one();
     }
 
@@ -347,6 +370,7 @@ impl Grader {
                         submission,
                     },
                     Tenant::Regrades,
+                    Instant::now(),
                 );
             }
             Ok(Ok(None)) => {}
@@ -404,8 +428,13 @@ impl Grader {
         };
         let now = Instant::now();
         let is_regrade = matches!(work, Work::RegradeItem { .. });
+        let ended = |outcome| self.metrics.ended(work, outcome, spent);
         match outcome {
             Ok(Ok(graded)) => {
+                ended(match graded {
+                    Graded::Here => Outcome::Done,
+                    Graded::Elsewhere => Outcome::Elsewhere,
+                });
                 if graded == Graded::Elsewhere {
                     tracing::debug!(?work, "held or graded by another grader");
                 }
@@ -415,6 +444,7 @@ impl Grader {
                 }
             }
             Ok(Err(Failure::NotNow(err @ NotNow::DidNotStart(_)))) => {
+                ended(Outcome::DidNotStart);
                 self.put_back(work).await;
                 let attempt = ticket.failed_starts + 1;
                 let wait = self.queue().retry(ticket, now);
@@ -428,6 +458,7 @@ impl Grader {
             Ok(Err(Failure::NotNow(err @ NotNow::Starved { .. })))
                 if ticket.starved + 1 < STARVED_TRIES =>
             {
+                ended(Outcome::Starved);
                 self.put_back(work).await;
                 let attempt = ticket.starved + 1;
                 let wait = self.queue().starved(ticket, spent, now);
@@ -439,6 +470,7 @@ impl Grader {
                 );
             }
             Ok(Err(Failure::NotNow(err @ NotNow::Starved { .. }))) => {
+                ended(Outcome::GivenUp);
                 self.queue().finish(ticket, spent, now);
                 if is_regrade {
                     self.put_back(work).await;
@@ -447,6 +479,7 @@ impl Grader {
                     .await;
             }
             Ok(Err(Failure::Store(Error::LeaseLost(what)))) => {
+                ended(Outcome::LeaseLost);
                 self.queue().finish(ticket, spent, now);
                 tracing::warn!(
                     ?work,
@@ -457,10 +490,12 @@ impl Grader {
                 }
             }
             Ok(Err(Failure::Store(err))) => {
+                ended(Outcome::GivenUp);
                 self.queue().finish(ticket, spent, now);
                 self.failed(work, err.to_string()).await;
             }
             Err(err) => {
+                ended(Outcome::GivenUp);
                 self.queue().finish(ticket, spent, now);
                 self.failed(work, format!("stopped: {err}")).await;
             }
@@ -488,6 +523,7 @@ impl Grader {
         match renewed {
             Ok(Ok(true)) => {}
             Ok(Ok(false)) => {
+                self.metrics.lease_lost();
                 tracing::warn!(?work, "the lease was lost: another grader may take it")
             }
             Ok(Err(err)) => tracing::warn!(?work, "the lease could not be renewed: {err}"),

@@ -75,11 +75,24 @@ impl Secret {
     /// A fingerprint of the secret, which tells secrets apart without telling anything of
     /// them: the first 8 bytes of SHA-256 of a label and the secret, in hex.
     pub fn fingerprint(&self) -> String {
-        let digest = Sha256::new()
-            .chain_update(b"fingerprint of an estlab secret ")
+        hex(&self.labelled(b"fingerprint of an estlab secret ")[..8])
+    }
+
+    /// The token that `/metrics` asks for (as `Authorization: Bearer TOKEN`): SHA-256 of
+    /// a label and the secret, in hex, so every process of one secret (web processes and
+    /// graders on other machines) answers the same token, and the token tells nothing of
+    /// the secret.
+    pub fn metrics_token(&self) -> String {
+        hex(&self.labelled(b"estlab metrics token "))
+    }
+
+    /// SHA-256 of `label` and the secret.
+    fn labelled(&self, label: &[u8]) -> [u8; 32] {
+        Sha256::new()
+            .chain_update(label)
             .chain_update(self.0)
-            .finalize();
-        digest[..8].iter().map(|b| format!("{b:02x}")).collect()
+            .finalize()
+            .into()
     }
 
     /// The secret's bytes, to put in a package.
@@ -115,6 +128,11 @@ impl Secret {
         first.copy_from_slice(&digest[..8]);
         u64::from_le_bytes(first) & ((1 << 53) - 1)
     }
+}
+
+/// Bytes in hex.
+fn hex(bytes: &[u8]) -> String {
+    bytes.iter().map(|b| format!("{b:02x}")).collect()
 }
 
 /// An error about the secret's file `path`.

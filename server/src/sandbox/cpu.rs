@@ -184,6 +184,7 @@ mod tests {
     }
 
     #[test]
+    #[expect(clippy::zombie_processes, reason = "`reap` waits for it")]
     fn a_reaped_workers_time_is_counted_on_the_thread_that_reaped_it() {
         std::thread::spawn(|| {
             let before = workers_spent();

@@ -11,6 +11,7 @@ mod error;
 mod extract;
 mod limiter;
 mod me;
+pub mod metrics;
 mod origin;
 mod pages;
 pub mod phases;
@@ -35,7 +36,7 @@ use crate::datasets::Datasets;
 use crate::grading::Grader;
 use crate::store::{self, Store};
 use axum::Router;
-use axum::extract::{DefaultBodyLimit, MatchedPath, Request};
+use axum::extract::{DefaultBodyLimit, MatchedPath, Request, State};
 use axum::handler::Handler;
 use axum::http::{HeaderValue, header};
 use axum::routing::{MethodRouter, get, post};
@@ -218,6 +219,12 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/api/datasets/mrclam", get(pages::mrclam_robots))
         .route("/api/datasets/mrclam/robot", get(pages::mrclam_robot))
         .route("/healthz", get(|| async { "ok" }))
+        .route(
+            "/metrics",
+            get(|state: State<Arc<AppState>>, headers| {
+                metrics::scrape(state.grader.clone(), headers)
+            }),
+        )
         .route("/favicon.svg", get(pages::icon))
         .route("/favicon.ico", get(pages::icon))
         .nest_service("/static", static_files)

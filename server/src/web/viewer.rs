@@ -5,8 +5,8 @@
 use super::{AppState, Error, blocking};
 use crate::store::{Member, Role, TokenInfo};
 use axum::extract::FromRequestParts;
-use axum::http::header;
 use axum::http::request::Parts;
+use axum::http::{HeaderMap, header};
 use std::sync::Arc;
 
 /// The session cookie's name.
@@ -97,9 +97,8 @@ pub fn session_key(parts: &Parts) -> Option<String> {
 
 /// An API token in an `Authorization: Bearer` header, if there is one. Another scheme
 /// (a proxy's Basic authentication) is not estlab's and is left alone.
-fn bearer(parts: &Parts) -> Option<String> {
-    parts
-        .headers
+pub(super) fn bearer(headers: &HeaderMap) -> Option<String> {
+    headers
         .get(header::AUTHORIZATION)?
         .to_str()
         .ok()?
@@ -112,7 +111,7 @@ impl FromRequestParts<Arc<AppState>> for Viewer {
 
     async fn from_request_parts(parts: &mut Parts, state: &Arc<AppState>) -> Result<Viewer, Error> {
         let now = state.clock.now();
-        if let Some(token) = bearer(parts) {
+        if let Some(token) = bearer(&parts.headers) {
             let found = blocking(state, move |store| store.token(&token)).await?;
             return found.map(Viewer::Token).ok_or_else(|| {
                 Error::Unauthorized("the API token is unknown or has been revoked".into())

@@ -91,6 +91,8 @@ const MATRIX: &[(&str, &str, [u16; 9])] = &[
     // Only a signed-in person has a page of their own; the rest are sent to sign in.
     ("GET",  "/me",                            [303, 200, 200, 200, 200, 200, 303, 401, 401]),
     ("GET",  "/healthz",                       [200, 200, 200, 200, 200, 200, 200, 200, 200]),
+    // The sandbox's metrics: to the data directory's metrics token only (below).
+    ("GET",  "/metrics",                       [401, 401, 401, 401, 401, 401, 401, 401, 401]),
     ("GET",  "/favicon.svg",                   [200, 200, 200, 200, 200, 200, 200, 200, 200]),
     ("GET",  "/favicon.ico",                   [200, 200, 200, 200, 200, 200, 200, 200, 200]),
     // A token is nobody: courses true, member null (like anonymous).
@@ -1305,6 +1307,74 @@ async fn refusals_of_the_api_are_json_naming_what_is_wrong() {
         error.starts_with("the submission body: ") && error.contains("line 1 column 4"),
         "{error}"
     );
+}
+
+/// `/metrics` answers the data directory's metrics token, with every lane and the work
+/// done so far: a student's submission graded is one grading done, its CPU time counted.
+#[tokio::test]
+async fn the_metrics_token_opens_the_sandboxs_metrics() {
+    let app = App::new();
+    app.open_course("el2320");
+    let student = app.enrol("el2320", "u-metrics");
+    let who = app.signed_in(&student).await;
+    let token = app.state.grader.metrics_token();
+    let scrape = || Req::get("/metrics").header("authorization", &format!("Bearer {token}"));
+    let before = app.send(scrape()).await;
+    assert_eq!(before.status, StatusCode::OK, "{}", before.body);
+    assert!(
+        before.headers[header::CONTENT_TYPE]
+            .to_str()
+            .unwrap()
+            .starts_with("application/openmetrics-text"),
+    );
+    for kind in ["phase", "grading", "report_runs", "regrade"] {
+        for metric in ["waiting", "oldest_wait_seconds", "cpu_seconds_total"] {
+            let line = format!("estlab_sandbox_{metric}{{kind=\"{kind}\"}} ");
+            assert!(before.body.contains(&line), "{line} in {}", before.body);
+        }
+    }
+    assert!(
+        before.body.contains("estlab_sandbox_cap 3\n"),
+        "{}",
+        before.body
+    );
+    assert!(!before.body.contains("outcome=\"done\""), "{}", before.body);
+
+    // A file that loops as it loads: every phase runs to its limit.
+    app.submit_graded(&who, "for (;;) {}").await;
+    // Its turn's end is counted before its sandbox's place is given back.
+    let give_up = std::time::Instant::now() + GRADING_BOUND;
+    while app.state.grader.running() > 0 {
+        assert!(
+            std::time::Instant::now() < give_up,
+            "the grading never ended"
+        );
+        tokio::time::sleep(std::time::Duration::from_millis(20)).await;
+    }
+    let after = app.send(scrape()).await.body;
+    assert!(
+        after.contains("estlab_sandbox_ended_total{kind=\"grading\",outcome=\"done\"} 1\n"),
+        "{after}"
+    );
+    let cpu: f64 = after
+        .lines()
+        .find_map(|line| line.strip_prefix("estlab_sandbox_cpu_seconds_total{kind=\"grading\"} "))
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(cpu > 0.5, "an endless loop's grading used {cpu} s of CPU");
+
+    // Another token, or another scheme, is refused.
+    for header in [
+        "Bearer nope".to_owned(),
+        format!("Basic {token}"),
+        format!("Bearer {}", app.state.grader.metrics_token().to_uppercase()),
+    ] {
+        let refused = app
+            .send(Req::get("/metrics").header("authorization", &header))
+            .await;
+        assert_eq!(refused.status, StatusCode::UNAUTHORIZED, "{header}");
+    }
 }
 
 /// Every route of the router (`web::router`'s own and the registry's pages) is in the

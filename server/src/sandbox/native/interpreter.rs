@@ -475,7 +475,10 @@ mod tests {
     #[test]
     fn a_sleeping_interpreter_waits_of_its_own() {
         for state in ['S', 'T', 't', 'Z'] {
-            assert!(waits_of_its_own(Some(state), Duration::ZERO, LOOKED), "{state}");
+            assert!(
+                waits_of_its_own(Some(state), Duration::ZERO, LOOKED),
+                "{state}"
+            );
         }
         assert!(waits_of_its_own(None, Duration::ZERO, LOOKED), "gone");
         // A little computing between sleeps is still sleeping.
@@ -485,10 +488,20 @@ mod tests {
 
     #[test]
     fn an_interpreter_that_computes_or_waits_for_the_machine_does_not() {
-        assert!(!waits_of_its_own(Some('R'), Duration::ZERO, LOOKED), "a busy machine");
-        assert!(!waits_of_its_own(Some('D'), Duration::ZERO, LOOKED), "pages swapped in");
+        assert!(
+            !waits_of_its_own(Some('R'), Duration::ZERO, LOOKED),
+            "a busy machine"
+        );
+        assert!(
+            !waits_of_its_own(Some('D'), Duration::ZERO, LOOKED),
+            "pages swapped in"
+        );
         // Found asleep, but it computed most of the time since (pages made, a lock
         // passed between its threads).
-        assert!(!waits_of_its_own(Some('S'), Duration::from_millis(4), LOOKED));
+        assert!(!waits_of_its_own(
+            Some('S'),
+            Duration::from_millis(4),
+            LOOKED
+        ));
     }
 }
