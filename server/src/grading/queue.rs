@@ -168,7 +168,7 @@ impl Grader {
     /// Stores a submission, then queues its grading if this process grades; returns its
     /// id once it is stored.
     pub fn submit(&self, new: &NewSubmission) -> Result<i64, Error> {
-        let id = self.store.insert(new)?;
+        let id = self.store.insert(new, self.live_since(Timestamp::now()))?;
         if self.grading.load(Ordering::SeqCst) {
             self.enqueue(Work::Submission(id), student(new.course, new.student));
         }
@@ -201,7 +201,13 @@ impl Grader {
     /// there that it may grade, unless queued here already; returns how many it queued.
     fn find_work(&self) -> Result<usize, Error> {
         let now = Timestamp::now();
-        self.store.heartbeat(&self.holder, &self.versions(), now)?;
+        let languages: Vec<Language> = Language::ALL
+            .iter()
+            .copied()
+            .filter(|&language| self.sandbox.language(language).is_ok())
+            .collect();
+        self.store
+            .heartbeat(&self.holder, (&self.versions(), &languages), now)?;
         let running = self.running_versions(now)?;
         let claimable = self.store.claimable(now)?;
         let mut queue = self.queue();
@@ -225,10 +231,13 @@ impl Grader {
 
     /// The versions of the graders that run (seen within a lease), this one's among them.
     fn running_versions(&self, now: Timestamp) -> Result<HashSet<String>, Error> {
+        self.store.live_versions(self.live_since(now))
+    }
+
+    /// Since when a grader seen runs still, as of `now`: a lease ago.
+    pub fn live_since(&self, now: Timestamp) -> Timestamp {
         let lease = self.queue().policy().lease;
-        let since =
-            now - jiff::SignedDuration::try_from(lease).unwrap_or(jiff::SignedDuration::MAX);
-        self.store.live_versions(since)
+        now - jiff::SignedDuration::try_from(lease).unwrap_or(jiff::SignedDuration::MAX)
     }
 
     /// Why this grader leaves a waiting submission to others, if it does: its web process

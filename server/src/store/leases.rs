@@ -255,20 +255,22 @@ impl Store {
         Ok(())
     }
 
-    /// Says that `holder` runs, grading with the versions `versions`, as of `now`; forgets
-    /// graders not seen for a day.
+    /// Says that `holder` runs, grading with the versions `versions` the files in
+    /// `languages`, as of `now`; forgets graders not seen for a day.
     pub fn heartbeat(
         &self,
         holder: &Holder,
-        versions: &[&str],
+        (versions, languages): (&[&str], &[Language]),
         now: Timestamp,
     ) -> Result<(), Error> {
         let versions = serde_json::to_string(versions).expect("names serialise");
+        let languages = serde_json::to_string(languages).expect("names serialise");
         let connection = self.connection();
         connection.execute(
-            "INSERT INTO graders (holder, versions, seen) VALUES (?1, ?2, ?3)
-             ON CONFLICT (holder) DO UPDATE SET versions = excluded.versions, seen = excluded.seen",
-            params![holder.as_str(), versions, millis(now)],
+            "INSERT INTO graders (holder, versions, languages, seen) VALUES (?1, ?2, ?3, ?4)
+             ON CONFLICT (holder) DO UPDATE SET versions = excluded.versions,
+             languages = excluded.languages, seen = excluded.seen",
+            params![holder.as_str(), versions, languages, millis(now)],
         )?;
         connection.execute(
             "DELETE FROM graders WHERE seen < ?1",
@@ -279,14 +281,28 @@ impl Store {
 
     /// The versions graders seen since `since` grade with.
     pub fn live_versions(&self, since: Timestamp) -> Result<HashSet<String>, Error> {
+        self.of_live_graders("versions", since)
+    }
+
+    /// The languages whose files graders seen since `since` grade.
+    pub fn live_languages(&self, since: Timestamp) -> Result<HashSet<Language>, Error> {
+        self.of_live_graders("languages", since)
+    }
+
+    /// The union of a JSON array column of the graders seen since `since`.
+    fn of_live_graders<T: serde::de::DeserializeOwned + Eq + std::hash::Hash>(
+        &self,
+        column: &str,
+        since: Timestamp,
+    ) -> Result<HashSet<T>, Error> {
         let lists: Vec<String> = self.connection().query_map(
-            "SELECT versions FROM graders WHERE seen >= ?1",
+            &format!("SELECT {column} FROM graders WHERE seen >= ?1"),
             [millis(since)],
             |row| row.get(0),
         )?;
         Ok(lists
             .iter()
-            .filter_map(|list| serde_json::from_str::<Vec<String>>(list).ok())
+            .filter_map(|list| serde_json::from_str::<Vec<T>>(list).ok())
             .flatten()
             .collect())
     }
@@ -301,19 +317,22 @@ mod tests {
 
     fn submit(store: &Store, student: &str) -> i64 {
         store
-            .insert(&NewSubmission {
-                course: "el2320",
-                student,
-                member: None,
-                lab: Exercise::Odometry,
-                seed: 3,
-                language: Language::JavaScript,
-                source: "// mine",
-                submitted_at: Timestamp::UNIX_EPOCH,
-                late_seconds: 0,
-                penalty: 0.0,
-                grader: "estlab test plan 0",
-            })
+            .insert(
+                &NewSubmission {
+                    course: "el2320",
+                    student,
+                    member: None,
+                    lab: Exercise::Odometry,
+                    seed: 3,
+                    language: Language::JavaScript,
+                    source: "// mine",
+                    submitted_at: Timestamp::UNIX_EPOCH,
+                    late_seconds: 0,
+                    penalty: 0.0,
+                    grader: "estlab test plan 0",
+                },
+                Timestamp::MAX,
+            )
             .unwrap()
     }
 
@@ -472,20 +491,30 @@ mod tests {
         store
             .heartbeat(
                 &holder("a/1/x"),
-                &["estlab 1 plan a", "estlab 1 plan b"],
+                (
+                    &["estlab 1 plan a", "estlab 1 plan b"],
+                    &[Language::JavaScript],
+                ),
                 t0,
             )
             .unwrap();
         store
-            .heartbeat(&holder("b/1/y"), &["estlab 2 plan a"], t0 + minute)
+            .heartbeat(
+                &holder("b/1/y"),
+                (&["estlab 2 plan a"], &[Language::Python]),
+                t0 + minute,
+            )
             .unwrap();
         let running = store.live_versions(t0 + minute).unwrap();
         assert_eq!(running, HashSet::from(["estlab 2 plan a".to_owned()]));
         assert_eq!(store.live_versions(t0).unwrap().len(), 3);
+        let languages = store.live_languages(t0 + minute).unwrap();
+        assert_eq!(languages, HashSet::from([Language::Python]));
+        assert_eq!(store.live_languages(t0).unwrap().len(), 2);
         store
             .heartbeat(
                 &holder("b/1/y"),
-                &["estlab 2 plan a"],
+                (&["estlab 2 plan a"], &[Language::Python]),
                 t0 + minute * (25 * 60),
             )
             .unwrap();

@@ -320,6 +320,10 @@ const MIGRATIONS: &[Step] = &[
     // 13: the class challenge over several runs: the spread of a submission's figure (the
     // runs' standard deviation), shown beside it; none for a figure over one run.
     Schema("ALTER TABLE submissions ADD COLUMN challenge_spread REAL;"),
+    // 14: the languages each grader can grade (a JSON array of names, as `versions`): a
+    // submission in a language no running grader grades is shown waiting for one, and
+    // does not hold back its student's next submission in another language.
+    Schema("ALTER TABLE graders ADD COLUMN languages TEXT NOT NULL DEFAULT '[]';"),
 ];
 
 /// Brings the schema up to the newest version, one migration per transaction.

@@ -129,6 +129,9 @@ pub struct Submission {
     pub result: Option<GradeResult>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub source: Option<String>,
+    /// While it waits: that no running grader grades its language, and so it waits for
+    /// one (filled by whoever reads it).
+    pub waiting_for: Option<String>,
 }
 
 /// The figure of a result's class challenge and its spread, as the submission keeps them.
@@ -196,15 +199,27 @@ pub(super) fn summary(row: &Row) -> db::Result<SubmissionSummary> {
 
 impl Store {
     /// Stores a new submission as queued and returns its id; refuses it when the student
-    /// already has one waiting or being graded in the same course and exercise (judged in
-    /// the same transaction, so that two web processes cannot both take one).
-    pub fn insert(&self, new: &NewSubmission) -> Result<i64, Error> {
+    /// already has one waiting or being graded in the same course and exercise, in the
+    /// same language or in one that a grader seen since `graders_since` grades (judged in
+    /// the same transaction, so that two web processes cannot both take one). A file in a
+    /// language no running grader grades waits for one, and holds back no file in another.
+    pub fn insert(&self, new: &NewSubmission, graders_since: Timestamp) -> Result<i64, Error> {
         self.transaction(|connection| {
+            // `graders.languages` is a JSON array of names, `["javascript","python"]`.
             let busy: Option<i64> = connection
                 .query_row(
-                    "SELECT id FROM submissions WHERE course = ?1 AND student = ?2 AND lab = ?3
-                 AND status != 'graded' ORDER BY id LIMIT 1",
-                    params![new.course, new.student, new.lab.name()],
+                    "SELECT id FROM submissions s WHERE course = ?1 AND student = ?2 AND lab = ?3
+                 AND status != 'graded'
+                 AND (language = ?4 OR EXISTS (SELECT 1 FROM graders g WHERE g.seen >= ?5
+                      AND g.languages LIKE '%\"' || s.language || '\"%'))
+                 ORDER BY id LIMIT 1",
+                    params![
+                        new.course,
+                        new.student,
+                        new.lab.name(),
+                        new.language.name(),
+                        super::leases::millis(graders_since)
+                    ],
                     |row| row.get(0),
                 )
                 .optional()?;
@@ -338,6 +353,7 @@ impl Store {
                             source: row.get(SUMMARY_WIDTH + 4)?,
                             grader: row.get(SUMMARY_WIDTH + 5)?,
                             earlier: Vec::new(),
+                            waiting_for: None,
                         },
                         row.get::<_, Option<String>>(SUMMARY_WIDTH + 3)?,
                     ))
@@ -465,6 +481,9 @@ impl Store {
 mod tests {
     use super::*;
 
+    /// Since when graders count as running: none does.
+    const NO_GRADER: Timestamp = Timestamp::MAX;
+
     fn new<'a>(student: &'a str, source: &'a str) -> NewSubmission<'a> {
         NewSubmission {
             course: "el2320",
@@ -481,14 +500,60 @@ mod tests {
         }
     }
 
+    /// A file in a language no running grader grades waits for one, and holds back no
+    /// file in another language; one that a grader grades holds back the next as ever.
+    #[test]
+    fn a_file_no_grader_can_grade_holds_back_none_in_another_language() {
+        let dir = tempfile::tempdir().unwrap();
+        let store = crate::store::test_store(dir.path());
+        let now = Timestamp::from_second(1_800_000_000).unwrap();
+        let holder = Holder::this_process();
+        let versions: &[&str] = &["estlab test plan 0"];
+        store
+            .heartbeat(&holder, (versions, &[Language::JavaScript]), now)
+            .unwrap();
+        let in_language = |language, source| NewSubmission {
+            language,
+            ..new("ada", source)
+        };
+        let matlab = store
+            .insert(&in_language(Language::Matlab, "% one"), now)
+            .unwrap();
+        assert!(matches!(
+            store.insert(&in_language(Language::Matlab, "% two"), now),
+            Err(Error::Busy(id)) if id == matlab
+        ));
+        let javascript = store
+            .insert(&in_language(Language::JavaScript, "// one"), now)
+            .unwrap();
+        assert!(matches!(
+            store.insert(&in_language(Language::Python, "# one"), now),
+            Err(Error::Busy(id)) if id == javascript
+        ));
+        // Once a grader of Octave runs, the MATLAB file holds back the rest too.
+        store
+            .heartbeat(&holder, (versions, &[Language::Matlab]), now)
+            .unwrap();
+        assert!(matches!(
+            store.insert(&in_language(Language::Python, "# one"), now),
+            Err(Error::Busy(id)) if id == matlab
+        ));
+        assert_eq!(
+            store.live_languages(now).unwrap(),
+            std::collections::HashSet::from([Language::Matlab])
+        );
+    }
+
     #[test]
     fn a_student_has_one_submission_waiting_and_a_failed_grading_frees_the_next() {
         let dir = tempfile::tempdir().unwrap();
         let store = crate::store::test_store(dir.path());
-        let first = store.insert(&new("ada", "// one")).unwrap();
+        let first = store.insert(&new("ada", "// one"), NO_GRADER).unwrap();
         // Another student is not held up; the same student is, while the first waits.
-        store.insert(&new("grace", "// other")).unwrap();
-        assert!(matches!(store.insert(&new("ada", "// two")), Err(Error::Busy(id)) if id == first));
+        store.insert(&new("grace", "// other"), NO_GRADER).unwrap();
+        assert!(
+            matches!(store.insert(&new("ada", "// two"), NO_GRADER), Err(Error::Busy(id)) if id == first)
+        );
         let me = Holder::this_process();
         let lease = crate::store::Lease {
             holder: &me,
@@ -497,7 +562,7 @@ mod tests {
         };
         store.claim_submission(first, &lease).unwrap();
         assert!(matches!(
-            store.insert(&new("ada", "// two")),
+            store.insert(&new("ada", "// two"), NO_GRADER),
             Err(Error::Busy(_))
         ));
 
@@ -516,7 +581,7 @@ mod tests {
             Some("the server could not grade it")
         );
         assert_eq!(result.seed, 7);
-        let second = store.insert(&new("ada", "// two")).unwrap();
+        let second = store.insert(&new("ada", "// two"), NO_GRADER).unwrap();
         assert!(second > first);
         assert_eq!(store.to_grade(first).unwrap().source, "// one");
         assert_eq!(
@@ -535,7 +600,7 @@ mod tests {
         store
             .create_course("el2320", "Applied Estimation", Timestamp::UNIX_EPOCH)
             .unwrap();
-        let known = store.insert(&new("ada", "// known")).unwrap();
+        let known = store.insert(&new("ada", "// known"), NO_GRADER).unwrap();
         store
             .connection()
             .execute_batch(

@@ -11,7 +11,9 @@ use super::extract::{Body, Query};
 use super::submit::{Submit, accept};
 use super::viewer::Viewer;
 use super::{AppState, Error, blocking, lab_field};
-use crate::store::Member;
+use crate::store::{Member, Status};
+use jiff::Timestamp;
+use labs::Language;
 use axum::Json;
 use axum::extract::{Path, State};
 use axum::http::StatusCode;
@@ -99,12 +101,18 @@ pub async fn submission(
         }
     }
     // Without courses, open to anyone: the result, nobody's code.
+    let graders_since = state.grader.live_since(Timestamp::now());
     let submission = blocking(&state, move |store| {
         store
             .get(number, courses)?
             .map(|submission| {
+                let language = submission.summary.language;
+                let waiting_for = (submission.summary.status == Status::Queued
+                    && !store.live_languages(graders_since)?.contains(&language))
+                .then(|| waiting_for_a_grader(language));
                 Ok::<_, crate::store::Error>(crate::store::Submission {
                     earlier: store.earlier_results(number)?,
+                    waiting_for,
                     ..submission
                 })
             })
@@ -113,6 +121,14 @@ pub async fn submission(
     .await?;
     let submission = submission.ok_or_else(missing)?;
     Ok(Json(submission).into_response())
+}
+
+/// What a submission waits for when no running grader grades its language.
+fn waiting_for_a_grader(language: Language) -> String {
+    format!(
+        "No grader of {} files runs now: it waits for one. A file of yours in another language is taken meanwhile.",
+        language.title()
+    )
 }
 
 #[derive(Deserialize)]

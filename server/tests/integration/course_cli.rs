@@ -151,19 +151,22 @@ fn a_course_is_set_up_from_scratch_and_re_imports_change_only_what_changed() {
     let store = store_in(&data);
     let u3 = store.member("el2320", "u3").unwrap();
     let kept = store
-        .insert(&NewSubmission {
-            course: "el2320",
-            student: "u3",
-            member: Some(u3.id),
-            lab: labs::Exercise::EkfLocalization,
-            seed: 1,
-            language: labs::Language::JavaScript,
-            source: "// u3's work",
-            submitted_at: Timestamp::now(),
-            late_seconds: 0,
-            penalty: 0.0,
-            grader: "estlab test plan 0",
-        })
+        .insert(
+            &NewSubmission {
+                course: "el2320",
+                student: "u3",
+                member: Some(u3.id),
+                lab: labs::Exercise::EkfLocalization,
+                seed: 1,
+                language: labs::Language::JavaScript,
+                source: "// u3's work",
+                submitted_at: Timestamp::now(),
+                late_seconds: 0,
+                penalty: 0.0,
+                grader: "estlab test plan 0",
+            },
+            Timestamp::MAX,
+        )
         .unwrap();
     std::fs::write(
         &roster,
@@ -645,19 +648,22 @@ fn a_backup_taken_while_the_database_is_in_use_restores_every_submission() {
     }
     for i in 0..25 {
         store
-            .insert(&NewSubmission {
-                course: "el2320",
-                student: &format!("s{i}"),
-                member: None,
-                lab: labs::Exercise::EkfLocalization,
-                seed: i,
-                language: labs::Language::JavaScript,
-                source: &format!("// file {i}"),
-                submitted_at: Timestamp::now(),
-                late_seconds: 0,
-                penalty: 0.0,
-                grader: "estlab test plan 0",
-            })
+            .insert(
+                &NewSubmission {
+                    course: "el2320",
+                    student: &format!("s{i}"),
+                    member: None,
+                    lab: labs::Exercise::EkfLocalization,
+                    seed: i,
+                    language: labs::Language::JavaScript,
+                    source: &format!("// file {i}"),
+                    submitted_at: Timestamp::now(),
+                    late_seconds: 0,
+                    penalty: 0.0,
+                    grader: "estlab test plan 0",
+                },
+                Timestamp::MAX,
+            )
             .unwrap();
     }
     let copy = dir.path().join("backup.sqlite3");

@@ -127,22 +127,28 @@ async fn another_students_submission_is_graded_before_a_flooders_second() {
     store
         .heartbeat(
             &Holder::this_process(),
-            &[other_release],
+            (&[other_release], &[Language::JavaScript]),
             Timestamp::MAX - jiff::SignedDuration::from_hours(1),
         )
         .unwrap();
     let elsewhere = store
-        .insert(&NewSubmission {
-            grader: other_release,
-            ..submission(&grader, "alan", Exercise::Odometry, &quick("alan"))
-        })
+        .insert(
+            &NewSubmission {
+                grader: other_release,
+                ..submission(&grader, "alan", Exercise::Odometry, &quick("alan"))
+            },
+            Timestamp::MAX,
+        )
         .unwrap();
     // And one of a release whose graders are all gone (an upgrade): taken over.
     let taken_over = store
-        .insert(&NewSubmission {
-            grader: "estlab 0.0.0 plan 000000000000",
-            ..submission(&grader, "barbara", Exercise::Odometry, &quick("barbara"))
-        })
+        .insert(
+            &NewSubmission {
+                grader: "estlab 0.0.0 plan 000000000000",
+                ..submission(&grader, "barbara", Exercise::Odometry, &quick("barbara"))
+            },
+            Timestamp::MAX,
+        )
         .unwrap();
     // The submissions a stop left waiting: a flooder's two (one per exercise) first, then
     // two other students' one each.
@@ -156,7 +162,7 @@ async fn another_students_submission_is_graded_before_a_flooders_second() {
     .map(|(student, lab)| {
         let source = quick(student);
         store
-            .insert(&submission(&grader, student, *lab, &source))
+            .insert(&submission(&grader, student, *lab, &source), Timestamp::MAX)
             .unwrap()
     })
     .collect();
@@ -191,6 +197,39 @@ async fn another_students_submission_is_graded_before_a_flooders_second() {
     // Mallory's first, then everybody else's first, then Mallory's second; first come
     // first served would have graded Mallory's two one after the other.
     assert_eq!(order, [ids[0], ids[2], ids[3], ids[1]]);
+}
+
+/// A web process beside graders of JavaScript only: a student's MATLAB file waits for a
+/// grader that runs Octave, and their JavaScript file is taken meanwhile (it was refused
+/// 409 while the MATLAB one waited forever); a second MATLAB file still waits its turn.
+#[tokio::test]
+async fn a_file_no_running_grader_grades_holds_back_none_in_another_language() {
+    let dir = tempfile::tempdir().unwrap();
+    // Not resumed: a web process that leaves grading to graders.
+    let web = grader(dir.path(), Sandbox::new(estlab(), 1), one_at_a_time());
+    web.store()
+        .heartbeat(
+            &Holder::this_process(),
+            (&web.versions(), &[Language::JavaScript]),
+            Timestamp::now(),
+        )
+        .unwrap();
+    let in_language = |language, source| NewSubmission {
+        language,
+        ..submission(&web, "ada", Exercise::Odometry, source)
+    };
+    let matlab = web.submit(&in_language(Language::Matlab, "% mine")).unwrap();
+    assert!(matches!(
+        web.submit(&in_language(Language::Matlab, "% again")),
+        Err(Error::Busy(id)) if id == matlab
+    ));
+    let javascript = web
+        .submit(&in_language(Language::JavaScript, "// mine"))
+        .unwrap();
+    assert!(matches!(
+        web.submit(&in_language(Language::JavaScript, "// again")),
+        Err(Error::Busy(id)) if id == javascript
+    ));
 }
 
 #[tokio::test]
@@ -240,11 +279,14 @@ async fn a_sandbox_that_cannot_start_leaves_the_submission_waiting_until_it_can(
     assert!(waiting.result.is_none(), "{:?}", waiting.result);
     // It still counts as the student's one waiting submission.
     assert!(matches!(
-        grader
-            .store()
-            .insert(&submission(&grader, "ada", Exercise::EkfLocalization, "// again")),
-        Err(Error::Busy(busy)) if busy == id
-    ));
+            grader
+                .store()
+                .insert(
+    &submission(&grader, "ada", Exercise::EkfLocalization, "// again"),
+    Timestamp::MAX,
+    ),
+            Err(Error::Busy(busy)) if busy == id
+        ));
 
     // The fault is gone: the next try grades it.
     std::os::unix::fs::symlink(estlab(), &worker).unwrap();

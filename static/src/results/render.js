@@ -228,6 +228,8 @@ export function renderSubmission(box, submission, { comparison = '', open = fals
     box.replaceChildren(element('p', 'verdict', submission.status === 'grading'
       ? `Submission ${submission.id} is stored; the server is grading it…`
       : `Submission ${submission.id} is stored and waits for its grading…`));
+    // No running grader grades its language: said, rather than a wait that never ends.
+    if (submission.waiting_for) box.append(element('p', 'note', submission.waiting_for));
     return;
   }
   if (!result.gradable) {

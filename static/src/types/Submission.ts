@@ -16,7 +16,12 @@ grader: string | null,
 /**
  * Results regrades replaced, oldest first (filled by whoever reads them).
  */
-earlier: Array<EarlierResult>, result: GradeResult | null, source: string | null, id: number, course: string, student: string, lab: "ekf-localization" | "odometry" | "sensor-fusion" | "ukf-particle", 
+earlier: Array<EarlierResult>, result: GradeResult | null, source: string | null, 
+/**
+ * While it waits: that no running grader grades its language, and so it waits for
+ * one (filled by whoever reads it).
+ */
+waiting_for: string | null, id: number, course: string, student: string, lab: "ekf-localization" | "odometry" | "sensor-fusion" | "ukf-particle", 
 /**
  * The language of the file.
  */
