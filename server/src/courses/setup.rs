@@ -210,16 +210,19 @@ impl Setup<'_> {
     /// New sign-in codes for these students (their earlier codes stop working), as the
     /// CSV a mail merge reads: id, name, email, code, link. The codes are stored hashed
     /// only: this is the one time they can be read. `reissued` students are named in the
-    /// audit log (new students' codes are part of their import).
+    /// audit log (new students' codes are part of their import). `made` is told how many
+    /// are made after each, and may stop the making with an error.
     pub fn codes(
         &self,
         students: &[Member],
         reissued: &[String],
         url: &str,
+        made: &mut dyn FnMut(usize) -> Result<(), Error>,
     ) -> Result<Vec<u8>, Error> {
         let mut csv = csv::Writer::from_writer(Vec::new());
         csv.write_record(CODES_HEADER).expect("writing to memory");
-        for member in students {
+        for (done, member) in students.iter().enumerate() {
+            made(done)?;
             let code = codes::new_code();
             self.store
                 .add_code(member.id, &code, false, None, self.now)?;

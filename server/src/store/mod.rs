@@ -7,6 +7,7 @@
 
 mod access;
 mod answers;
+mod codes_jobs;
 mod courses;
 pub mod db;
 mod leases;
@@ -20,6 +21,7 @@ mod submissions;
 
 pub use access::{CodeCheck, FoundCode, TokenInfo};
 pub use answers::SavedAnswer;
+pub use codes_jobs::CodesJob;
 pub use courses::{Assignment, Course, Member, NewMember, Role, RosterChange};
 pub use leases::{Claimable, Holder, Lease};
 pub use rates::{Event, Window};

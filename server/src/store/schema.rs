@@ -324,6 +324,20 @@ const MIGRATIONS: &[Step] = &[
     // submission in a language no running grader grades is shown waiting for one, and
     // does not hold back its student's next submission in another language.
     Schema("ALTER TABLE graders ADD COLUMN languages TEXT NOT NULL DEFAULT '[]';"),
+    // 15: sign-in codes made in the background (`codes_jobs`): how many of how many are
+    // made, under the lease of the web process making them, and the codes file (JSON)
+    // until the instructor has fetched it once.
+    Schema("CREATE TABLE codes_jobs (
+        id INTEGER PRIMARY KEY,
+        course TEXT NOT NULL REFERENCES courses (name),
+        total INTEGER NOT NULL,
+        done INTEGER NOT NULL DEFAULT 0,
+        leased_by TEXT,
+        lease_until INTEGER NOT NULL DEFAULT 0,
+        file TEXT,
+        fetched INTEGER NOT NULL DEFAULT 0,
+        failed TEXT
+    );"),
 ];
 
 /// Brings the schema up to the newest version, one migration per transaction.

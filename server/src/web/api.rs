@@ -12,12 +12,12 @@ use super::submit::{Submit, accept};
 use super::viewer::Viewer;
 use super::{AppState, Error, blocking, lab_field};
 use crate::store::{Member, Status};
-use jiff::Timestamp;
-use labs::Language;
 use axum::Json;
 use axum::extract::{Path, State};
 use axum::http::StatusCode;
 use axum::response::{IntoResponse, Response};
+use jiff::Timestamp;
+use labs::Language;
 use serde::Deserialize;
 use std::sync::Arc;
 

@@ -6,6 +6,7 @@ mod address;
 mod answers;
 mod api;
 mod assets;
+mod codes;
 pub mod connections;
 mod error;
 mod extract;
@@ -127,6 +128,7 @@ pub fn router(state: Arc<AppState>) -> Router {
         )
         .route("/api/courses/{course}/roster", post(setup::import_roster))
         .route("/api/courses/{course}/codes", post(setup::reissue))
+        .route("/api/courses/{course}/codes/{id}", get(codes::progress))
         .route("/api/courses/{course}/assignments", post(setup::assign))
         .route("/api/courses/{course}/tokens", post(setup::make_token))
         .route(

@@ -5,6 +5,7 @@
 //! course` (`courses::setup`), and the same audit log. Reading the set-up is for the
 //! course's staff; changing it for its instructors (signed in, or an instructor's token).
 
+use super::codes::{self, CodesStarted};
 use super::extract::Body;
 use super::pages::{Nav, html};
 use super::viewer::Viewer;
@@ -170,7 +171,8 @@ pub(super) struct Listed {
     email: String,
 }
 
-/// What a roster adds, updates and drops; `codes` once it is imported.
+/// What a roster adds, updates and drops; once it is imported, where to follow the
+/// making of its new students' codes (none when it adds nobody).
 #[derive(Serialize, TS)]
 pub(super) struct RosterAnswer {
     students: usize,
@@ -179,19 +181,11 @@ pub(super) struct RosterAnswer {
     unchanged: usize,
     dropped: Vec<String>,
     summary: String,
-    codes: Option<CodesFile>,
-}
-
-/// New sign-in codes, as the CSV a mail merge reads: in this answer only, never stored.
-#[derive(Serialize, TS)]
-pub(super) struct CodesFile {
-    file_name: String,
-    count: usize,
-    csv: String,
+    codes: Option<CodesStarted>,
 }
 
 impl RosterAnswer {
-    fn of(plan: RosterPlan, codes: Option<CodesFile>) -> RosterAnswer {
+    fn of(plan: RosterPlan, codes: Option<CodesStarted>) -> RosterAnswer {
         let summary = plan.summary();
         let change = plan.change;
         RosterAnswer {
@@ -228,25 +222,6 @@ fn file_name(request: &RosterRequest) -> Result<String, Error> {
     Ok(crate::courses::ids::shown(name))
 }
 
-/// The codes of `students`, as a file named for the course and the moment.
-fn codes_file(
-    setup: &Setup,
-    students: &[Member],
-    reissued: &[String],
-) -> Result<CodesFile, setup::Error> {
-    let url = setup::public_url(setup.store)?;
-    let bytes = setup.codes(students, reissued, &url)?;
-    Ok(CodesFile {
-        file_name: format!(
-            "{}-codes-{}.csv",
-            setup.course,
-            setup.now.strftime("%Y%m%dT%H%M%SZ")
-        ),
-        count: students.len(),
-        csv: String::from_utf8(bytes).expect("the codes file is written from text"),
-    })
-}
-
 /// `POST /api/courses/{course}/roster/preview`: what importing the roster would add,
 /// update and drop, changing nothing; a problem names the file's line.
 pub async fn preview_roster(
@@ -266,7 +241,7 @@ pub async fn preview_roster(
 }
 
 /// `POST /api/courses/{course}/roster`: imports the roster and answers with what changed
-/// and the new students' sign-in codes.
+/// and where to follow the making of the new students' sign-in codes.
 pub async fn import_roster(
     State(state): State<Arc<AppState>>,
     viewer: Viewer,
@@ -276,13 +251,16 @@ pub async fn import_roster(
     viewer.instructor_of(&course)?;
     let request: RosterRequest = body.json(&viewer, "the roster").await?;
     let file = file_name(&request)?;
-    let answer = change(&state, &viewer, course, move |setup| {
-        let plan = setup.import_roster(&file, &request.csv)?;
-        let codes = codes_file(setup, &plan.change.added, &[])?;
-        Ok(RosterAnswer::of(plan, Some(codes)))
+    let plan = change(&state, &viewer, course.clone(), move |setup| {
+        setup.import_roster(&file, &request.csv)
     })
     .await?;
-    Ok(Json(answer).into_response())
+    let added = plan.change.added.clone();
+    let codes = match added.is_empty() {
+        true => None,
+        false => Some(codes::start(&state, &viewer, course, (added, Vec::new())).await?),
+    };
+    Ok(Json(RosterAnswer::of(plan, codes)).into_response())
 }
 
 /// The body of `POST /api/courses/{course}/codes`.
@@ -296,7 +274,7 @@ struct CodesRequest {
 const MAX_REISSUE: usize = 2000;
 
 /// `POST /api/courses/{course}/codes`: new sign-in codes for these students (their old
-/// ones stop working), in the answer's codes file.
+/// ones stop working), made in the background: 202, with where to follow the making.
 pub async fn reissue(
     State(state): State<Arc<AppState>>,
     viewer: Viewer,
@@ -312,12 +290,13 @@ pub async fn reissue(
             "field `students`: the ids of 1 to {MAX_REISSUE} students who need a new code"
         )));
     }
-    let codes = change(&state, &viewer, course, move |setup| {
-        let students = setup.students(&request.students)?;
-        codes_file(setup, &students, &request.students)
+    let reissued = request.students.clone();
+    let students = change(&state, &viewer, course.clone(), move |setup| {
+        setup.students(&request.students)
     })
     .await?;
-    Ok(Json(codes).into_response())
+    let started = codes::start(&state, &viewer, course, (students, reissued)).await?;
+    Ok((StatusCode::ACCEPTED, Json(started)).into_response())
 }
 
 /// The body of `POST /api/courses/{course}/assignments`: moments with their time zone

@@ -4,7 +4,7 @@
 //! fails when the files there are not what the Rust types make; `ESTLAB_WRITE_TYPES=1
 //! cargo test -p estlab --lib browser_types` writes them anew.
 
-use super::{answers, error, me, registry, report, reviews, setup, staff, submit};
+use super::{answers, codes, error, me, registry, report, reviews, setup, staff, submit};
 use crate::store;
 use labs::Exercise;
 use labs::exercises::{Graded, Visit};
@@ -56,7 +56,9 @@ pub fn export(dir: &Path) -> Result<(), ExportError> {
     d.visit::<setup::CourseView>();
     d.visit::<setup::StaffAdded>();
     d.visit::<setup::RosterAnswer>();
-    d.visit::<setup::CodesFile>();
+    d.visit::<codes::CodesFile>();
+    d.visit::<codes::CodesStarted>();
+    d.visit::<codes::CodesProgress>();
     d.visit::<setup::TokenMade>();
     d.visit::<setup::Revoked>();
     d.visit::<store::Assignment>();

@@ -172,6 +172,7 @@ const MATRIX: &[(&str, &str, [u16; 9])] = &[
     ("POST", "/api/courses/el2320/roster/preview",       [404, 404, 404, 403, 400, 404, 400, 401, 401]),
     ("POST", "/api/courses/el2320/roster",               [404, 404, 404, 403, 400, 404, 400, 401, 401]),
     ("POST", "/api/courses/el2320/codes",                [404, 404, 404, 403, 400, 404, 400, 401, 401]),
+    ("GET",  "/api/courses/el2320/codes/1",              [404, 404, 404, 403, 404, 404, 404, 401, 401]),
     ("POST", "/api/courses/el2320/assignments",          [404, 404, 404, 403, 400, 404, 400, 401, 401]),
     ("POST", "/api/courses/el2320/tokens",               [404, 404, 404, 403, 400, 404, 400, 401, 401]),
     ("POST", "/api/courses/el2320/tokens/{T}/revoke",    [404, 404, 404, 403, 200, 404, 200, 401, 401]),

@@ -112,6 +112,7 @@ impl Row {
             "{regrade}",
             "{token}",
             "{round}",
+            "{codes}",
         ]
         .into_iter()
         .find(|p| self.path.contains(p) || self.body.is_some_and(|b| b.contains(p)))
@@ -217,7 +218,10 @@ const OBJECTS: &[Row] = &[
     row("POST", "/api/courses/{course}/roster", "/api/courses/{course}/roster")
         .body(r#"{"file_name": "roster.csv", "csv": {roster}}"#).instructors().holds("/unchanged", 2),
     row("POST", "/api/courses/{course}/codes", "/api/courses/{course}/codes")
-        .body(r#"{"students": ["{student}"]}"#).instructors().other(404).holds("/count", 1),
+        .body(r#"{"students": ["{student}"]}"#).instructors().other(404).own(202).holds("/total", 1),
+    // The making of codes: the course's own job, for its instructors.
+    row("GET", "/api/courses/{course}/codes/{id}", "/api/courses/{course}/codes/{codes}")
+        .instructors().other(404).holds("/total", 0),
     row("POST", "/api/courses/{course}/assignments", "/api/courses/{course}/assignments")
         .body(r#"{"lab": "{lab}", "due": "2031-01-01T00:00Z", "cutoff": "2032-06-01T00:00Z", "late_penalty": "10%/day"}"#)
         .instructors(),
@@ -244,6 +248,8 @@ struct Ids {
     round: i64,
     /// A spare API token's id (revoking it again changes nothing).
     token: i64,
+    /// A job of sign-in codes, made (its file fetched already).
+    codes: i64,
     /// The course's roster as a CSV, as a JSON string.
     roster: String,
 }
@@ -256,6 +262,7 @@ impl Ids {
             regrade: 999_999,
             round: 999_999,
             token: 999_999,
+            codes: 999_999,
             roster: json!("id,name,email\n").to_string(),
         }
     }
@@ -268,6 +275,7 @@ impl Ids {
             .replace("{regrade}", &self.regrade.to_string())
             .replace("{round}", &self.round.to_string())
             .replace("{token}", &self.token.to_string())
+            .replace("{codes}", &self.codes.to_string())
             .replace("{roster}", &self.roster)
     }
 
@@ -278,6 +286,7 @@ impl Ids {
             "{student}" => self.student.clone(),
             "{token}" => self.token.to_string(),
             "{round}" => self.round.to_string(),
+            "{codes}" => self.codes.to_string(),
             _ => self.regrade.to_string(),
         }
     }
@@ -383,6 +392,14 @@ async fn course(app: &App, name: &'static str, tag: &str, student: &str, extende
         .await;
     assert_eq!(opened.status, StatusCode::OK, "{}", opened.body);
     let round = opened.json()["id"].as_i64().unwrap();
+    let store = app.store();
+    let codes = store
+        .start_codes_job(name, 0, &app.state.grader.lease())
+        .unwrap();
+    let file = r#"{"file_name": "codes.csv", "count": 0, "csv": "id,name,email,code,link\n"}"#;
+    store
+        .end_codes_job(codes, Ok(file), app.state.grader.lease().holder)
+        .unwrap();
 
     Course {
         name,
@@ -392,6 +409,7 @@ async fn course(app: &App, name: &'static str, tag: &str, student: &str, extende
             regrade,
             round,
             token: spare_token,
+            codes,
             roster,
         },
         both_submission,

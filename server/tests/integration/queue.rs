@@ -218,7 +218,9 @@ async fn a_file_no_running_grader_grades_holds_back_none_in_another_language() {
         language,
         ..submission(&web, "ada", Exercise::Odometry, source)
     };
-    let matlab = web.submit(&in_language(Language::Matlab, "% mine")).unwrap();
+    let matlab = web
+        .submit(&in_language(Language::Matlab, "% mine"))
+        .unwrap();
     assert!(matches!(
         web.submit(&in_language(Language::Matlab, "% again")),
         Err(Error::Busy(id)) if id == matlab

@@ -46,6 +46,33 @@ fn codes(answer: &Value) -> Vec<(String, String, String)> {
         .collect()
 }
 
+/// The codes file of a making of codes the server started (`{url, total}`), once made.
+async fn made(app: &App, who: &Who, started: &Value) -> Value {
+    let url = started["url"].as_str().expect("where to follow the making");
+    let give_up = std::time::Instant::now() + GRADING_BOUND;
+    loop {
+        let progress = app.send(Req::get(url).who(who)).await;
+        assert_eq!(progress.status, StatusCode::OK, "{}", progress.body);
+        let progress = progress.json();
+        assert!(progress["failed"].is_null(), "{progress}");
+        if !progress["file"].is_null() {
+            assert_eq!(progress["done"], progress["total"], "{progress}");
+            // Handed over once: asked again, the codes are not shown.
+            let again = app.send(Req::get(url).who(who)).await.json();
+            assert!(
+                again["file"].is_null() && again["fetched"] == true,
+                "{again}"
+            );
+            return progress["file"].clone();
+        }
+        assert!(
+            std::time::Instant::now() < give_up,
+            "the codes were not made"
+        );
+        tokio::time::sleep(std::time::Duration::from_millis(20)).await;
+    }
+}
+
 fn ids(list: &Value) -> Vec<&str> {
     list.as_array()
         .unwrap()
@@ -134,8 +161,10 @@ async fn an_instructor_sets_the_course_up_on_the_web() {
     .await;
     assert_eq!(imported.status, StatusCode::OK, "{}", imported.body);
     let imported = imported.json();
-    assert_eq!(imported["codes"]["count"], 3);
-    let first_codes = codes(&imported["codes"]);
+    assert_eq!(imported["codes"]["total"], 3);
+    let file = made(&app, &teacher, &imported["codes"]).await;
+    assert_eq!(file["count"], 3);
+    let first_codes = codes(&file);
     assert_eq!(first_codes[0].0, "u1");
     assert_eq!(first_codes[0].1, "Åsa Öberg");
     for (_, _, code) in &first_codes {
@@ -166,13 +195,16 @@ async fn an_instructor_sets_the_course_up_on_the_web() {
     )
     .await
     .json();
-    assert_eq!(codes(&imported["codes"]).len(), 1, "a code for u4 only");
+    let file = made(&app, &teacher, &imported["codes"]).await;
+    assert_eq!(codes(&file).len(), 1, "a code for u4 only");
     assert!(app.store().member(COURSE, "u3").unwrap().dropped);
 
     // Codes reissued: the new one signs in, the old one no longer.
     let reissued = post(&app, &teacher, "/codes", json!({ "students": ["u1"] })).await;
-    assert_eq!(reissued.status, StatusCode::OK, "{}", reissued.body);
-    let new_code = codes(&reissued.json())[0].2.clone();
+    assert_eq!(reissued.status, StatusCode::ACCEPTED, "{}", reissued.body);
+    let new_code = codes(&made(&app, &teacher, &reissued.json()).await)[0]
+        .2
+        .clone();
     let old = app.send(Req::sign_in(&first_codes[0].2)).await;
     assert_ne!(old.status, StatusCode::SEE_OTHER, "the old code is over");
     app.sign_in(&new_code, peer(127, 0, 0, 1)).await;

@@ -11,6 +11,8 @@ import { element, fillTable, link } from '../results/render.js';
 
 /** @typedef {import('../types/CourseView').CourseView} CourseView */
 /** @typedef {import('../types/CodesFile').CodesFile} CodesFile */
+/** @typedef {import('../types/CodesStarted').CodesStarted} CodesStarted */
+/** @typedef {import('../types/CodesProgress').CodesProgress} CodesProgress */
 
 const root = byId('course-setup');
 const { course } = root.dataset;
@@ -84,6 +86,28 @@ function offerCodes(codes) {
     : `${codes.count} sign-in code(s) are in ${codes.file_name}, downloaded now. They are stored hashed and cannot be shown again once you leave this page: send them (a mail merge reads the file), then delete the file.`;
   byId('codes-download').hidden = false;
   if (codes.count > 0) anchor.click();
+}
+
+/** How often the making of codes is looked at, in milliseconds. */
+const CODES_LOOK_MS = 1000;
+
+/**
+ * Follows the making of codes the server started (each is hashed, about 0.1 s: a large
+ * class's take minutes), saying how far it got in `status`, then offers the codes file.
+ *
+ * @param {CodesStarted} started
+ * @param {string} status
+ */
+async function followCodes(started, status) {
+  for (;;) {
+    /** @type {CodesProgress} */
+    const progress = await getJson(started.url);
+    if (progress.failed) throw new Error(`The sign-in codes were not all made: ${progress.failed}.`);
+    if (progress.file) return offerCodes(progress.file);
+    if (progress.fetched) throw new Error('These codes were handed over already (in another tab?): make new ones if they are lost.');
+    say(status, `Making sign-in codes: ${progress.done} of ${progress.total}…`);
+    await new Promise((resolve) => setTimeout(resolve, CODES_LOOK_MS));
+  }
 }
 
 /**
@@ -307,9 +331,10 @@ byId('roster-apply').addEventListener('click', () => {
     /** @type {import('../types/RosterAnswer').RosterAnswer} */
     const answer = await postJson(`${api}/roster`, rosterFile);
     byId('roster-preview').hidden = true;
-    offerCodes(answer.codes);
     byId('roster-form', HTMLFormElement).reset();
     await load();
+    if (answer.codes) await followCodes(answer.codes, 'roster-status');
+    else offerCodes({ file_name: '', count: 0, csv: '' });
     say('roster-status', `Imported ${rosterFile.file_name}: ${answer.summary}.`);
   });
 });
@@ -324,9 +349,9 @@ byId('students').addEventListener('change', updateReissue);
 byId('reissue-button').addEventListener('click', () => {
   const students = picked();
   acting('reissue-status', byId('reissue-button', HTMLButtonElement), async () => {
-    /** @type {CodesFile} */
-    const codes = await postJson(`${api}/codes`, { students });
-    offerCodes(codes);
+    /** @type {CodesStarted} */
+    const started = await postJson(`${api}/codes`, { students });
+    await followCodes(started, 'reissue-status');
     await load();
     say('reissue-status', `New codes for ${students.join(', ')}: their old codes no longer work.`);
   });
