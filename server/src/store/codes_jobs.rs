@@ -110,21 +110,11 @@ impl Store {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::time::Duration;
+    use crate::store::test_lease as lease;
 
-    fn lease(holder: &Holder, from: Timestamp) -> Lease<'_> {
-        Lease {
-            holder,
-            from,
-            length: Duration::from_secs(30),
-        }
-    }
-
-    #[test]
-    fn the_codes_file_is_handed_over_once() {
-        let dir = tempfile::tempdir().unwrap();
-        let store = super::super::test_store(dir.path());
-        let now = Timestamp::from_second(1_800_000_000).unwrap();
+    /// A store with a course, and a job of 3 codes of it leased to this process at `now`.
+    fn a_job(dir: &std::path::Path, now: Timestamp) -> (Store, Holder, i64) {
+        let store = super::super::test_store(dir);
         store
             .create_course("el2320", "Applied Estimation", now)
             .unwrap();
@@ -132,6 +122,14 @@ mod tests {
         let id = store
             .start_codes_job("el2320", 3, &lease(&me, now))
             .unwrap();
+        (store, me, id)
+    }
+
+    #[test]
+    fn the_codes_file_is_handed_over_once() {
+        let dir = tempfile::tempdir().unwrap();
+        let now = Timestamp::from_second(1_800_000_000).unwrap();
+        let (store, me, id) = a_job(dir.path(), now);
         assert!(store.codes_job_made(id, 2, &lease(&me, now)).unwrap());
         let making = store.take_codes_job("el2320", id, now).unwrap().unwrap();
         assert_eq!((making.total, making.done, making.file), (3, 2, None));
@@ -146,15 +144,8 @@ mod tests {
     #[test]
     fn a_job_whose_maker_stopped_has_failed() {
         let dir = tempfile::tempdir().unwrap();
-        let store = super::super::test_store(dir.path());
         let now = Timestamp::from_second(1_800_000_000).unwrap();
-        store
-            .create_course("el2320", "Applied Estimation", now)
-            .unwrap();
-        let me = Holder::this_process();
-        let id = store
-            .start_codes_job("el2320", 3, &lease(&me, now))
-            .unwrap();
+        let (store, me, id) = a_job(dir.path(), now);
         let later = now + jiff::SignedDuration::from_mins(1);
         let job = store.take_codes_job("el2320", id, later).unwrap().unwrap();
         assert!(job.failed.unwrap().starts_with("the server stopped"));

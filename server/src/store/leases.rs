@@ -340,13 +340,7 @@ mod tests {
         Holder::named(name)
     }
 
-    fn lease(holder: &Holder, from: Timestamp) -> Lease<'_> {
-        Lease {
-            holder,
-            from,
-            length: Duration::from_secs(30),
-        }
-    }
+    use crate::store::test_lease as lease;
 
     fn result() -> GradeResult {
         GradeResult::not_gradable(Exercise::Odometry, 3, "a test's result")

@@ -351,3 +351,13 @@ pub(crate) fn test_store(dir: &Path) -> Store {
         Store::open(dir).unwrap()
     }
 }
+
+/// A lease of 30 s from `from`, for a unit test.
+#[cfg(test)]
+pub(crate) fn test_lease(holder: &Holder, from: jiff::Timestamp) -> Lease<'_> {
+    Lease {
+        holder,
+        from,
+        length: std::time::Duration::from_secs(30),
+    }
+}

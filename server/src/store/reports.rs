@@ -316,19 +316,12 @@ impl Store {
 mod tests {
     use super::*;
     use crate::store::test_store;
-    use std::time::Duration;
 
     fn holder(name: &str) -> Holder {
         Holder::named(name)
     }
 
-    fn lease(holder: &Holder, from: Timestamp) -> Lease<'_> {
-        Lease {
-            holder,
-            from,
-            length: Duration::from_secs(30),
-        }
-    }
+    use crate::store::test_lease as lease;
 
     /// One making of a student's runs at a time, by whoever holds its lease; another
     /// process takes over a making whose lease ran out; a failure is told once, and only
