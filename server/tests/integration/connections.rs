@@ -238,27 +238,31 @@ async fn connections_beyond_the_limit_are_told_to_come_back_and_room_is_given_ba
     );
 }
 
-/// `estlab serve` with at most `descriptors` open files, on a port of its own.
+/// `estlab serve` (or another command that serves) with at most `descriptors` open files,
+/// on a port of its own.
 struct Server {
     child: Child,
     addr: SocketAddr,
-    _data: tempfile::TempDir,
+    data: tempfile::TempDir,
 }
 
 impl Server {
     fn start(descriptors: u64) -> Server {
+        Server::of(
+            &["serve", "--addr", "127.0.0.1:0"],
+            descriptors,
+            "estlab is serving on http://",
+        )
+    }
+
+    /// `estlab ARGS`, whose address is what it prints after `said`.
+    fn of(args: &[&str], descriptors: u64, said: &str) -> Server {
         let data = tempfile::tempdir().unwrap();
         common::fixed_secret(data.path());
         let mut command = Command::new(env!("CARGO_BIN_EXE_estlab"));
         command
-            .args([
-                "serve",
-                "--addr",
-                "127.0.0.1:0",
-                "--parallel",
-                "1",
-                "--data",
-            ])
+            .args(args)
+            .args(["--parallel", "1", "--data"])
             .arg(data.path())
             .stdout(Stdio::piped())
             .stderr(Stdio::null());
@@ -282,18 +286,57 @@ impl Server {
             .by_ref()
             .map_while(Result::ok)
             .find_map(|line| {
-                let rest = line.strip_prefix("estlab is serving on http://")?;
+                let rest = line.strip_prefix(said)?;
                 rest.split('/').next()?.parse().ok()
             })
             .expect("the server printed its address");
         // What it prints later is read too, so that no write of its fails.
         std::thread::spawn(move || lines.for_each(drop));
-        Server {
-            child,
-            addr,
-            _data: data,
-        }
+        Server { child, addr, data }
     }
+}
+
+/// A request's status line and body, the connection closed after it.
+async fn get(addr: SocketAddr, path: &str, authorization: &str) -> (String, String) {
+    let mut stream = TcpStream::connect(addr).await.unwrap();
+    let request = format!(
+        "GET {path} HTTP/1.1\r\nHost: x\r\nAuthorization: {authorization}\r\nConnection: close\r\n\r\n"
+    );
+    stream.write_all(request.as_bytes()).await.unwrap();
+    let answer = read_until_closed(&mut stream).await;
+    let (head, body) = answer.split_once("\r\n\r\n").unwrap_or((&answer, ""));
+    (
+        head.lines().next().unwrap_or("").to_owned(),
+        body.to_owned(),
+    )
+}
+
+/// A grader process serves its sandbox's metrics (`--metrics`) to the token it wrote in
+/// its data directory, and to nobody else.
+#[tokio::test]
+async fn a_grader_serves_its_metrics_to_the_data_directorys_token() {
+    let grader = Server::of(
+        &["grader", "--metrics", "127.0.0.1:0"],
+        1024,
+        "estlab grader: metrics on http://",
+    );
+    let token = std::fs::read_to_string(grader.data.path().join("metrics-token")).unwrap();
+    let secret = estlab::grading::Secret::read(&grader.data.path().join("secret")).unwrap();
+    assert_eq!(token, secret.metrics_token());
+    let (status, body) = get(grader.addr, "/metrics", &format!("Bearer {token}")).await;
+    assert_eq!(status, "HTTP/1.1 200 OK", "{body}");
+    assert!(body.contains("estlab_sandbox_cap 3\n"), "{body}");
+    assert!(
+        body.contains("estlab_sandbox_waiting{kind=\"grading\"} 0\n"),
+        "{body}"
+    );
+    let (status, _) = get(grader.addr, "/metrics", "Bearer not-the-token").await;
+    assert_eq!(status, "HTTP/1.1 401 Unauthorized");
+    let (status, _) = get(grader.addr, "/healthz", "").await;
+    assert_eq!(
+        status, "HTTP/1.1 404 Not Found",
+        "a grader serves its metrics only"
+    );
 }
 
 impl Drop for Server {
